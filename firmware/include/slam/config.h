@@ -1,0 +1,86 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * The configuration of the core: one `slam_config_t` with the paper's defaults.
+ *
+ * Frames and units: the world frame is metric with x and y in micrometres (µm) and angles
+ * in millidegrees (mdeg), counter-clockwise from +x. The robot frame has x forward and y to
+ * the left of the wheel-axle centre. Servo angles follow the paper: 90° points straight
+ * ahead, 65° is 25° to the left and 155° is 65° to the right (Eq. 3).
+ *
+ * Compile-time choices (grid size A×B) live in grid.h; everything here can be changed at
+ * run time by filling a `slam_config_t` before robot_init(). A configuration is checked as
+ * a whole by slam_config_check(); the core refuses a bad one and changes nothing.
+ */
+#ifndef SLAM_CONFIG_H
+#define SLAM_CONFIG_H
+
+#include <stdint.h>
+
+#include "slam/fixed.h"
+
+/** The control period: Algorithm C.1 and robot_tick() run once per period. */
+#define SLAM_TICK_US 10000u
+
+/** The most servo stops a sweep may have. */
+#define SLAM_SWEEP_STOPS_MAX 16u
+
+/** Everything the core can be told about the robot, the sensor and the method. */
+typedef struct {
+    /* Odometry (Eq. 8-12). */
+    uint32_t wheel_diameter_left_um;  /**< nominal left wheel diameter; 65 mm */
+    uint32_t wheel_diameter_right_um; /**< nominal right wheel diameter; 65 mm */
+    uint32_t wheel_base_um;           /**< 2h, distance between the wheel contacts; 130 mm */
+    uint32_t encoder_counts_per_rev;  /**< encoder counts per wheel turn; 700 */
+    q1_30_t cal_left;   /**< UMBmark correction c_L of the left wheel distance; 1.0 */
+    q1_30_t cal_right;  /**< UMBmark correction c_R of the right wheel distance; 1.0 */
+    q1_30_t cal_base;   /**< UMBmark E_b, actual over nominal wheel base; 1.0 */
+
+    /* Start pose in the world frame (known at the start, paper §III.B). */
+    int32_t start_x_um;         /**< 0 */
+    int32_t start_y_um;         /**< 0 */
+    int32_t start_heading_mdeg; /**< 0 (facing +x) */
+
+    /* Grids (Eq. 1-2, 6-7); A and B are SLAM_GRID_A/SLAM_GRID_B. */
+    uint32_t cell_um;      /**< L, the side of a square cell; 50 mm */
+    uint16_t start_cell_a; /**< the cell (a, b) whose centre is the start pose; */
+    uint16_t start_cell_b; /**< the centre of the grid by default */
+    uint8_t om_max;        /**< OMmax, Eq. 6; 9 */
+    uint8_t tm_max;        /**< TMmax, Eq. 7; 30 */
+
+    /* Sonar (Eq. 3-5). */
+    uint32_t confidence_radius_um; /**< rc: readings with d >= rc never touch OM; 1 m */
+    uint32_t range_min_um;         /**< shorter readings are discarded; 20 mm (HC-SR04) */
+    uint32_t sound_speed_mm_per_s; /**< speed of sound; 343 m/s (20 °C) */
+    int32_t mount_x_um;            /**< servo axis in the robot frame, forward; 50 mm */
+    int32_t mount_y_um;            /**< servo axis in the robot frame, left; 0 */
+    int32_t mount_yaw_mdeg;        /**< extra yaw of the servo's 90° from straight ahead; 0 */
+
+    /* Sweep (§II.A): stops from first to last, then back, all timing in control ticks. */
+    int32_t sweep_first_mdeg;       /**< 65° */
+    int32_t sweep_last_mdeg;        /**< 155° */
+    uint8_t sweep_stops;            /**< 6 (18° apart) */
+    uint8_t settle_ticks;           /**< servo travel + settle before the ping; 3 (30 ms) */
+    uint8_t echo_timeout_ticks;     /**< give up on an echo after this; 4 (40 ms >= 38 ms) */
+    uint16_t servo_pulse_0deg_us;   /**< servo pulse at 0°; 500 µs (SG90) */
+    uint16_t servo_pulse_180deg_us; /**< servo pulse at 180°; 2500 µs (SG90) */
+
+    /* Post-processing (§II.D). */
+    uint8_t post_threshold;  /**< TH: OM <= TH is free; 3 */
+    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed */
+} slam_config_t;
+
+/** Fill @p cfg with the defaults above. */
+void slam_config_default(slam_config_t *cfg);
+
+/**
+ * Check every field of a configuration against its valid range.
+ * @param cfg    the configuration
+ * @param field  out: on error, the name of the first bad field (a static string);
+ *               may be NULL
+ * @retval SLAM_OK      every field is in range
+ * @retval SLAM_EINVAL  a field is out of range; *field names it
+ */
+int slam_config_check(const slam_config_t *cfg, const char **field);
+
+#endif /* SLAM_CONFIG_H */

@@ -1,0 +1,118 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * Fixed-point arithmetic of the core: Q-format types, saturating operations,
+ * binary angles and a table sine/cosine.
+ *
+ * Formats: `qM_N_t` holds a signed value with N fraction bits (value = raw / 2^N).
+ * Angles are binary angles (`bam32_t`): a full turn is 2^32, so angle arithmetic wraps
+ * for free in unsigned 32-bit arithmetic; 0 is the +x axis, angles grow counter-clockwise.
+ * One binary angle unit is 2π/2^32 ≈ 1.46e-9 rad.
+ *
+ * Right shifts of negative values are arithmetic (GCC and every compiler the project
+ * builds with guarantee it). Nothing here uses floating point.
+ */
+#ifndef SLAM_FIXED_H
+#define SLAM_FIXED_H
+
+#include <stdint.h>
+
+typedef int32_t q16_16_t;   /**< Q16.16: range ±32768, resolution 1.5e-5 */
+typedef int32_t q1_30_t;    /**< Q1.30: range [-2, 2), resolution 9.3e-10 */
+typedef int64_t q48_16_t;   /**< Q48.16: a long accumulator with 16 fraction bits */
+typedef uint32_t bam32_t;   /**< binary angle: 2^32 = one full turn */
+
+#define FIX_Q16_ONE ((q16_16_t)1 << 16)   /**< 1.0 in Q16.16 */
+#define FIX_Q30_ONE ((q1_30_t)1 << 30)    /**< 1.0 in Q1.30 */
+
+#define FIX_BAM_QUARTER 0x40000000u       /**< 90 degrees */
+#define FIX_BAM_HALF 0x80000000u          /**< 180 degrees */
+
+/** Maximum absolute error of fix_sin()/fix_cos() against the exact value, in Q1.30
+ *  units (5e-6 ≈ 5369 units); the test of the fixed module asserts it. */
+#define FIX_SIN_MAX_ERR_Q30 5369
+
+/** Clamp a 64-bit value into the int32_t range. */
+static inline int32_t fix_sat_i32(int64_t v)
+{
+    if (v > INT32_MAX) {
+        return INT32_MAX;
+    }
+    if (v < INT32_MIN) {
+        return INT32_MIN;
+    }
+    return (int32_t)v;
+}
+
+/** a + b, saturated at the int32_t limits. */
+static inline int32_t fix_sat_add_i32(int32_t a, int32_t b)
+{
+    return fix_sat_i32((int64_t)a + b);
+}
+
+/** a - b, saturated at the int32_t limits. */
+static inline int32_t fix_sat_sub_i32(int32_t a, int32_t b)
+{
+    return fix_sat_i32((int64_t)a - b);
+}
+
+/** v >> shift, rounded to nearest (halves round up); shift in 1..62. */
+static inline int64_t fix_round_shift(int64_t v, unsigned shift)
+{
+    return (v + ((int64_t)1 << (shift - 1u))) >> shift;
+}
+
+/** v · f for a Q1.30 factor f, rounded to nearest and saturated at the int32_t limits. */
+static inline int32_t fix_mul_q30(int32_t v, q1_30_t f)
+{
+    return fix_sat_i32(fix_round_shift((int64_t)v * f, 30u));
+}
+
+/**
+ * v · f for a 64-bit v with |v| < 2^47 and a Q1.30 factor |f| <= 1.0, rounded; the
+ * product is formed in two halves so it never overflows. ISR-safe, O(1).
+ */
+static inline int64_t fix_mul_q30_i64(int64_t v, q1_30_t f)
+{
+    int64_t hi = (v >> 15) * f;               /* |hi| < 2^63 */
+    int64_t lo = (v & 0x7FFF) * (int64_t)f;   /* |lo| < 2^46 */
+    return fix_round_shift(hi + fix_round_shift(lo, 15u), 15u);
+}
+
+/** The signed difference a - b of two binary angles, wrapped into [-2^31, 2^31). */
+static inline int32_t fix_bam_diff(bam32_t a, bam32_t b)
+{
+    uint32_t d = a - b;
+    return (d & 0x80000000u) ? -(int32_t)(~d) - 1 : (int32_t)d;
+}
+
+/**
+ * Sine of a binary angle, from a 257-entry quarter-wave table with linear interpolation.
+ * @param a  angle (2^32 = full turn)
+ * @return   sin(a) in Q1.30, within FIX_SIN_MAX_ERR_Q30 of the exact value;
+ *           exactly 0 and ±1.0 at multiples of 90°. ISR-safe, O(1).
+ */
+q1_30_t fix_sin(bam32_t a);
+
+/** Cosine of a binary angle; see fix_sin(). */
+q1_30_t fix_cos(bam32_t a);
+
+/**
+ * Binary angle from millidegrees, rounded to the nearest unit.
+ * @param mdeg  angle in millidegrees, any value (wraps modulo 360°)
+ * Uses a 64-bit division: call it at initialisation, not in the tick.
+ */
+bam32_t fix_bam_from_mdeg(int32_t mdeg);
+
+/**
+ * round(a · b / c) with a 128-bit intermediate product, for exact gains at
+ * initialisation (about 64 loop iterations: not for the tick).
+ * @param c  divisor, > 0
+ * @return   the rounded quotient, or UINT64_MAX when it does not fit in 64 bits
+ */
+uint64_t fix_muldiv_u64(uint64_t a, uint64_t b, uint64_t c);
+
+/** Millidegrees of a binary angle, rounded, in [-180000, 180000]. */
+int32_t fix_bam_to_mdeg(bam32_t a);
+
+#endif /* SLAM_FIXED_H */

@@ -1,0 +1,67 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * Algorithm C.1 of the paper: the map update, once per control period.
+ *
+ *   Step 1: TM at the robot's cell += 1 (Eq. 1-2, 7): exactly one TM update a tick.
+ *   Step 2: for a sonar reading completed this tick with range_min <= d < rc, OM at the
+ *           obstacle cell += 1 (Eq. 3-5, 1-2, 6), using the pose at the moment of the
+ *           ping, not the pose when the echo came back.
+ *
+ * The paper reads six readings per call; here the sweep delivers at most one a tick, so
+ * every reading is mapped in the tick it completes and the work per tick stays O(1).
+ */
+#ifndef SLAM_MAPPER_H
+#define SLAM_MAPPER_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "slam/config.h"
+#include "slam/grid.h"
+#include "slam/odometry.h"
+#include "slam/sonar.h"
+#include "slam/sweep.h"
+
+/** What became of one reading. */
+typedef enum {
+    MAPPER_HIT = 0,   /**< OM of the obstacle cell was incremented */
+    MAPPER_FAR,       /**< d >= rc: outside the confidence sector, OM untouched */
+    MAPPER_NEAR,      /**< d < range_min: not trusted, OM untouched */
+    MAPPER_OUTSIDE,   /**< the obstacle point is outside the grid, OM untouched */
+    MAPPER_TIMEOUT,   /**< no echo, OM untouched */
+} mapper_outcome_t;
+
+/** Mapper state and counters. */
+typedef struct {
+    sonar_t sonar;          /**< sensor geometry */
+    odom_pose_t ping_pose;  /**< the pose when the last ping was triggered */
+    uint32_t hits;          /**< readings that incremented OM */
+    uint32_t far;           /**< readings with d >= rc */
+    uint32_t near;          /**< readings with d < range_min */
+    uint32_t outside;       /**< obstacle points outside the grid */
+    uint32_t timeouts;      /**< readings without an echo */
+    mapper_outcome_t last;  /**< outcome of the most recent reading */
+} mapper_t;
+
+/** Prepare the mapper for a checked configuration. */
+void mapper_init(mapper_t *m, const slam_config_t *cfg);
+
+/**
+ * Algorithm C.1 for one control period. ISR-safe, O(1).
+ * @param g     the grids to update
+ * @param pose  the robot pose at this tick (after this tick's odometry step)
+ * @param sw    what the sweep did this tick: a trigger records the pose; a completed
+ *              reading is mapped with the pose recorded at its ping
+ */
+void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_out_t *sw);
+
+/**
+ * Step 2 for one reading with an echo: map range d at servo angle θo seen from a pose.
+ * mapper_tick() calls it; a log replay calls it directly. ISR-safe, O(1).
+ * @return the outcome (also counted and kept in m->last)
+ */
+mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
+                                bam32_t servo, uint32_t range_um);
+
+#endif /* SLAM_MAPPER_H */

@@ -1,0 +1,55 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * The robot: wires the modules of the core to the HAL.
+ *
+ * A backend's program entry owns one `robot_t` (static storage), calls hal_init(), then
+ * robot_init(), then hal_tick_start() with a callback that calls robot_tick(), and runs
+ * robot_idle() in its background loop.
+ *
+ * robot_tick() is the body of the 10 ms control interrupt. Its work is O(1): one
+ * odometry step, one sweep step (at most one servo command, one ping, one reading), one
+ * TM update and at most one OM update (Algorithm C.1). Anything proportional to the map
+ * belongs in robot_idle().
+ */
+#ifndef SLAM_ROBOT_H
+#define SLAM_ROBOT_H
+
+#include <stdint.h>
+
+#include "slam/config.h"
+#include "slam/grid.h"
+#include "slam/mapper.h"
+#include "slam/odometry.h"
+#include "slam/sweep.h"
+
+/** All state of the robot's firmware. */
+typedef struct {
+    slam_config_t cfg;     /**< the configuration in use */
+    odom_t odom;           /**< pose tracking */
+    sweep_t sweep;         /**< servo sweep */
+    mapper_t mapper;       /**< Algorithm C.1 */
+    grid_t grid;           /**< OM and TM */
+    odom_pose_t pose;      /**< the pose after the last tick's odometry step */
+    sweep_out_t last;      /**< what the sweep did in the last tick (for logs) */
+    uint32_t ticks;        /**< control ticks since robot_init() */
+    uint32_t ping_errors;  /**< pings the sonar refused (busy) */
+    uint32_t idle_ticks;   /**< robot_idle(): the tick count it saw last */
+} robot_t;
+
+/**
+ * Check the configuration and start the robot: motors off, pose at the configured start,
+ * empty maps, the sweep at its first stop. Call after hal_init(), before the tick starts.
+ * @retval SLAM_OK      started
+ * @retval SLAM_EINVAL  the configuration is bad (see slam_config_check()); @p r and the
+ *                      hardware are left untouched
+ */
+int robot_init(robot_t *r, const slam_config_t *cfg);
+
+/** One control period: the body of the 10 ms interrupt. ISR-context, O(1). */
+void robot_tick(robot_t *r);
+
+/** Background work, from the main loop; never called from the tick. */
+void robot_idle(robot_t *r);
+
+#endif /* SLAM_ROBOT_H */

@@ -1,0 +1,172 @@
+/* SPDX-License-Identifier: MIT */
+/* The paper's default configuration and the range check of every field. */
+#include "slam/config.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "slam/error.h"
+#include "slam/grid.h"
+
+void slam_config_default(slam_config_t *cfg)
+{
+    *cfg = (slam_config_t){
+        .wheel_diameter_left_um = 65000u,
+        .wheel_diameter_right_um = 65000u,
+        .wheel_base_um = 130000u,
+        .encoder_counts_per_rev = 700u,
+        .cal_left = FIX_Q30_ONE,
+        .cal_right = FIX_Q30_ONE,
+        .cal_base = FIX_Q30_ONE,
+        .start_x_um = 0,
+        .start_y_um = 0,
+        .start_heading_mdeg = 0,
+        .cell_um = 50000u,
+        .start_cell_a = (uint16_t)(SLAM_GRID_A / 2u),
+        .start_cell_b = (uint16_t)(SLAM_GRID_B / 2u),
+        .om_max = 9u,
+        .tm_max = 30u,
+        .confidence_radius_um = 1000000u,
+        .range_min_um = 20000u,
+        .sound_speed_mm_per_s = 343000u,
+        .mount_x_um = 50000,
+        .mount_y_um = 0,
+        .mount_yaw_mdeg = 0,
+        .sweep_first_mdeg = 65000,
+        .sweep_last_mdeg = 155000,
+        .sweep_stops = 6u,
+        .settle_ticks = 3u,
+        .echo_timeout_ticks = 4u,
+        .servo_pulse_0deg_us = 500u,
+        .servo_pulse_180deg_us = 2500u,
+        .post_threshold = 3u,
+        .post_template_k = 2u,
+    };
+}
+
+/* Position limits: a pose must stay far from the int32_t µm limits (±2147 m). */
+#define CFG_WORLD_LIMIT_UM 1000000000 /* 1 km */
+#define CFG_MOUNT_LIMIT_UM 1000000    /* 1 m */
+#define CFG_Q30_HALF (FIX_Q30_ONE / 2)
+#define CFG_Q30_ONE_AND_HALF (FIX_Q30_ONE + FIX_Q30_ONE / 2)
+
+static bool in_range_u(uint32_t v, uint32_t lo, uint32_t hi)
+{
+    return v >= lo && v <= hi;
+}
+
+static bool in_range_i(int32_t v, int32_t lo, int32_t hi)
+{
+    return v >= lo && v <= hi;
+}
+
+/* The first failing condition names its field; the order follows the struct. */
+static const char *first_bad_field(const slam_config_t *c)
+{
+    if (!in_range_u(c->wheel_diameter_left_um, 10000u, 300000u)) {
+        return "wheel_diameter_left_um";
+    }
+    if (!in_range_u(c->wheel_diameter_right_um, 10000u, 300000u)) {
+        return "wheel_diameter_right_um";
+    }
+    if (!in_range_u(c->wheel_base_um, 50000u, 1000000u)) {
+        return "wheel_base_um";
+    }
+    if (!in_range_u(c->encoder_counts_per_rev, 16u, 65535u)) {
+        return "encoder_counts_per_rev";
+    }
+    if (!in_range_i(c->cal_left, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
+        return "cal_left";
+    }
+    if (!in_range_i(c->cal_right, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
+        return "cal_right";
+    }
+    if (!in_range_i(c->cal_base, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
+        return "cal_base";
+    }
+    if (!in_range_i(c->start_x_um, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM)) {
+        return "start_x_um";
+    }
+    if (!in_range_i(c->start_y_um, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM)) {
+        return "start_y_um";
+    }
+    if (!in_range_i(c->start_heading_mdeg, -360000, 360000)) {
+        return "start_heading_mdeg";
+    }
+    /* A·L and B·L stay below 1 km, so every grid coordinate fits in int32_t µm. */
+    uint32_t max_side = SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B;
+    if (!in_range_u(c->cell_um, 5000u, 1000000u) ||
+        (uint64_t)c->cell_um * max_side > (uint64_t)CFG_WORLD_LIMIT_UM) {
+        return "cell_um";
+    }
+    if (c->start_cell_a >= SLAM_GRID_A) {
+        return "start_cell_a";
+    }
+    if (c->start_cell_b >= SLAM_GRID_B) {
+        return "start_cell_b";
+    }
+    if (c->om_max == 0u) {
+        return "om_max";
+    }
+    if (c->tm_max == 0u) {
+        return "tm_max";
+    }
+    if (!in_range_u(c->confidence_radius_um, 1u, 10000000u) ||
+        c->confidence_radius_um <= c->range_min_um) {
+        return "confidence_radius_um";
+    }
+    if (c->range_min_um > 1000000u) {
+        return "range_min_um";
+    }
+    if (!in_range_u(c->sound_speed_mm_per_s, 300000u, 400000u)) {
+        return "sound_speed_mm_per_s";
+    }
+    if (!in_range_i(c->mount_x_um, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM)) {
+        return "mount_x_um";
+    }
+    if (!in_range_i(c->mount_y_um, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM)) {
+        return "mount_y_um";
+    }
+    if (!in_range_i(c->mount_yaw_mdeg, -180000, 180000)) {
+        return "mount_yaw_mdeg";
+    }
+    if (!in_range_i(c->sweep_first_mdeg, 0, 180000)) {
+        return "sweep_first_mdeg";
+    }
+    if (!in_range_i(c->sweep_last_mdeg, 0, 180000)) {
+        return "sweep_last_mdeg";
+    }
+    if (!in_range_u(c->sweep_stops, 1u, SLAM_SWEEP_STOPS_MAX) ||
+        (c->sweep_stops == 1u && c->sweep_first_mdeg != c->sweep_last_mdeg)) {
+        return "sweep_stops";
+    }
+    if (c->settle_ticks == 0u) {
+        return "settle_ticks";
+    }
+    if (c->echo_timeout_ticks == 0u) {
+        return "echo_timeout_ticks";
+    }
+    if (!in_range_u(c->servo_pulse_0deg_us, 400u, 2600u)) {
+        return "servo_pulse_0deg_us";
+    }
+    if (!in_range_u(c->servo_pulse_180deg_us, 400u, 2600u) ||
+        c->servo_pulse_180deg_us == c->servo_pulse_0deg_us) {
+        return "servo_pulse_180deg_us";
+    }
+    if (c->post_threshold >= c->om_max) {
+        return "post_threshold";
+    }
+    if (c->post_template_k > 8u) {
+        return "post_template_k";
+    }
+    return NULL;
+}
+
+int slam_config_check(const slam_config_t *cfg, const char **field)
+{
+    const char *bad = first_bad_field(cfg);
+    if (field != NULL) {
+        *field = bad;
+    }
+    return bad == NULL ? SLAM_OK : SLAM_EINVAL;
+}

@@ -1,0 +1,69 @@
+/* SPDX-License-Identifier: MIT */
+/* Algorithm C.1: TM at the robot's cell each tick, OM at the obstacle cell per reading. */
+#include "slam/mapper.h"
+
+#include <string.h>
+
+#include "slam/error.h"
+
+void mapper_init(mapper_t *m, const slam_config_t *cfg)
+{
+    memset(m, 0, sizeof *m);
+    sonar_init(&m->sonar, cfg);
+    m->last = MAPPER_TIMEOUT;
+}
+
+static void count(uint32_t *counter)
+{
+    if (*counter != UINT32_MAX) {
+        (*counter)++;
+    }
+}
+
+mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
+                                bam32_t servo, uint32_t range_um)
+{
+    mapper_outcome_t out;
+    if (range_um >= m->sonar.confidence_um) {
+        out = MAPPER_FAR;
+        count(&m->far);
+    } else if (range_um < m->sonar.range_min_um) {
+        out = MAPPER_NEAR;
+        count(&m->near);
+    } else {
+        int32_t x_um;
+        int32_t y_um;
+        sonar_obstacle(&m->sonar, at_ping, servo, range_um, &x_um, &y_um);
+        if (grid_om_hit(g, x_um, y_um) == SLAM_OK) {
+            out = MAPPER_HIT;
+            count(&m->hits);
+        } else {
+            out = MAPPER_OUTSIDE;
+            count(&m->outside);
+        }
+    }
+    m->last = out;
+    return out;
+}
+
+void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_out_t *sw)
+{
+    /* Step 1: the trajectory map, once per control period. */
+    (void)grid_tm_visit(g, pose->x_um, pose->y_um);
+
+    /* Step 2: a reading completed this tick, with the pose of its ping. The reading is
+     * handled before a new ping is recorded: a stop that ends begins the next one in the
+     * same tick, but its ping is never sent in that tick (settle_ticks >= 1). */
+    if (sw->reading_ready) {
+        if (sw->reading.echo) {
+            uint32_t d = sonar_range_um(&m->sonar, sw->reading.echo_us);
+            (void)mapper_reading(m, g, &m->ping_pose, sw->reading.servo, d);
+        } else {
+            m->last = MAPPER_TIMEOUT;
+            count(&m->timeouts);
+        }
+    }
+    if (sw->trigger) {
+        m->ping_pose = *pose;
+    }
+}

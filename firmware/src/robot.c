@@ -1,0 +1,80 @@
+/* SPDX-License-Identifier: MIT */
+/* The robot: one control tick reads the sensors through the HAL and runs the core. */
+#include "slam/robot.h"
+
+#include "hal/hal.h"
+#include "slam/error.h"
+
+int robot_init(robot_t *r, const slam_config_t *cfg)
+{
+    if (slam_config_check(cfg, NULL) != SLAM_OK) {
+        return SLAM_EINVAL;
+    }
+    hal_motor_set(HAL_WHEEL_LEFT, 0);
+    hal_motor_set(HAL_WHEEL_RIGHT, 0);
+
+    r->cfg = *cfg;
+    odom_init(&r->odom, cfg, hal_encoder_count(HAL_WHEEL_LEFT),
+              hal_encoder_count(HAL_WHEEL_RIGHT));
+    sweep_init(&r->sweep, cfg);
+    mapper_init(&r->mapper, cfg);
+    grid_init(&r->grid, cfg);
+    r->pose = odom_pose(&r->odom);
+    r->last = (sweep_out_t){0};
+    r->ticks = 0u;
+    r->ping_errors = 0u;
+    r->idle_ticks = 0u;
+    return SLAM_OK;
+}
+
+/* Asks the sonar for news only while the sweep waits for an echo. */
+static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
+{
+    *echo_us = 0u;
+    if (!sweep_waiting(s)) {
+        return SWEEP_ECHO_PENDING;
+    }
+    switch (hal_sonar_poll(echo_us)) {
+    case HAL_SONAR_ECHO:
+        return SWEEP_ECHO_DONE;
+    case HAL_SONAR_TIMEOUT:
+        return SWEEP_ECHO_TIMEOUT;
+    default:
+        return SWEEP_ECHO_PENDING;
+    }
+}
+
+void robot_tick(robot_t *r)
+{
+    /* Where are we: one odometry step (Eq. 8-12). */
+    odom_step(&r->odom, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
+    r->pose = odom_pose(&r->odom);
+
+    /* What does the sonar say: one step of the sweep. */
+    uint32_t echo_us;
+    sweep_echo_t echo = poll_sonar(&r->sweep, &echo_us);
+    sweep_step(&r->sweep, echo, echo_us, &r->last);
+    if (r->last.servo_cmd) {
+        hal_servo_set_pulse(r->last.servo_pulse_us);
+    }
+    if (r->last.trigger && hal_sonar_trigger() != HAL_OK) {
+        r->ping_errors++;
+    }
+
+    /* Algorithm C.1. */
+    mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
+
+    /* Motion control hooks in here: it reads r->pose and the readings, sets the motors. */
+
+    r->ticks++;
+}
+
+void robot_idle(robot_t *r)
+{
+    /* The watchdog is fed only while the tick makes progress, so a dead tick resets us. */
+    uint32_t ticks = *(volatile const uint32_t *)&r->ticks; /* written by the tick */
+    if (ticks != r->idle_ticks) {
+        r->idle_ticks = ticks;
+        hal_watchdog_kick();
+    }
+}

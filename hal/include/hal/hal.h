@@ -1,0 +1,159 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * The hardware abstraction layer: the only door between the mapping core and hardware.
+ *
+ * Exactly one backend implements it per build (hal/stm32f4, hal/linux, hal/host; a new
+ * port starts from hal/template). The HAL speaks raw hardware quantities (encoder counts,
+ * echo pulse width in µs, servo pulse width in µs, motor duty) and the core converts
+ * them, so the simulator runs the same conversion code as the robot.
+ *
+ * Context: "ISR-safe" functions may be called from the 10 ms tick callback, which runs
+ * in interrupt context on an MCU and in a timer thread on Linux. The others belong to
+ * start-up code or to the background loop (robot_idle()).
+ */
+#ifndef HAL_HAL_H
+#define HAL_HAL_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/** Return codes of the HAL; every error is negative. */
+typedef enum {
+    HAL_OK = 0,       /**< success */
+    HAL_EINVAL = -1,  /**< an argument is out of range */
+    HAL_EIO = -2,     /**< the hardware failed or did not answer */
+    HAL_EBUSY = -3,   /**< the resource is in use (a ping is already out) */
+    HAL_ENOSYS = -4,  /**< not supported by this backend */
+} hal_err_t;
+
+/** The two driven wheels; the numbering is the core's (ODOM_LEFT, ODOM_RIGHT). */
+typedef enum { HAL_WHEEL_LEFT = 0, HAL_WHEEL_RIGHT = 1 } hal_wheel_t;
+
+/** Full-scale motor duty: hal_motor_set() takes -HAL_DUTY_MAX .. HAL_DUTY_MAX. */
+#define HAL_DUTY_MAX 1000
+
+/** The period of the control tick, µs. */
+#define HAL_TICK_PERIOD_US 10000u
+
+/* ---- start-up and time ------------------------------------------------------------ */
+
+/**
+ * Bring up clocks and every peripheral in a safe state (motors off).
+ * @retval HAL_OK   ready
+ * @retval HAL_EIO  a peripheral could not be brought up (the backend says which)
+ */
+int hal_init(void);
+
+/** The tick callback: robot_tick() wrapped with its robot. */
+typedef void (*hal_tick_fn)(void *ctx);
+
+/**
+ * Start calling @p fn every HAL_TICK_PERIOD_US; it must return well within the period.
+ * @retval HAL_OK      started
+ * @retval HAL_EINVAL  fn is NULL
+ * @retval HAL_EBUSY   already started
+ */
+int hal_tick_start(hal_tick_fn fn, void *ctx);
+
+/** Monotonic microseconds since hal_init(); wraps after 2^32 µs. ISR-safe. */
+uint32_t hal_time_us(void);
+
+/** Ticks that started late or overran their period since hal_init(). ISR-safe. */
+uint32_t hal_tick_overruns(void);
+
+/* ---- wheels ----------------------------------------------------------------------- */
+
+/**
+ * The raw 16-bit quadrature counter of a wheel; it increases when the wheel rolls the
+ * robot forward and wraps freely. ISR-safe.
+ */
+uint16_t hal_encoder_count(hal_wheel_t wheel);
+
+/**
+ * Drive a motor. ISR-safe.
+ * @param duty  -HAL_DUTY_MAX (full reverse) .. HAL_DUTY_MAX (full forward); clamped
+ */
+void hal_motor_set(hal_wheel_t wheel, int16_t duty);
+
+/* ---- servo and sonar -------------------------------------------------------------- */
+
+/** Command the sonar servo: pulse width in µs of its 50 Hz signal (clamped to 400..2600). ISR-safe. */
+void hal_servo_set_pulse(uint16_t pulse_us);
+
+/** The state of the sonar as hal_sonar_poll() reports it. */
+typedef enum {
+    HAL_SONAR_IDLE = 0, /**< no measurement under way */
+    HAL_SONAR_BUSY,     /**< a ping is out, no echo yet */
+    HAL_SONAR_ECHO,     /**< an echo came back; its pulse width is reported once */
+    HAL_SONAR_TIMEOUT,  /**< no echo within the sensor's timeout (HC-SR04: 38 ms) */
+} hal_sonar_status_t;
+
+/**
+ * Start one measurement (HC-SR04: a 10 µs trigger pulse). ISR-safe.
+ * @retval HAL_OK     the ping is out
+ * @retval HAL_EBUSY  a measurement is still under way
+ */
+int hal_sonar_trigger(void);
+
+/**
+ * The result of the last ping. ECHO and TIMEOUT are reported once, then IDLE. ISR-safe.
+ * @param echo_us  out: the echo pulse width in µs, set with HAL_SONAR_ECHO
+ */
+hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us);
+
+/* ---- telemetry UART --------------------------------------------------------------- */
+
+/** Queue bytes for sending without blocking; returns how many fit. ISR-safe. */
+size_t hal_uart_write(const uint8_t *data, size_t len);
+
+/** Take up to @p len received bytes without blocking; returns how many. */
+size_t hal_uart_read(uint8_t *data, size_t len);
+
+/* ---- map storage ------------------------------------------------------------------ */
+
+/** Storage slots: a map is written to one while the other keeps the last good one. */
+#define HAL_STORAGE_SLOTS 2u
+
+/** Bytes in one storage slot (0: the backend has no storage). */
+size_t hal_storage_size(void);
+
+/**
+ * Begin rewriting a slot (flash: erase it). Not ISR-safe.
+ * @retval HAL_OK / HAL_EINVAL (no such slot) / HAL_EIO / HAL_ENOSYS (no storage)
+ */
+int hal_storage_begin(uint8_t slot);
+
+/**
+ * Write bytes into a slot being rewritten. Not ISR-safe.
+ * @retval HAL_OK / HAL_EINVAL (slot, or range beyond the slot) / HAL_EIO
+ */
+int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len);
+
+/**
+ * Make a rewritten slot durable (file: fsync and rename). Not ISR-safe.
+ * @retval HAL_OK / HAL_EINVAL / HAL_EIO
+ */
+int hal_storage_commit(uint8_t slot);
+
+/**
+ * Read bytes from a slot. Not ISR-safe.
+ * @retval HAL_OK / HAL_EINVAL (slot, or range beyond the slot) / HAL_EIO / HAL_ENOSYS
+ */
+int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len);
+
+/* ---- system ----------------------------------------------------------------------- */
+
+/** Opaque saved interrupt state of a critical section. */
+typedef uint32_t hal_irq_state_t;
+
+/** Enter a critical section (the tick cannot run inside it); nests. ISR-safe. */
+hal_irq_state_t hal_critical_enter(void);
+
+/** Leave a critical section, restoring the state hal_critical_enter() returned. ISR-safe. */
+void hal_critical_exit(hal_irq_state_t state);
+
+/** Tell the watchdog the system is alive. ISR-safe. */
+void hal_watchdog_kick(void);
+
+#endif /* HAL_HAL_H */

@@ -1,0 +1,129 @@
+/* SPDX-License-Identifier: MIT */
+/*
+ * The template port: every HAL function, compiling, doing nothing. A new board starts as
+ * a copy of this file (see README, "Porting to a new board"); each function says what the
+ * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
+ */
+#include "hal/hal.h"
+
+int hal_init(void)
+{
+    /* Clocks, then every peripheral below in a safe state: motors off, servo idle. */
+    return HAL_OK;
+}
+
+int hal_tick_start(hal_tick_fn fn, void *ctx)
+{
+    /* A timer interrupt every HAL_TICK_PERIOD_US that calls fn(ctx). */
+    (void)fn;
+    (void)ctx;
+    return HAL_ENOSYS;
+}
+
+uint32_t hal_time_us(void)
+{
+    /* A free-running microsecond counter. */
+    return 0u;
+}
+
+uint32_t hal_tick_overruns(void)
+{
+    return 0u;
+}
+
+uint16_t hal_encoder_count(hal_wheel_t wheel)
+{
+    /* The wheel's 16-bit quadrature counter, counting up when it rolls forward. */
+    (void)wheel;
+    return 0u;
+}
+
+void hal_motor_set(hal_wheel_t wheel, int16_t duty)
+{
+    /* PWM duty |duty| / HAL_DUTY_MAX, direction from the sign. */
+    (void)wheel;
+    (void)duty;
+}
+
+void hal_servo_set_pulse(uint16_t pulse_us)
+{
+    /* 50 Hz servo PWM with this high time. */
+    (void)pulse_us;
+}
+
+int hal_sonar_trigger(void)
+{
+    /* A 10 µs trigger pulse; the echo's width is captured by hardware or an edge ISR. */
+    return HAL_ENOSYS;
+}
+
+hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+{
+    (void)echo_us;
+    return HAL_SONAR_IDLE;
+}
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    /* Queue into a ring that the UART interrupt drains; never block. */
+    (void)data;
+    (void)len;
+    return 0u;
+}
+
+size_t hal_uart_read(uint8_t *data, size_t len)
+{
+    (void)data;
+    (void)len;
+    return 0u;
+}
+
+size_t hal_storage_size(void)
+{
+    return 0u;
+}
+
+int hal_storage_begin(uint8_t slot)
+{
+    (void)slot;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
+{
+    (void)slot;
+    (void)offset;
+    (void)data;
+    (void)len;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_commit(uint8_t slot)
+{
+    (void)slot;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
+{
+    (void)slot;
+    (void)offset;
+    (void)data;
+    (void)len;
+    return HAL_ENOSYS;
+}
+
+hal_irq_state_t hal_critical_enter(void)
+{
+    /* Save the interrupt mask and disable the tick's interrupt. */
+    return 0u;
+}
+
+void hal_critical_exit(hal_irq_state_t state)
+{
+    (void)state;
+}
+
+void hal_watchdog_kick(void)
+{
+}

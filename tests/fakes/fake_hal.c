@@ -1,0 +1,148 @@
+/* SPDX-License-Identifier: MIT */
+/* A scriptable HAL for unit tests: scripted inputs, recorded outputs, counted calls. */
+#include "fake_hal.h"
+
+#include <string.h>
+
+fake_hal_t fake_hal;
+
+void fake_hal_reset(void)
+{
+    memset(&fake_hal, 0, sizeof fake_hal);
+    fake_hal.sonar_next = HAL_SONAR_BUSY;
+}
+
+int hal_init(void)
+{
+    return HAL_OK;
+}
+
+int hal_tick_start(hal_tick_fn fn, void *ctx)
+{
+    (void)ctx;
+    return fn == NULL ? HAL_EINVAL : HAL_OK;
+}
+
+uint32_t hal_time_us(void)
+{
+    return 0u;
+}
+
+uint32_t hal_tick_overruns(void)
+{
+    return 0u;
+}
+
+uint16_t hal_encoder_count(hal_wheel_t wheel)
+{
+    fake_hal.calls_encoder++;
+    return fake_hal.encoder[wheel];
+}
+
+void hal_motor_set(hal_wheel_t wheel, int16_t duty)
+{
+    fake_hal.calls_motor++;
+    fake_hal.motor[wheel] = duty;
+}
+
+void hal_servo_set_pulse(uint16_t pulse_us)
+{
+    fake_hal.calls_servo++;
+    fake_hal.servo_pulse_us = pulse_us;
+}
+
+int hal_sonar_trigger(void)
+{
+    fake_hal.calls_trigger++;
+    return fake_hal.trigger_result;
+}
+
+hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+{
+    fake_hal.calls_poll++;
+    hal_sonar_status_t s = fake_hal.sonar_next;
+    if (s == HAL_SONAR_ECHO) {
+        *echo_us = fake_hal.sonar_echo_us;
+    }
+    if (s == HAL_SONAR_ECHO || s == HAL_SONAR_TIMEOUT) {
+        fake_hal.sonar_next = HAL_SONAR_IDLE; /* reported once */
+    }
+    return s;
+}
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    (void)data;
+    return len;
+}
+
+size_t hal_uart_read(uint8_t *data, size_t len)
+{
+    (void)data;
+    (void)len;
+    return 0u;
+}
+
+size_t hal_storage_size(void)
+{
+    return FAKE_HAL_STORAGE_SIZE;
+}
+
+int hal_storage_begin(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS) {
+        return HAL_EINVAL;
+    }
+    memset(fake_hal.storage[slot], 0xFF, FAKE_HAL_STORAGE_SIZE);
+    fake_hal.storage_committed[slot] = false;
+    return HAL_OK;
+}
+
+static bool storage_range_ok(uint8_t slot, uint32_t offset, size_t len)
+{
+    return slot < HAL_STORAGE_SLOTS && offset <= FAKE_HAL_STORAGE_SIZE &&
+           len <= FAKE_HAL_STORAGE_SIZE - offset;
+}
+
+int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
+{
+    fake_hal.calls_storage_write++;
+    if (!storage_range_ok(slot, offset, len)) {
+        return HAL_EINVAL;
+    }
+    memcpy(&fake_hal.storage[slot][offset], data, len);
+    return HAL_OK;
+}
+
+int hal_storage_commit(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS) {
+        return HAL_EINVAL;
+    }
+    fake_hal.storage_committed[slot] = true;
+    return HAL_OK;
+}
+
+int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
+{
+    if (!storage_range_ok(slot, offset, len)) {
+        return HAL_EINVAL;
+    }
+    memcpy(data, &fake_hal.storage[slot][offset], len);
+    return HAL_OK;
+}
+
+hal_irq_state_t hal_critical_enter(void)
+{
+    return 0u;
+}
+
+void hal_critical_exit(hal_irq_state_t state)
+{
+    (void)state;
+}
+
+void hal_watchdog_kick(void)
+{
+    fake_hal.calls_watchdog++;
+}

@@ -1,0 +1,45 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * A scriptable HAL for unit tests: tests set what the hardware reports and read back what
+ * the firmware did. Every call is counted; fake_hal_reset() clears all state and must be
+ * called before each test.
+ */
+#ifndef SLAM_TEST_FAKE_HAL_H
+#define SLAM_TEST_FAKE_HAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "hal/hal.h"
+
+#define FAKE_HAL_STORAGE_SIZE 4096u
+
+typedef struct {
+    /* Set by the test. */
+    uint16_t encoder[2];              /**< what hal_encoder_count() returns */
+    hal_sonar_status_t sonar_next;    /**< what the next hal_sonar_poll() returns */
+    uint32_t sonar_echo_us;           /**< width returned with HAL_SONAR_ECHO */
+    int trigger_result;               /**< what hal_sonar_trigger() returns */
+
+    /* Recorded from the firmware. */
+    int16_t motor[2];                 /**< last duty per wheel */
+    uint16_t servo_pulse_us;          /**< last servo command */
+    unsigned calls_encoder;
+    unsigned calls_motor;
+    unsigned calls_servo;
+    unsigned calls_trigger;
+    unsigned calls_poll;
+    unsigned calls_watchdog;
+    unsigned calls_storage_write;
+    uint8_t storage[HAL_STORAGE_SLOTS][FAKE_HAL_STORAGE_SIZE];
+    bool storage_committed[HAL_STORAGE_SLOTS];
+} fake_hal_t;
+
+extern fake_hal_t fake_hal;
+
+/** Forget everything: counters, recorded outputs and scripted inputs. */
+void fake_hal_reset(void);
+
+#endif /* SLAM_TEST_FAKE_HAL_H */

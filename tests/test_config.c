@@ -1,0 +1,149 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of the configuration: the paper's defaults, and every bad field named. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "slam/config.h"
+#include "slam/error.h"
+#include "slam/grid.h"
+
+static void test_defaults_are_the_papers(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    assert_int_equal(c.om_max, 9);                       /* OMmax, Eq. 6 */
+    assert_int_equal(c.tm_max, 30);                      /* TMmax, Eq. 7 */
+    assert_int_equal(c.confidence_radius_um, 1000000u);  /* rc = 1 m */
+    assert_int_equal(c.post_threshold, 3);               /* TH */
+    assert_int_equal(c.sweep_first_mdeg, 65000);         /* 65° ... */
+    assert_int_equal(c.sweep_last_mdeg, 155000);         /* ... 155° */
+    assert_int_equal(c.sweep_stops, 6);                  /* six stops, 18° apart */
+    assert_int_equal((c.sweep_last_mdeg - c.sweep_first_mdeg) / (c.sweep_stops - 1), 18000);
+    assert_int_equal(SLAM_TICK_US, 10000u);              /* 10 ms control period */
+    assert_int_equal(c.start_cell_a, SLAM_GRID_A / 2u);  /* start at the centre */
+    assert_int_equal(c.start_cell_b, SLAM_GRID_B / 2u);
+    /* A stop lasts about 60 ms: 30 ms settling, then up to 38 ms for the echo. */
+    assert_int_equal(c.settle_ticks, 3);
+    assert_true(c.echo_timeout_ticks * SLAM_TICK_US >= 38000u);
+    const char *field = "unset";
+    assert_int_equal(slam_config_check(&c, &field), SLAM_OK);
+    assert_null(field);
+    assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
+}
+
+typedef struct {
+    const char *field;
+    void (*mutate)(slam_config_t *c);
+} bad_case_t;
+
+#define BAD(name, body) \
+    static void bad_##name(slam_config_t *c) { body; }
+BAD(diam_l_small, c->wheel_diameter_left_um = 9999u)
+BAD(diam_r_big, c->wheel_diameter_right_um = 300001u)
+BAD(base_zero, c->wheel_base_um = 0u)
+BAD(counts_few, c->encoder_counts_per_rev = 15u)
+BAD(counts_many, c->encoder_counts_per_rev = 65536u)
+BAD(cal_l, c->cal_left = 0)
+BAD(cal_r, c->cal_right = FIX_Q30_ONE + FIX_Q30_ONE / 2 + 1)
+BAD(cal_b, c->cal_base = FIX_Q30_ONE / 2 - 1)
+BAD(start_x, c->start_x_um = 1000000001)
+BAD(start_y, c->start_y_um = -1000000001)
+BAD(start_h, c->start_heading_mdeg = 360001)
+BAD(cell_zero, c->cell_um = 0u)
+BAD(cell_huge, c->cell_um = 1000001u)
+BAD(start_a, c->start_cell_a = (uint16_t)SLAM_GRID_A)
+BAD(start_b, c->start_cell_b = 0xFFFFu)
+BAD(om_max, c->om_max = 0u)
+BAD(tm_max, c->tm_max = 0u)
+BAD(rc_small, c->confidence_radius_um = c->range_min_um)
+BAD(rc_zero, c->confidence_radius_um = 0u)
+BAD(range_min, c->range_min_um = 1000001u; c->confidence_radius_um = 2000000u)
+BAD(sound, c->sound_speed_mm_per_s = 299999u)
+BAD(mount_x, c->mount_x_um = 1000001)
+BAD(mount_y, c->mount_y_um = -1000001)
+BAD(mount_yaw, c->mount_yaw_mdeg = 180001)
+BAD(first, c->sweep_first_mdeg = -1)
+BAD(last, c->sweep_last_mdeg = 180001)
+BAD(stops_zero, c->sweep_stops = 0u)
+BAD(stops_many, c->sweep_stops = SLAM_SWEEP_STOPS_MAX + 1u)
+BAD(stops_one, c->sweep_stops = 1u)
+BAD(settle, c->settle_ticks = 0u)
+BAD(echo_to, c->echo_timeout_ticks = 0u)
+BAD(pulse0, c->servo_pulse_0deg_us = 399u)
+BAD(pulse180, c->servo_pulse_180deg_us = 2601u)
+BAD(pulse_same, c->servo_pulse_180deg_us = c->servo_pulse_0deg_us)
+BAD(threshold, c->post_threshold = c->om_max)
+BAD(template_k, c->post_template_k = 9u)
+
+static void test_every_bad_field_is_named(void **state)
+{
+    (void)state;
+    static const bad_case_t cases[] = {
+        {"wheel_diameter_left_um", bad_diam_l_small}, {"wheel_diameter_right_um", bad_diam_r_big},
+        {"wheel_base_um", bad_base_zero},             {"encoder_counts_per_rev", bad_counts_few},
+        {"encoder_counts_per_rev", bad_counts_many},  {"cal_left", bad_cal_l},
+        {"cal_right", bad_cal_r},                     {"cal_base", bad_cal_b},
+        {"start_x_um", bad_start_x},                  {"start_y_um", bad_start_y},
+        {"start_heading_mdeg", bad_start_h},          {"cell_um", bad_cell_zero},
+        {"cell_um", bad_cell_huge},                   {"start_cell_a", bad_start_a},
+        {"start_cell_b", bad_start_b},                {"om_max", bad_om_max},
+        {"tm_max", bad_tm_max},                       {"confidence_radius_um", bad_rc_small},
+        {"confidence_radius_um", bad_rc_zero},        {"range_min_um", bad_range_min},
+        {"sound_speed_mm_per_s", bad_sound},          {"mount_x_um", bad_mount_x},
+        {"mount_y_um", bad_mount_y},                  {"mount_yaw_mdeg", bad_mount_yaw},
+        {"sweep_first_mdeg", bad_first},              {"sweep_last_mdeg", bad_last},
+        {"sweep_stops", bad_stops_zero},              {"sweep_stops", bad_stops_many},
+        {"sweep_stops", bad_stops_one},               {"settle_ticks", bad_settle},
+        {"echo_timeout_ticks", bad_echo_to},          {"servo_pulse_0deg_us", bad_pulse0},
+        {"servo_pulse_180deg_us", bad_pulse180},      {"servo_pulse_180deg_us", bad_pulse_same},
+        {"post_threshold", bad_threshold},            {"post_template_k", bad_template_k},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        slam_config_t c;
+        slam_config_default(&c);
+        cases[i].mutate(&c);
+        slam_config_t copy = c;
+        const char *field = NULL;
+        assert_int_equal(slam_config_check(&c, &field), SLAM_EINVAL);
+        assert_non_null(field);
+        assert_string_equal(field, cases[i].field);
+        assert_memory_equal(&c, &copy, sizeof c); /* the check changes nothing */
+    }
+}
+
+static void test_edges_of_valid_ranges_pass(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    c.wheel_diameter_left_um = 10000u;
+    c.wheel_diameter_right_um = 300000u;
+    c.wheel_base_um = 1000000u;
+    c.encoder_counts_per_rev = 16u;
+    c.cal_left = FIX_Q30_ONE / 2;
+    c.cal_right = FIX_Q30_ONE + FIX_Q30_ONE / 2;
+    c.cell_um = 5000u;
+    c.start_cell_a = (uint16_t)(SLAM_GRID_A - 1u);
+    c.start_cell_b = 0u;
+    c.sweep_stops = 1u;
+    c.sweep_first_mdeg = c.sweep_last_mdeg = 90000;
+    c.post_template_k = 8u;
+    c.post_threshold = (uint8_t)(c.om_max - 1u);
+    assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults_are_the_papers),
+        cmocka_unit_test(test_every_bad_field_is_named),
+        cmocka_unit_test(test_edges_of_valid_ranges_pass),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

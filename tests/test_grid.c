@@ -1,0 +1,258 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of the grids: Eq. 1-2 at the edges, saturation (Eq. 6-7), no write outside. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "slam/error.h"
+#include "slam/grid.h"
+#include "test_rng.h"
+
+#define L 50000 /* the default cell, µm */
+
+/* A grid between two guard areas: a write outside the arrays shows up in a guard. */
+typedef struct {
+    uint8_t before[64];
+    grid_t g;
+    uint8_t after[64];
+} guarded_grid_t;
+
+static guarded_grid_t gg;
+
+static void init_default(void)
+{
+    slam_config_t c;
+    slam_config_default(&c);
+    memset(&gg, 0xA5, sizeof gg);
+    grid_init(&gg.g, &c);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    init_default();
+    return 0;
+}
+
+static void expect_cell(int32_t x, int32_t y, int a, int b)
+{
+    grid_cell_t c = {0xFFFFu, 0xFFFFu};
+    assert_int_equal(grid_cell_of(&gg.g, x, y, &c), SLAM_OK);
+    assert_int_equal(c.a, a);
+    assert_int_equal(c.b, b);
+}
+
+static void expect_outside(int32_t x, int32_t y)
+{
+    grid_cell_t c = {1234u, 4321u};
+    assert_int_equal(grid_cell_of(&gg.g, x, y, &c), SLAM_EOUTSIDE);
+    assert_int_equal(c.a, 1234u); /* untouched */
+    assert_int_equal(c.b, 4321u);
+}
+
+static void test_origin_puts_start_at_centre_cell(void **state)
+{
+    (void)state;
+    /* Start (0, 0) at the centre of cell (A/2, B/2). */
+    assert_int_equal(gg.g.origin_x_um, -(int32_t)(SLAM_GRID_A / 2u) * L - L / 2);
+    assert_int_equal(gg.g.origin_y_um, -(int32_t)(SLAM_GRID_B / 2u) * L - L / 2);
+    expect_cell(0, 0, SLAM_GRID_A / 2, SLAM_GRID_B / 2);
+    /* A start pose elsewhere, at another cell. */
+    slam_config_t c;
+    slam_config_default(&c);
+    c.start_x_um = 1000000;
+    c.start_y_um = -2000000;
+    c.start_cell_a = 3;
+    c.start_cell_b = 7;
+    grid_init(&gg.g, &c);
+    expect_cell(1000000, -2000000, 3, 7);
+    expect_cell(1000000 - 3 * L, -2000000 - 7 * L, 0, 0);
+}
+
+static void test_eq1_eq2_at_cell_edges(void **state)
+{
+    (void)state;
+    int32_t ox = gg.g.origin_x_um;
+    int32_t oy = gg.g.origin_y_um;
+    /* The lower-left corner of a cell belongs to it; one µm less is the cell before. */
+    expect_cell(ox, oy, 0, 0);
+    expect_cell(ox + L - 1, oy + L - 1, 0, 0);
+    expect_cell(ox + L, oy, 1, 0);
+    expect_cell(ox, oy + L, 0, 1);
+    expect_cell(ox + 17 * L, oy + 5 * L, 17, 5);
+    expect_cell(ox + 17 * L - 1, oy + 5 * L - 1, 16, 4);
+    /* Negative world coordinates: around the start cell's lower edge at -L/2. */
+    int32_t ca = SLAM_GRID_A / 2;
+    int32_t cb = SLAM_GRID_B / 2;
+    expect_cell(-1, -1, ca, cb);
+    expect_cell(-L / 2, -L / 2, ca, cb);
+    expect_cell(-L / 2 - 1, -L / 2 - 1, ca - 1, cb - 1);
+    expect_cell(-L / 2 - L, 0, ca - 1, cb);
+    expect_cell(-L / 2 - L - 1, 0, ca - 2, cb);
+    /* The last row and column, and just beyond. */
+    int32_t xe = ox + (int32_t)SLAM_GRID_A * L;
+    int32_t ye = oy + (int32_t)SLAM_GRID_B * L;
+    expect_cell(xe - 1, ye - 1, SLAM_GRID_A - 1, SLAM_GRID_B - 1);
+    expect_outside(xe, 0);
+    expect_outside(0, ye);
+    /* Just below the origin: a truncating division would fold these into cell 0. */
+    expect_outside(ox - 1, oy);
+    expect_outside(ox, oy - 1);
+    expect_outside(ox - L + 1, oy);
+    /* Far away. */
+    expect_outside(INT32_MIN, 0);
+    expect_outside(INT32_MAX, INT32_MAX);
+    expect_outside(0, INT32_MIN);
+}
+
+typedef struct {
+    int which; /* 0: OM, 1: TM */
+    uint8_t max;
+    unsigned hits;
+    uint8_t expect;
+} sat_case_t;
+
+static void test_saturation_table(void **state)
+{
+    (void)state;
+    static const sat_case_t cases[] = {
+        {0, 9, 0, 0},    {0, 9, 1, 1},    {0, 9, 8, 8},     {0, 9, 9, 9},
+        {0, 9, 10, 9},   {0, 9, 1000, 9}, {1, 30, 1, 1},    {1, 30, 29, 29},
+        {1, 30, 30, 30}, {1, 30, 31, 30}, {1, 30, 5000, 30}, {0, 255, 256, 255},
+        {1, 255, 300, 255}, {0, 1, 3, 1},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        const sat_case_t *k = &cases[i];
+        slam_config_t c;
+        slam_config_default(&c);
+        c.om_max = k->which == 0 ? k->max : 9u;
+        c.tm_max = k->which == 1 ? k->max : 30u;
+        grid_init(&gg.g, &c);
+        for (unsigned h = 0; h < k->hits; h++) {
+            int rc = k->which == 0 ? grid_om_hit(&gg.g, 123456, -98765)
+                                   : grid_tm_visit(&gg.g, 123456, -98765);
+            assert_int_equal(rc, SLAM_OK);
+        }
+        grid_cell_t cell;
+        assert_int_equal(grid_cell_of(&gg.g, 123456, -98765, &cell), SLAM_OK);
+        const uint8_t *map = k->which == 0 ? gg.g.om : gg.g.tm;
+        const uint8_t *other = k->which == 0 ? gg.g.tm : gg.g.om;
+        assert_int_equal(map[grid_index(cell)], k->expect);
+        assert_int_equal(other[grid_index(cell)], 0); /* the other map is untouched */
+    }
+}
+
+static void test_outside_is_rejected_and_counted(void **state)
+{
+    (void)state;
+    assert_int_equal(gg.g.rejected, 0u);
+    assert_int_equal(grid_om_hit(&gg.g, INT32_MAX, 0), SLAM_EOUTSIDE);
+    assert_int_equal(grid_tm_visit(&gg.g, 0, INT32_MIN), SLAM_EOUTSIDE);
+    assert_int_equal(gg.g.rejected, 2u);
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(gg.g.om[i], 0);
+        assert_int_equal(gg.g.tm[i], 0);
+    }
+}
+
+static void assert_guards_intact(void)
+{
+    for (size_t i = 0; i < sizeof gg.before; i++) {
+        assert_int_equal(gg.before[i], 0xA5);
+        assert_int_equal(gg.after[i], 0xA5);
+    }
+}
+
+/* Eq. 1-2 worked independently: floor division in double. */
+static int ref_cell(const grid_t *g, int32_t x, int32_t y, uint32_t *index)
+{
+    double a = floor(((double)x - g->origin_x_um) / L);
+    double b = floor(((double)y - g->origin_y_um) / L);
+    if (a < 0.0 || b < 0.0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B) {
+        return 0;
+    }
+    *index = (uint32_t)b * SLAM_GRID_A + (uint32_t)a;
+    return 1;
+}
+
+static uint32_t shadow_om[SLAM_GRID_CELLS];
+static uint32_t shadow_tm[SLAM_GRID_CELLS];
+
+static uint8_t saturated(uint32_t count, uint8_t max)
+{
+    return count > max ? max : (uint8_t)count;
+}
+
+/* A million random points, anywhere, around the borders and inside: every cell holds what
+ * an independent Eq. 1-2 says, every other point is counted as rejected, and nothing
+ * outside the arrays changes. The sanitizer build checks the same soak for any
+ * out-of-bounds access. */
+static void test_random_point_soak(void **state)
+{
+    (void)state;
+    test_rng_t rng = {99u};
+    int32_t ox = gg.g.origin_x_um;
+    int32_t oy = gg.g.origin_y_um;
+    int32_t xe = ox + (int32_t)SLAM_GRID_A * L;
+    int32_t ye = oy + (int32_t)SLAM_GRID_B * L;
+    uint32_t outside = 0;
+    memset(shadow_om, 0, sizeof shadow_om);
+    memset(shadow_tm, 0, sizeof shadow_tm);
+    for (int i = 0; i < 1000000; i++) {
+        int32_t x;
+        int32_t y;
+        switch (i % 4) {
+        case 0: /* anywhere */
+            x = (int32_t)test_rng_u64(&rng);
+            y = (int32_t)test_rng_u64(&rng);
+            break;
+        case 1: /* within a few µm of a border */
+            x = test_rng_range(&rng, ox - 2 * L, xe + 2 * L);
+            y = ((i >> 2) & 1) ? oy + test_rng_range(&rng, -3, 3) : ye + test_rng_range(&rng, -3, 3);
+            if ((i >> 3) & 1) {
+                int32_t t = x - ox + oy;
+                x = ((i >> 4) & 1) ? ox + (y - oy) : xe + (y - ye);
+                y = t;
+            }
+            break;
+        default: /* inside, mostly */
+            x = test_rng_range(&rng, ox - L, xe + L);
+            y = test_rng_range(&rng, oy - L, ye + L);
+            break;
+        }
+        uint32_t idx = 0;
+        int inside = ref_cell(&gg.g, x, y, &idx);
+        if (i & 1) {
+            assert_int_equal(grid_om_hit(&gg.g, x, y), inside ? SLAM_OK : SLAM_EOUTSIDE);
+            shadow_om[idx] += (uint32_t)inside;
+        } else {
+            assert_int_equal(grid_tm_visit(&gg.g, x, y), inside ? SLAM_OK : SLAM_EOUTSIDE);
+            shadow_tm[idx] += (uint32_t)inside;
+        }
+        outside += (uint32_t)!inside;
+    }
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(gg.g.om[i], saturated(shadow_om[i], gg.g.om_max));
+        assert_int_equal(gg.g.tm[i], saturated(shadow_tm[i], gg.g.tm_max));
+    }
+    assert_true(outside > 100000u); /* plenty were outside */
+    assert_int_equal(gg.g.rejected, outside);
+    assert_guards_intact();
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_origin_puts_start_at_centre_cell, setup),
+        cmocka_unit_test_setup(test_eq1_eq2_at_cell_edges, setup),
+        cmocka_unit_test_setup(test_saturation_table, setup),
+        cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),
+        cmocka_unit_test_setup(test_random_point_soak, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

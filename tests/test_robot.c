@@ -1,0 +1,159 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of the robot wiring through a fake HAL: init, one tick's HAL traffic, mapping. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "fake_hal.h"
+#include "slam/error.h"
+#include "slam/robot.h"
+
+static robot_t robot;
+static slam_config_t cfg;
+
+static int setup(void **state)
+{
+    (void)state;
+    fake_hal_reset();
+    slam_config_default(&cfg);
+    memset(&robot, 0, sizeof robot);
+    return 0;
+}
+
+static void test_bad_config_changes_nothing(void **state)
+{
+    (void)state;
+    memset(&robot, 0x5A, sizeof robot);
+    robot_t before = robot;
+    cfg.wheel_base_um = 0u;
+    fake_hal.motor[0] = 123;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_EINVAL);
+    assert_memory_equal(&robot, &before, sizeof robot);
+    assert_int_equal(fake_hal.calls_motor, 0u);   /* hardware untouched too */
+    assert_int_equal(fake_hal.calls_encoder, 0u);
+    assert_int_equal(fake_hal.motor[0], 123);
+}
+
+static void test_init_stops_motors_and_takes_encoder_reference(void **state)
+{
+    (void)state;
+    fake_hal.motor[0] = 500;
+    fake_hal.motor[1] = -500;
+    fake_hal.encoder[0] = 65000u;
+    fake_hal.encoder[1] = 7u;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    assert_int_equal(fake_hal.motor[0], 0);
+    assert_int_equal(fake_hal.motor[1], 0);
+    /* No motion since init: the first tick leaves the pose at the start. */
+    robot_tick(&robot);
+    assert_int_equal(robot.pose.x_um, 0);
+    assert_int_equal(robot.pose.y_um, 0);
+    assert_int_equal(robot.pose.heading, 0u);
+}
+
+/* A straight drive past a wall: the robot's HAL traffic follows the sweep, and with the
+ * echo of a wall 0.5 m ahead of the sonar axis, OM fills exactly where the wall is. */
+static void test_ticks_drive_sweep_and_map(void **state)
+{
+    (void)state;
+    cfg.sweep_stops = 1u; /* one stop straight ahead keeps the geometry easy */
+    cfg.sweep_first_mdeg = cfg.sweep_last_mdeg = 90000;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+
+    static uint32_t ticks_in[SLAM_GRID_CELLS];
+    memset(ticks_in, 0, sizeof ticks_in);
+    unsigned pings = 0;
+    for (uint32_t t = 0; t < 1000; t++) {
+        /* Forward at 4 counts a tick on both wheels: 1.17 mm a tick, 1.17 m in 10 s. */
+        fake_hal.encoder[0] = (uint16_t)(fake_hal.encoder[0] + 4u);
+        fake_hal.encoder[1] = (uint16_t)(fake_hal.encoder[1] + 4u);
+        unsigned triggers = fake_hal.calls_trigger;
+        unsigned polls = fake_hal.calls_poll;
+        robot_tick(&robot);
+        grid_cell_t here;
+        assert_int_equal(grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &here), SLAM_OK);
+        ticks_in[grid_index(here)]++;
+        if (fake_hal.calls_trigger != triggers) {
+            pings++;
+            /* The sensor answers on the next poll: a wall 0.5 m ahead of the sonar, which
+             * is 2 m ahead of the start. */
+            uint32_t ahead_um = 2000000u - (uint32_t)robot.pose.x_um - 50000u;
+            fake_hal.sonar_next = HAL_SONAR_ECHO;
+            fake_hal.sonar_echo_us = (uint32_t)((ahead_um * 2ull * 1000u) / 343000u);
+        }
+        /* Polls happen only while a ping is out. */
+        if (fake_hal.calls_poll != polls) {
+            assert_true(robot.sweep.phase == SWEEP_WAIT || robot.last.reading_ready);
+        }
+    }
+    assert_int_equal(robot.ticks, 1000u);
+    assert_int_equal(pings, robot.sweep.pings);
+    assert_true(pings > 200u);
+    assert_int_equal(fake_hal.calls_servo, robot.sweep.echoes + 1u);
+    assert_int_equal(fake_hal.servo_pulse_us, 1500u); /* 90° */
+    assert_int_equal(robot.ping_errors, 0u);
+
+    /* TM: one count a tick at the robot's cell, up to TMmax (43 ticks a cell at this
+     * speed); OM: only readings within rc, all in the wall's cell. */
+    uint32_t om_sum = 0;
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(robot.grid.tm[i], ticks_in[i] > 30u ? 30u : ticks_in[i]);
+        om_sum += robot.grid.om[i];
+        if (robot.grid.om[i] != 0u) {
+            /* x = 2 m is the lower edge of cell 80 + 40.5 -> a = 120 (or just before it,
+             * rounding the echo width down). */
+            uint32_t a = i % SLAM_GRID_A;
+            assert_true(a == 120u || a == 119u);
+            assert_int_equal(i / SLAM_GRID_A, SLAM_GRID_B / 2u);
+        }
+    }
+    assert_true(robot.mapper.hits > 0u);
+    assert_int_equal(robot.mapper.hits + robot.mapper.far, robot.sweep.echoes);
+    assert_true(om_sum <= 9u * 2u);
+}
+
+static void test_refused_ping_is_counted_and_sweep_goes_on(void **state)
+{
+    (void)state;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    fake_hal.trigger_result = HAL_EBUSY;
+    for (int t = 0; t < 100; t++) {
+        robot_tick(&robot);
+    }
+    assert_true(robot.ping_errors > 5u);
+    assert_int_equal(robot.ping_errors, robot.sweep.pings);
+    assert_true(robot.sweep.timeouts >= robot.ping_errors - 1u);
+    assert_true(fake_hal.calls_servo > 5u);
+}
+
+static void test_idle_feeds_watchdog_only_while_ticking(void **state)
+{
+    (void)state;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    robot_idle(&robot);
+    robot_idle(&robot);
+    assert_int_equal(fake_hal.calls_watchdog, 0u); /* no tick yet */
+    robot_tick(&robot);
+    robot_idle(&robot);
+    robot_idle(&robot);
+    assert_int_equal(fake_hal.calls_watchdog, 1u);
+    robot_tick(&robot);
+    robot_idle(&robot);
+    assert_int_equal(fake_hal.calls_watchdog, 2u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_bad_config_changes_nothing, setup),
+        cmocka_unit_test_setup(test_init_stops_motors_and_takes_encoder_reference, setup),
+        cmocka_unit_test_setup(test_ticks_drive_sweep_and_map, setup),
+        cmocka_unit_test_setup(test_refused_ping_is_counted_and_sweep_goes_on, setup),
+        cmocka_unit_test_setup(test_idle_feeds_watchdog_only_while_ticking, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

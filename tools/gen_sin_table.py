@@ -1,0 +1,15 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Prints the quarter-wave sine table of firmware/src/fixed.c (257 Q1.30 entries).
+
+Entry i is round(sin(i/256 * pi/2) * 2^30). Paste the output between the table markers
+in fixed.c when the table size or format changes.
+"""
+import math
+
+N = 256
+vals = [round(math.sin(i / N * math.pi / 2) * (1 << 30)) for i in range(N + 1)]
+print("static const q1_30_t fix_sin_table[%d] = {" % (N + 1))
+for i in range(0, N + 1, 6):
+    print("    " + ", ".join("%d" % v for v in vals[i:i + 6]) + ",")
+print("};")

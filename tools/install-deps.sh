@@ -1,0 +1,90 @@
+#!/bin/sh
+# SPDX-License-Identifier: MIT
+# Installs the Debian packages sonarslam needs, and only those that are missing.
+#
+#   tools/install-deps.sh [GROUP...]     groups: test sim firmware linux all (default: all)
+#
+# Idempotent: when everything is present it installs nothing and says so.
+# Uses sudo when not run as root. Exit status is non-zero when an install fails.
+set -eu
+
+usage() {
+    echo "usage: tools/install-deps.sh [test|sim|firmware|linux|all]...   (default: all)"
+    echo "Installs the missing Debian packages the named parts of sonarslam need."
+}
+
+# What each group needs (Debian bookworm package names).
+pkgs_test="cmake make gcc pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils"
+pkgs_sim="cmake make gcc python3 python3-numpy python3-matplotlib"
+pkgs_firmware="gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
+pkgs_linux="libgpiod-dev pkg-config"
+
+want=""
+[ $# -eq 0 ] && set -- all
+for group in "$@"; do
+    case "$group" in
+        test)     want="$want $pkgs_test" ;;
+        sim)      want="$want $pkgs_sim" ;;
+        firmware) want="$want $pkgs_firmware" ;;
+        linux)    want="$want $pkgs_linux" ;;
+        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_linux" ;;
+        -h|--help) usage; exit 0 ;;
+        *) echo "install-deps: unknown group '$group' (valid: test sim firmware linux all)" >&2; exit 2 ;;
+    esac
+done
+
+# A package is installed when dpkg says so; a plain name is tried for the native
+# architecture first (libcmocka-dev may be present for amd64 and i386 at once).
+installed() {
+    case "$1" in
+        *:*) names="$1" ;;
+        *)   names="$1:$(dpkg --print-architecture) $1" ;;
+    esac
+    for n in $names; do
+        [ "$(dpkg-query -W -f='${Status}' "$n" 2>/dev/null)" = "install ok installed" ] && return 0
+    done
+    return 1
+}
+
+missing=""
+for p in $want; do
+    case " $missing " in *" $p "*) continue ;; esac
+    installed "$p" || missing="$missing $p"
+done
+
+if [ -z "$missing" ]; then
+    echo "install-deps: all needed Debian packages are installed."
+    exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+    SUDO=""
+elif command -v sudo >/dev/null 2>&1; then
+    SUDO="sudo"
+else
+    echo "install-deps: need root (or sudo) to install:$missing" >&2
+    exit 1
+fi
+
+echo "install-deps: installing:$missing"
+case "$missing" in
+    *":i386"*)
+        if ! dpkg --print-foreign-architectures | grep -qx i386; then
+            echo "install-deps: enabling the i386 architecture for the 32-bit test build"
+            $SUDO dpkg --add-architecture i386
+        fi
+        ;;
+esac
+
+# An index that fails to download must not stop the install: judge by the install itself.
+$SUDO apt-get update -q || echo "install-deps: apt-get update reported errors; trying the install anyway" >&2
+# shellcheck disable=SC2086
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends $missing
+
+still=""
+for p in $missing; do installed "$p" || still="$still $p"; done
+if [ -n "$still" ]; then
+    echo "install-deps: these packages are still missing:$still" >&2
+    exit 1
+fi
+echo "install-deps: done."
