@@ -4,44 +4,49 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "slam/error.h"
 #include "slam/grid.h"
 
+/* Static storage: the padding bytes are zero too, so equal configurations compare equal
+ * byte for byte. */
+static const slam_config_t slam_config_defaults = {
+    .wheel_diameter_left_um = 65000u,
+    .wheel_diameter_right_um = 65000u,
+    .wheel_base_um = 130000u,
+    .encoder_counts_per_rev = 700u,
+    .cal_left = FIX_Q30_ONE,
+    .cal_right = FIX_Q30_ONE,
+    .cal_base = FIX_Q30_ONE,
+    .start_x_um = 0,
+    .start_y_um = 0,
+    .start_heading_mdeg = 0,
+    .cell_um = 50000u,
+    .start_cell_a = (uint16_t)(SLAM_GRID_A / 2u),
+    .start_cell_b = (uint16_t)(SLAM_GRID_B / 2u),
+    .om_max = 9u,
+    .tm_max = 30u,
+    .confidence_radius_um = 1000000u,
+    .range_min_um = 20000u,
+    .sound_speed_mm_per_s = 343000u,
+    .mount_x_um = 50000,
+    .mount_y_um = 0,
+    .mount_yaw_mdeg = 0,
+    .sweep_first_mdeg = 65000,
+    .sweep_last_mdeg = 155000,
+    .sweep_stops = 6u,
+    .settle_ticks = 3u,
+    .echo_timeout_ticks = 4u,
+    .servo_pulse_0deg_us = 500u,
+    .servo_pulse_180deg_us = 2500u,
+    .post_threshold = 3u,
+    .post_template_k = 2u,
+};
+
 void slam_config_default(slam_config_t *cfg)
 {
-    *cfg = (slam_config_t){
-        .wheel_diameter_left_um = 65000u,
-        .wheel_diameter_right_um = 65000u,
-        .wheel_base_um = 130000u,
-        .encoder_counts_per_rev = 700u,
-        .cal_left = FIX_Q30_ONE,
-        .cal_right = FIX_Q30_ONE,
-        .cal_base = FIX_Q30_ONE,
-        .start_x_um = 0,
-        .start_y_um = 0,
-        .start_heading_mdeg = 0,
-        .cell_um = 50000u,
-        .start_cell_a = (uint16_t)(SLAM_GRID_A / 2u),
-        .start_cell_b = (uint16_t)(SLAM_GRID_B / 2u),
-        .om_max = 9u,
-        .tm_max = 30u,
-        .confidence_radius_um = 1000000u,
-        .range_min_um = 20000u,
-        .sound_speed_mm_per_s = 343000u,
-        .mount_x_um = 50000,
-        .mount_y_um = 0,
-        .mount_yaw_mdeg = 0,
-        .sweep_first_mdeg = 65000,
-        .sweep_last_mdeg = 155000,
-        .sweep_stops = 6u,
-        .settle_ticks = 3u,
-        .echo_timeout_ticks = 4u,
-        .servo_pulse_0deg_us = 500u,
-        .servo_pulse_180deg_us = 2500u,
-        .post_threshold = 3u,
-        .post_template_k = 2u,
-    };
+    memcpy(cfg, &slam_config_defaults, sizeof *cfg);
 }
 
 /* Position limits: a pose must stay far from the int32_t µm limits (±2147 m). */
