@@ -42,6 +42,17 @@ static const slam_config_t slam_config_defaults = {
     .servo_pulse_180deg_us = 2500u,
     .post_threshold = 3u,
     .post_template_k = 2u,
+    .top_speed_mm_s = 300u,
+    .accel_mm_s2 = 500u,
+    .motion_kp_q8 = 64u,
+    .motion_ki_q8 = 8u,
+    .explore_mode = EXPLORE_RANDOM,
+    .cruise_mm_s = 200u,
+    .turn_mm_s = 100u,
+    .avoid_um = 300000u,
+    .clearance_um = 130000u,
+    .square_side_um = 1000000u,
+    .explore_seed = 1u,
 };
 
 void slam_config_default(slam_config_t *cfg)
@@ -163,6 +174,39 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->post_template_k > 8u) {
         return "post_template_k";
+    }
+    if (!in_range_u(c->top_speed_mm_s, 50u, 5000u)) {
+        return "top_speed_mm_s";
+    }
+    if (!in_range_u(c->accel_mm_s2, 10u, 50000u)) {
+        return "accel_mm_s2";
+    }
+    if (c->motion_kp_q8 > 4096u) {
+        return "motion_kp_q8";
+    }
+    if (c->motion_ki_q8 > 4096u) {
+        return "motion_ki_q8";
+    }
+    if (c->explore_mode >= EXPLORE_MODES) {
+        return "explore_mode";
+    }
+    if (c->cruise_mm_s == 0u || c->cruise_mm_s > c->top_speed_mm_s) {
+        return "cruise_mm_s";
+    }
+    if (c->turn_mm_s == 0u || c->turn_mm_s > c->top_speed_mm_s) {
+        return "turn_mm_s";
+    }
+    if (!in_range_u(c->avoid_um, 50000u, 4000000u)) {
+        return "avoid_um";
+    }
+    if (!in_range_u(c->clearance_um, 10000u, 2000000u)) {
+        return "clearance_um";
+    }
+    if (!in_range_u(c->square_side_um, 100000u, 100000000u)) {
+        return "square_side_um";
+    }
+    if (c->explore_seed == 0u) {
+        return "explore_seed";
     }
     return NULL;
 }

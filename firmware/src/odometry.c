@@ -28,6 +28,8 @@ void odom_init(odom_t *o, const slam_config_t *cfg, uint16_t left, uint16_t righ
     o->heading_q16 = (uint64_t)fix_bam_from_mdeg(cfg->start_heading_mdeg) << 16;
     o->last_count[ODOM_LEFT] = left;
     o->last_count[ODOM_RIGHT] = right;
+    o->step_um[ODOM_LEFT] = 0;
+    o->step_um[ODOM_RIGHT] = 0;
 }
 
 /* Counts moved since the last reading of a wrapping 16-bit counter, in [-32768, 32767]. */
@@ -44,10 +46,15 @@ void odom_step(odom_t *o, uint16_t left, uint16_t right)
     o->last_count[ODOM_LEFT] = left;
     o->last_count[ODOM_RIGHT] = right;
 
+    /* Each wheel's travel dU_g, dU_d in Q16 µm. */
+    int64_t ul = dl * o->um_per_count[ODOM_LEFT];
+    int64_t ur = dr * o->um_per_count[ODOM_RIGHT];
+    o->step_um[ODOM_LEFT] = (int32_t)fix_round_shift(ul, 16u);
+    o->step_um[ODOM_RIGHT] = (int32_t)fix_round_shift(ur, 16u);
     /* Eq. 8: dΨ = (dU_d - dU_g) / 2h, in Q16 binary angle units. */
     int64_t dpsi = dr * o->bam_per_count[ODOM_RIGHT] - dl * o->bam_per_count[ODOM_LEFT];
     /* Eq. 9: dU = (dU_d + dU_g) / 2, in Q16 µm. */
-    int64_t du = (dr * o->um_per_count[ODOM_RIGHT] + dl * o->um_per_count[ODOM_LEFT]) / 2;
+    int64_t du = (ur + ul) / 2;
 
     /* Eq. 10-11 along the midpoint heading Ψ + dΨ/2; unsigned arithmetic wraps the turn. */
     bam32_t mid = (bam32_t)((o->heading_q16 + (uint64_t)(dpsi / 2)) >> 16);

@@ -18,6 +18,8 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
               hal_encoder_count(HAL_WHEEL_RIGHT));
     sweep_init(&r->sweep, cfg);
     mapper_init(&r->mapper, cfg);
+    explore_init(&r->explore, cfg);
+    motion_init(&r->motion, cfg);
     grid_init(&r->grid, cfg);
     r->pose = odom_pose(&r->odom);
     r->last = (sweep_out_t){0};
@@ -64,7 +66,14 @@ void robot_tick(robot_t *r)
     /* Algorithm C.1. */
     mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
 
-    /* Motion control hooks in here: it reads r->pose and the readings, sets the motors. */
+    /* Where to go, and the wheel speeds that get us there. */
+    int32_t target_mm_s[2];
+    explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, target_mm_s);
+    motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
+    int16_t duty[2];
+    motion_step(&r->motion, &r->odom, duty);
+    hal_motor_set(HAL_WHEEL_LEFT, duty[ODOM_LEFT]);
+    hal_motor_set(HAL_WHEEL_RIGHT, duty[ODOM_RIGHT]);
 
     r->ticks++;
 }

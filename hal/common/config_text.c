@@ -36,6 +36,12 @@ static const field_t fields[] = {
     F(settle_ticks, T_U8),            F(echo_timeout_ticks, T_U8),
     F(servo_pulse_0deg_us, T_U16),    F(servo_pulse_180deg_us, T_U16),
     F(post_threshold, T_U8),          F(post_template_k, T_U8),
+    F(top_speed_mm_s, T_U16),         F(accel_mm_s2, T_U16),
+    F(motion_kp_q8, T_U16),           F(motion_ki_q8, T_U16),
+    F(explore_mode, T_U8),            F(cruise_mm_s, T_U16),
+    F(turn_mm_s, T_U16),              F(avoid_um, T_U32),
+    F(clearance_um, T_U32),           F(square_side_um, T_U32),
+    F(explore_seed, T_U32),
 };
 #undef F
 

@@ -25,6 +25,15 @@
 /** The most servo stops a sweep may have. */
 #define SLAM_SWEEP_STOPS_MAX 16u
 
+/** How the robot explores (explore.h). */
+typedef enum {
+    EXPLORE_OFF = 0,    /**< stand still; the map still updates */
+    EXPLORE_RANDOM = 1, /**< the paper's random exploration with obstacle avoidance */
+    EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
+    EXPLORE_SQUARE = 3, /**< drive one square, counter-clockwise (odometry tests) */
+    EXPLORE_MODES
+} explore_mode_t;
+
 /** Everything the core can be told about the robot, the sensor and the method. */
 typedef struct {
     /* Odometry (Eq. 8-12). */
@@ -68,6 +77,21 @@ typedef struct {
     /* Post-processing (§II.D). */
     uint8_t post_threshold;  /**< TH: OM <= TH is free; 3 */
     uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed */
+
+    /* Motion (§III.B). */
+    uint16_t top_speed_mm_s; /**< wheel speed at full duty (feed-forward); 300 */
+    uint16_t accel_mm_s2;    /**< acceleration limit of each wheel; 500 */
+    uint16_t motion_kp_q8;   /**< duty per µm/tick of speed error, Q8; 64 */
+    uint16_t motion_ki_q8;   /**< duty per µm of accumulated error, Q8; 8 */
+
+    /* Exploration (§II.E). */
+    uint8_t explore_mode;    /**< an explore_mode_t; EXPLORE_RANDOM */
+    uint16_t cruise_mm_s;    /**< forward speed; 200 */
+    uint16_t turn_mm_s;      /**< wheel speed when turning in place; 100 */
+    uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
+    uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
+    uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
+    uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */

@@ -9,8 +9,8 @@
  *
  * robot_tick() is the body of the 10 ms control interrupt. Its work is O(1): one
  * odometry step, one sweep step (at most one servo command, one ping, one reading), one
- * TM update and at most one OM update (Algorithm C.1). Anything proportional to the map
- * belongs in robot_idle().
+ * TM update and at most one OM update (Algorithm C.1), one exploration step and one
+ * speed-control step. Anything proportional to the map belongs in robot_idle().
  */
 #ifndef SLAM_ROBOT_H
 #define SLAM_ROBOT_H
@@ -18,8 +18,10 @@
 #include <stdint.h>
 
 #include "slam/config.h"
+#include "slam/explore.h"
 #include "slam/grid.h"
 #include "slam/mapper.h"
+#include "slam/motion.h"
 #include "slam/odometry.h"
 #include "slam/sweep.h"
 
@@ -29,6 +31,8 @@ typedef struct {
     odom_t odom;           /**< pose tracking */
     sweep_t sweep;         /**< servo sweep */
     mapper_t mapper;       /**< Algorithm C.1 */
+    explore_t explore;     /**< where to go */
+    motion_t motion;       /**< wheel speed control */
     grid_t grid;           /**< OM and TM */
     odom_pose_t pose;      /**< the pose after the last tick's odometry step */
     sweep_out_t last;      /**< what the sweep did in the last tick (for logs) */

@@ -1,0 +1,56 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * Wheel speed control (paper §III.B): each wheel follows a target speed through an
+ * acceleration limit, with a feed-forward duty plus a PI correction from its encoder.
+ *
+ * Speeds are in µm per control tick (10 ms): 1 mm/s is 10 µm/tick. Each tick the set
+ * speed of a wheel moves toward its target by at most the acceleration limit, and the
+ * duty is
+ *
+ *     duty = v_set · 1000 / v_top  +  (kp · e + ki · Σe) / 256,   e = v_set − v_measured
+ *
+ * clamped to ±HAL's full scale (1000). The acceleration limit is what the paper's Fig. 6
+ * is about: a robot that accelerates hard slips, and its odometry drifts more.
+ */
+#ifndef SLAM_MOTION_H
+#define SLAM_MOTION_H
+
+#include <stdint.h>
+
+#include "slam/config.h"
+#include "slam/odometry.h"
+
+/** Full-scale duty (the HAL's HAL_DUTY_MAX). */
+#define MOTION_DUTY_MAX 1000
+
+/** Speed control state, per wheel (ODOM_LEFT, ODOM_RIGHT). */
+typedef struct {
+    int32_t target_um_tick[2]; /**< where each wheel speed is going */
+    int32_t set_um_tick[2];    /**< the ramped set speed */
+    int32_t integral_um[2];    /**< Σ(set − measured), clamped */
+    int16_t duty[2];           /**< the last output */
+    int32_t accel_um_tick2;    /**< the most the set speed changes in one tick */
+    int32_t top_um_tick;       /**< wheel speed at full duty */
+    int32_t kp_q8;             /**< duty per µm/tick of error, Q8 */
+    int32_t ki_q8;             /**< duty per µm of accumulated error, Q8 */
+} motion_t;
+
+/** Start at rest with the gains and limits of a checked configuration. */
+void motion_init(motion_t *m, const slam_config_t *cfg);
+
+/**
+ * Set the target speed of both wheels (the ramp and the control follow).
+ * @param left_mm_s, right_mm_s  target wheel speeds in mm/s, forward positive; clamped
+ *                               to the top speed
+ */
+void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s);
+
+/**
+ * One control step. ISR-safe, O(1).
+ * @param odom  the odometry after this tick's step: its last wheel travel is the measure
+ * @param duty  out: the duty for each motor, -1000 .. 1000
+ */
+void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2]);
+
+#endif /* SLAM_MOTION_H */

@@ -1,0 +1,291 @@
+/* SPDX-License-Identifier: MIT */
+/* Exploration: random walk with obstacle avoidance, TM-guided headings, a test square. */
+#include "slam/explore.h"
+
+#include <string.h>
+
+#include "slam/error.h"
+#include "slam/fixed.h"
+
+#define DEG(d) ((bam32_t)((uint64_t)(d) * 0x100000000ull / 360u))
+#define EXPLORE_LOOK_UM 1000000     /* TM rays reach 1 m */
+#define EXPLORE_MEMORY_RANGE_UM 1500000u
+#define EXPLORE_TURN_DONE DEG(1)    /* a turn ends within 1° */
+#define EXPLORE_TURN_SLOW DEG(20)   /* and slows down over its last 20° */
+#define EXPLORE_TURN_MIN_MM_S 30
+#define EXPLORE_TURN_MAX_TICKS 1500u
+#define EXPLORE_TM_REDECIDE_TICKS 600u
+#define EXPLORE_RANDOM_TURN_MASK 1023u /* a random turn on average every 10 s */
+
+void explore_init(explore_t *e, const slam_config_t *cfg)
+{
+    memset(e, 0, sizeof *e);
+    e->mode = cfg->explore_mode;
+    e->stops = cfg->sweep_stops;
+    e->rng = cfg->explore_seed;
+    e->cruise_mm_s = cfg->cruise_mm_s;
+    e->turn_mm_s = cfg->turn_mm_s;
+    e->avoid_um = (int32_t)cfg->avoid_um;
+    e->clearance_um = (int32_t)cfg->clearance_um;
+    e->mount_x_um = cfg->mount_x_um;
+    e->mount_y_um = cfg->mount_y_um;
+    e->square_side_um = (int32_t)cfg->square_side_um;
+    e->cell_um = cfg->cell_um;
+    e->om_occupied = cfg->post_threshold;
+    e->tm_max = cfg->tm_max;
+    e->leg_x_um = cfg->start_x_um;
+    e->leg_y_um = cfg->start_y_um;
+    e->target_heading = fix_bam_from_mdeg(cfg->start_heading_mdeg);
+    switch (e->mode) {
+    case EXPLORE_RANDOM:
+    case EXPLORE_TM:
+        e->state = EXPLORE_LOOK;
+        break;
+    case EXPLORE_SQUARE:
+        e->state = EXPLORE_FORWARD;
+        break;
+    default:
+        e->state = EXPLORE_STOP;
+        break;
+    }
+}
+
+/* xorshift32: the exploration's own random stream, seeded by the configuration. */
+static uint32_t rng_below(explore_t *e, uint32_t n)
+{
+    uint32_t x = e->rng;
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    e->rng = x;
+    return x % n;
+}
+
+static void enter(explore_t *e, explore_state_t s)
+{
+    e->state = (uint8_t)s;
+    e->ticks = 0u;
+    e->look_readings = 0u;
+}
+
+/* The latest reading of each stop becomes a world point (or clears the stop). */
+static void remember(explore_t *e, const sweep_out_t *sw, const mapper_t *m)
+{
+    if (!sw->reading_ready) {
+        return;
+    }
+    uint8_t stop = sw->reading.stop;
+    e->look_readings++;
+    e->obst_seen[stop] = 0u;
+    if (!sw->reading.echo) {
+        return;
+    }
+    uint32_t d = sonar_range_um(&m->sonar, sw->reading.echo_us);
+    if (d < m->sonar.range_min_um || d > EXPLORE_MEMORY_RANGE_UM) {
+        return;
+    }
+    sonar_obstacle(&m->sonar, &m->ping_pose, sw->reading.servo, d, &e->obst_x_um[stop],
+                   &e->obst_y_um[stop]);
+    e->obst_seen[stop] = e->now;
+}
+
+/* The remembered point nearest ahead in the robot's corridor; false if none. */
+static bool nearest_ahead(const explore_t *e, const odom_pose_t *pose, int32_t *lateral_um)
+{
+    q1_30_t c = fix_cos(pose->heading);
+    q1_30_t s = fix_sin(pose->heading);
+    int32_t best = INT32_MAX;
+    for (uint8_t i = 0; i < e->stops; i++) {
+        if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > EXPLORE_MEMORY_TICKS) {
+            continue;
+        }
+        int32_t dx = fix_sat_sub_i32(e->obst_x_um[i], pose->x_um);
+        int32_t dy = fix_sat_sub_i32(e->obst_y_um[i], pose->y_um);
+        int32_t ahead = fix_sat_add_i32(fix_mul_q30(dx, c), fix_mul_q30(dy, s));
+        int32_t side = fix_sat_sub_i32(fix_mul_q30(dy, c), fix_mul_q30(dx, s));
+        bool in_corridor = side > -e->clearance_um && side < e->clearance_um;
+        if (in_corridor && ahead > 0 && ahead < e->mount_x_um + e->avoid_um && ahead < best) {
+            best = ahead;
+            *lateral_um = side;
+        }
+    }
+    return best != INT32_MAX;
+}
+
+bool explore_blocked(const explore_t *e, const odom_pose_t *pose)
+{
+    int32_t lateral;
+    return nearest_ahead(e, pose, &lateral);
+}
+
+static void begin_turn(explore_t *e, const odom_pose_t *pose, int32_t angle)
+{
+    e->target_heading = pose->heading + (bam32_t)angle;
+    e->turns++;
+    enter(e, EXPLORE_TURN);
+}
+
+/* A random turn of min..180° (in binary angle units): away from an obstacle on one
+ * side, or either way. */
+static void random_turn(explore_t *e, const odom_pose_t *pose, bam32_t min, int away_from)
+{
+    uint32_t span = DEG(180) - min;
+    int32_t angle = (int32_t)(min + rng_below(e, span));
+    int dir = away_from != 0 ? -away_from : (rng_below(e, 2u) != 0u ? 1 : -1);
+    begin_turn(e, pose, dir * angle);
+}
+
+/* TM mode: visits along a 1 m ray; beyond an occupied OM cell, or outside the grid, every
+ * cell counts as fully visited, so blocked and short rays lose. */
+static uint32_t ray_cost(const explore_t *e, const grid_t *g, const odom_pose_t *pose, bam32_t h)
+{
+    int32_t steps = (int32_t)(EXPLORE_LOOK_UM / e->cell_um);
+    steps = steps < 1 ? 1 : steps;
+    int32_t dx = fix_mul_q30((int32_t)e->cell_um, fix_cos(h));
+    int32_t dy = fix_mul_q30((int32_t)e->cell_um, fix_sin(h));
+    int32_t x = pose->x_um;
+    int32_t y = pose->y_um;
+    uint32_t cost = 0;
+    for (int32_t i = 0; i < steps; i++) {
+        x = fix_sat_add_i32(x, dx);
+        y = fix_sat_add_i32(y, dy);
+        grid_cell_t cell;
+        if (grid_cell_of(g, x, y, &cell) != SLAM_OK || g->om[grid_index(cell)] > e->om_occupied) {
+            return cost + (uint32_t)(steps - i) * e->tm_max;
+        }
+        cost += g->tm[grid_index(cell)];
+    }
+    return cost;
+}
+
+static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+{
+    /* Candidates are visited from a random first one, so ties go a random way. */
+    if (e->ticks == 1u) {
+        e->candidate = (uint8_t)rng_below(e, EXPLORE_CANDIDATES);
+        e->best_cost = UINT32_MAX;
+    }
+    bam32_t h = pose->heading + e->candidate * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES);
+    odom_pose_t facing = {pose->x_um, pose->y_um, h};
+    uint32_t cost = ray_cost(e, g, pose, h);
+    if (explore_blocked(e, &facing)) {
+        cost += 2u * EXPLORE_LOOK_UM / e->cell_um * e->tm_max;
+    }
+    if (cost < e->best_cost) {
+        e->best_cost = cost;
+        e->best = e->candidate;
+    }
+    e->candidate = (uint8_t)((e->candidate + 1u) % EXPLORE_CANDIDATES);
+    if (e->ticks >= EXPLORE_CANDIDATES) {
+        int32_t angle = (int32_t)(e->best * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES));
+        if (e->best == 0u) {
+            enter(e, EXPLORE_FORWARD);
+        } else {
+            begin_turn(e, pose, angle);
+        }
+    }
+}
+
+static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
+{
+    int32_t err = fix_bam_diff(e->target_heading, pose->heading);
+    uint32_t mag = err < 0 ? (uint32_t)(-(int64_t)err) : (uint32_t)err;
+    if (mag < EXPLORE_TURN_DONE || e->ticks > EXPLORE_TURN_MAX_TICKS) {
+        if (e->mode == EXPLORE_SQUARE) {
+            e->leg_x_um = pose->x_um;
+            e->leg_y_um = pose->y_um;
+            enter(e, EXPLORE_FORWARD);
+        } else {
+            enter(e, EXPLORE_LOOK);
+        }
+        target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+        return;
+    }
+    int32_t speed = e->turn_mm_s;
+    if (mag < EXPLORE_TURN_SLOW) {
+        speed = (int32_t)((int64_t)speed * mag / EXPLORE_TURN_SLOW);
+        speed = speed < EXPLORE_TURN_MIN_MM_S ? EXPLORE_TURN_MIN_MM_S : speed;
+    }
+    int32_t dir = err > 0 ? 1 : -1; /* counter-clockwise: right wheel forward */
+    target_mm_s[ODOM_LEFT] = -dir * speed;
+    target_mm_s[ODOM_RIGHT] = dir * speed;
+}
+
+static void forward_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
+{
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = e->cruise_mm_s;
+    if (e->mode == EXPLORE_SQUARE) {
+        int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
+        int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
+        int64_t side = e->square_side_um;
+        if (dx * dx + dy * dy >= side * side) {
+            e->leg++;
+            if (e->leg >= 4u) {
+                enter(e, EXPLORE_STOP);
+                target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+            } else {
+                /* Square corners are absolute: start heading + 90° per leg. */
+                e->target_heading += DEG(90);
+                e->turns++;
+                enter(e, EXPLORE_TURN);
+            }
+        }
+        return;
+    }
+    int32_t lateral = 0;
+    if (nearest_ahead(e, pose, &lateral)) {
+        e->avoidances++;
+        target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+        if (e->mode == EXPLORE_TM) {
+            enter(e, EXPLORE_DECIDE);
+        } else {
+            random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
+        }
+        return;
+    }
+    if (e->mode == EXPLORE_TM) {
+        if (e->ticks > EXPLORE_TM_REDECIDE_TICKS) {
+            enter(e, EXPLORE_DECIDE);
+        }
+    } else if (e->ticks > EXPLORE_FORWARD_MAX_TICKS ||
+               rng_below(e, EXPLORE_RANDOM_TURN_MASK + 1u) == 0u) {
+        random_turn(e, pose, DEG(30), 0);
+    }
+}
+
+void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
+                  const mapper_t *m, const grid_t *g, int32_t target_mm_s[2])
+{
+    e->now++;
+    e->ticks++;
+    remember(e, sw, m);
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+    switch (e->state) {
+    case EXPLORE_LOOK:
+        /* One full pass of the sweep since standing still, then decide. */
+        if (e->look_readings >= e->stops) {
+            if (e->mode == EXPLORE_TM) {
+                enter(e, EXPLORE_DECIDE);
+            } else {
+                int32_t lateral = 0;
+                if (nearest_ahead(e, pose, &lateral)) {
+                    random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
+                } else {
+                    enter(e, EXPLORE_FORWARD);
+                }
+            }
+        }
+        break;
+    case EXPLORE_DECIDE:
+        decide_step(e, pose, g);
+        break;
+    case EXPLORE_TURN:
+        turn_step(e, pose, target_mm_s);
+        break;
+    case EXPLORE_FORWARD:
+        forward_step(e, pose, target_mm_s);
+        break;
+    default:
+        break;
+    }
+}

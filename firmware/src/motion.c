@@ -1,0 +1,64 @@
+/* SPDX-License-Identifier: MIT */
+/* Wheel speed control: acceleration-limited set speeds, feed-forward plus PI per wheel. */
+#include "slam/motion.h"
+
+#include <string.h>
+
+#include "slam/fixed.h"
+
+/* 1 mm/s is 10 µm per 10 ms tick. */
+#define MOTION_UM_TICK_PER_MM_S 10
+
+void motion_init(motion_t *m, const slam_config_t *cfg)
+{
+    memset(m, 0, sizeof *m);
+    /* a mm/s² changes the speed by a/10 µm/tick in one tick; never less than 1. */
+    m->accel_um_tick2 = ((int32_t)cfg->accel_mm_s2 + 5) / 10;
+    if (m->accel_um_tick2 < 1) {
+        m->accel_um_tick2 = 1;
+    }
+    m->top_um_tick = (int32_t)cfg->top_speed_mm_s * MOTION_UM_TICK_PER_MM_S;
+    m->kp_q8 = cfg->motion_kp_q8;
+    m->ki_q8 = cfg->motion_ki_q8;
+}
+
+static int32_t clamp(int32_t v, int32_t lo, int32_t hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
+{
+    int32_t top_mm_s = m->top_um_tick / MOTION_UM_TICK_PER_MM_S;
+    m->target_um_tick[ODOM_LEFT] = clamp(left_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
+    m->target_um_tick[ODOM_RIGHT] = clamp(right_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
+}
+
+void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
+{
+    for (unsigned w = 0; w < 2u; w++) {
+        /* The ramp: the acceleration limit of §III.B. */
+        int32_t step = clamp(m->target_um_tick[w] - m->set_um_tick[w], -m->accel_um_tick2,
+                             m->accel_um_tick2);
+        int32_t set = m->set_um_tick[w] + step;
+        m->set_um_tick[w] = set;
+        if (set == 0 && m->target_um_tick[w] == 0) {
+            /* At rest: no output, and nothing left over to push the wheel later. */
+            m->integral_um[w] = 0;
+            m->duty[w] = 0;
+            duty[w] = 0;
+            continue;
+        }
+        int32_t err = set - odom->step_um[w];
+        /* The integral is bounded so its term alone stays within full scale. */
+        int32_t imax = m->ki_q8 > 0 ? (MOTION_DUTY_MAX * 256) / m->ki_q8 : 0;
+        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -imax, imax);
+        /* |set| <= top <= 50 000 µm/tick, so the feed-forward fits 32 bits. */
+        int32_t ff = set * MOTION_DUTY_MAX / m->top_um_tick;
+        int32_t pi = fix_sat_i32(fix_round_shift(
+            (int64_t)m->kp_q8 * err + (int64_t)m->ki_q8 * m->integral_um[w], 8u));
+        int16_t d = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
+        m->duty[w] = d;
+        duty[w] = d;
+    }
+}

@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of wheel speed control: the acceleration ramp, tracking, clamps, rest. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "slam/config.h"
+#include "slam/motion.h"
+
+static slam_config_t cfg;
+static motion_t m;
+static odom_t odom; /* only step_um is read */
+
+static int setup(void **state)
+{
+    (void)state;
+    slam_config_default(&cfg);
+    memset(&odom, 0, sizeof odom);
+    return 0;
+}
+
+/* A motor as the simulator models it: wheel speed follows duty·top/1000 with a first-order
+ * lag of tau_ticks, times a gain (1.0 = as the controller assumes). */
+typedef struct {
+    double v_um_tick;
+    double gain;
+    double tau_ticks;
+} plant_t;
+
+static void plant_step(plant_t *p, int16_t duty)
+{
+    double target = duty / 1000.0 * cfg.top_speed_mm_s * 10.0 * p->gain;
+    p->v_um_tick += (target - p->v_um_tick) / p->tau_ticks;
+}
+
+static void test_ramp_respects_the_acceleration_limit(void **state)
+{
+    (void)state;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 200, 200); /* 2000 µm/tick */
+    int16_t duty[2];
+    int32_t before = 0;
+    unsigned ticks_to_target = 0;
+    for (unsigned t = 1; t <= 100; t++) {
+        motion_step(&m, &odom, duty);
+        int32_t step = m.set_um_tick[0] - before;
+        assert_true(step >= 0 && step <= 50); /* 500 mm/s² = 50 µm/tick per tick */
+        before = m.set_um_tick[0];
+        if (ticks_to_target == 0 && m.set_um_tick[0] == 2000) {
+            ticks_to_target = t;
+        }
+    }
+    assert_int_equal(ticks_to_target, 40); /* 0.2 m/s at 0.5 m/s²: 0.4 s */
+    /* Ten times the acceleration: ten times sooner. */
+    cfg.accel_mm_s2 = 5000u;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 200, 200);
+    unsigned t = 0;
+    while (m.set_um_tick[0] != 2000) {
+        motion_step(&m, &odom, duty);
+        t++;
+    }
+    assert_int_equal(t, 4);
+}
+
+static void test_feed_forward_follows_the_ramp(void **state)
+{
+    (void)state;
+    cfg.motion_kp_q8 = 0u;
+    cfg.motion_ki_q8 = 0u;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 150, -90);
+    int16_t duty[2] = {0, 0};
+    for (int t = 1; t <= 100; t++) {
+        motion_step(&m, &odom, duty);
+        int32_t l = t * 50 < 1500 ? t * 50 : 1500;
+        int32_t r = t * 50 < 900 ? -t * 50 : -900;
+        assert_int_equal(duty[0], l * 1000 / 3000);
+        assert_int_equal(duty[1], r * 1000 / 3000);
+    }
+    assert_int_equal(duty[0], 500);
+    assert_int_equal(duty[1], -300);
+}
+
+/* A wheel 20 % weaker than the feed-forward assumes, with a 80 ms motor lag and encoder
+ * quantisation: the PI part brings the speed to the target. */
+static void test_pi_tracks_a_weaker_motor(void **state)
+{
+    (void)state;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 200, 100);
+    plant_t p[2] = {{0.0, 0.8, 8.0}, {0.0, 0.8, 8.0}};
+    double counts[2] = {0.0, 0.0};
+    const double um_per_count = 3.14159265358979 * 65000.0 / 700.0;
+    double travelled[2] = {0.0, 0.0};
+    int16_t duty[2] = {0, 0};
+    for (int t = 0; t < 300; t++) {
+        motion_step(&m, &odom, duty);
+        for (int w = 0; w < 2; w++) {
+            plant_step(&p[w], duty[w]);
+            /* The encoder sees whole counts. */
+            double before = floor(counts[w]);
+            counts[w] += p[w].v_um_tick / um_per_count;
+            odom.step_um[w] = (int32_t)lround((floor(counts[w]) - before) * um_per_count);
+            if (t >= 200) {
+                travelled[w] += p[w].v_um_tick;
+            }
+            assert_true(duty[w] >= -1000 && duty[w] <= 1000);
+        }
+    }
+    /* Mean speed over the last second within 2 % of the target. */
+    assert_true(fabs(travelled[0] / 100.0 - 2000.0) < 40.0);
+    assert_true(fabs(travelled[1] / 100.0 - 1000.0) < 20.0);
+    assert_true(duty[0] > 2000 * 1000 / 3000); /* more than feed-forward alone */
+}
+
+static void test_clamps_and_a_stalled_wheel(void **state)
+{
+    (void)state;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 10000, -10000); /* beyond the top speed */
+    assert_int_equal(m.target_um_tick[0], 3000);
+    assert_int_equal(m.target_um_tick[1], -3000);
+    int16_t duty[2];
+    for (int t = 0; t < 5000; t++) { /* the wheels never move */
+        motion_step(&m, &odom, duty);
+        assert_true(abs(duty[0]) <= 1000 && abs(duty[1]) <= 1000);
+    }
+    assert_int_equal(duty[0], 1000);
+    assert_int_equal(duty[1], -1000);
+    /* The integral is bounded, so when the wheel frees itself the windup is short. */
+    assert_true(abs(m.integral_um[0]) <= 1000 * 256 / (int32_t)cfg.motion_ki_q8);
+    /* A huge measured speed (an encoder glitch) saturates, never overflows. */
+    odom.step_um[0] = INT32_MAX;
+    odom.step_um[1] = INT32_MIN;
+    motion_step(&m, &odom, duty);
+    assert_int_equal(duty[0], -1000);
+    assert_int_equal(duty[1], 1000);
+}
+
+static void test_rest_means_zero_duty(void **state)
+{
+    (void)state;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 200, 200);
+    int16_t duty[2];
+    for (int t = 0; t < 100; t++) {
+        motion_step(&m, &odom, duty); /* wheel not moving: the integral grows */
+    }
+    motion_set_target(&m, 0, 0);
+    for (int t = 0; t < 39; t++) {
+        motion_step(&m, &odom, duty);
+    }
+    assert_true(m.set_um_tick[0] > 0); /* still ramping down */
+    motion_step(&m, &odom, duty);
+    assert_int_equal(m.set_um_tick[0], 0);
+    assert_int_equal(duty[0], 0);
+    assert_int_equal(duty[1], 0);
+    assert_int_equal(m.integral_um[0], 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_ramp_respects_the_acceleration_limit, setup),
+        cmocka_unit_test_setup(test_feed_forward_follows_the_ramp, setup),
+        cmocka_unit_test_setup(test_pi_tracks_a_weaker_motor, setup),
+        cmocka_unit_test_setup(test_clamps_and_a_stalled_wheel, setup),
+        cmocka_unit_test_setup(test_rest_means_zero_duty, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
