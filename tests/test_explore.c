@@ -70,6 +70,7 @@ static void tick(int stop, double range_mm)
         sw.reading.echo_us = sw.reading.echo ? (uint32_t)lround(range_mm * 1000.0 / 171.5) : 0u;
         mapper.ping_pose = p;
     }
+    mapper_tick(&mapper, &grid, &p, &sw); /* places the reading's point, as in robot_tick() */
     explore_step(&ex, &p, &sw, &mapper, &grid, target);
     move();
 }

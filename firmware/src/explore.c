@@ -9,7 +9,6 @@
 
 #define DEG(d) ((bam32_t)((uint64_t)(d) * 0x100000000ull / 360u))
 #define EXPLORE_LOOK_UM 1000000     /* TM rays reach 1 m */
-#define EXPLORE_MEMORY_RANGE_UM 1500000u
 #define EXPLORE_TURN_DONE DEG(1)    /* a turn ends within 1° */
 #define EXPLORE_TURN_SLOW DEG(20)   /* and slows down over its last 20° */
 #define EXPLORE_TURN_MIN_MM_S 30
@@ -68,7 +67,9 @@ static void enter(explore_t *e, explore_state_t s)
     e->look_readings = 0u;
 }
 
-/* The latest reading of each stop becomes a world point (or clears the stop). */
+/* The latest reading of each stop becomes a world point (or clears the stop). The mapper
+ * has just placed the point of a reading inside the confidence sector; farther echoes
+ * are too far to be in the way. */
 static void remember(explore_t *e, const sweep_out_t *sw, const mapper_t *m)
 {
     if (!sw->reading_ready) {
@@ -77,16 +78,11 @@ static void remember(explore_t *e, const sweep_out_t *sw, const mapper_t *m)
     uint8_t stop = sw->reading.stop;
     e->look_readings++;
     e->obst_seen[stop] = 0u;
-    if (!sw->reading.echo) {
-        return;
+    if (sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)) {
+        e->obst_x_um[stop] = m->last_x_um;
+        e->obst_y_um[stop] = m->last_y_um;
+        e->obst_seen[stop] = e->now;
     }
-    uint32_t d = sonar_range_um(&m->sonar, sw->reading.echo_us);
-    if (d < m->sonar.range_min_um || d > EXPLORE_MEMORY_RANGE_UM) {
-        return;
-    }
-    sonar_obstacle(&m->sonar, &m->ping_pose, sw->reading.servo, d, &e->obst_x_um[stop],
-                   &e->obst_y_um[stop]);
-    e->obst_seen[stop] = e->now;
 }
 
 /* The remembered point nearest ahead in the robot's corridor; false if none. */
@@ -94,22 +90,23 @@ static bool nearest_ahead(const explore_t *e, const odom_pose_t *pose, int32_t *
 {
     q1_30_t c = fix_cos(pose->heading);
     q1_30_t s = fix_sin(pose->heading);
-    int32_t best = INT32_MAX;
+    int64_t best = INT64_MAX;
     for (uint8_t i = 0; i < e->stops; i++) {
         if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > EXPLORE_MEMORY_TICKS) {
             continue;
         }
-        int32_t dx = fix_sat_sub_i32(e->obst_x_um[i], pose->x_um);
-        int32_t dy = fix_sat_sub_i32(e->obst_y_um[i], pose->y_um);
-        int32_t ahead = fix_sat_add_i32(fix_mul_q30(dx, c), fix_mul_q30(dy, s));
-        int32_t side = fix_sat_sub_i32(fix_mul_q30(dy, c), fix_mul_q30(dx, s));
+        /* The point in the robot frame; |d| < 2^32 and |c|, |s| <= 2^30, so no overflow. */
+        int64_t dx = (int64_t)e->obst_x_um[i] - pose->x_um;
+        int64_t dy = (int64_t)e->obst_y_um[i] - pose->y_um;
+        int64_t ahead = (dx * c + dy * s) >> 30;
+        int64_t side = (dy * c - dx * s) >> 30;
         bool in_corridor = side > -e->clearance_um && side < e->clearance_um;
         if (in_corridor && ahead > 0 && ahead < e->mount_x_um + e->avoid_um && ahead < best) {
             best = ahead;
-            *lateral_um = side;
+            *lateral_um = (int32_t)side;
         }
     }
-    return best != INT32_MAX;
+    return best != INT64_MAX;
 }
 
 bool explore_blocked(const explore_t *e, const odom_pose_t *pose)

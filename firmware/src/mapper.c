@@ -31,10 +31,8 @@ mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_pi
         out = MAPPER_NEAR;
         count(&m->near);
     } else {
-        int32_t x_um;
-        int32_t y_um;
-        sonar_obstacle(&m->sonar, at_ping, servo, range_um, &x_um, &y_um);
-        if (grid_om_hit(g, x_um, y_um) == SLAM_OK) {
+        sonar_obstacle(&m->sonar, at_ping, servo, range_um, &m->last_x_um, &m->last_y_um);
+        if (grid_om_hit(g, m->last_x_um, m->last_y_um) == SLAM_OK) {
             out = MAPPER_HIT;
             count(&m->hits);
         } else {

@@ -20,6 +20,8 @@ void motion_init(motion_t *m, const slam_config_t *cfg)
     m->top_um_tick = (int32_t)cfg->top_speed_mm_s * MOTION_UM_TICK_PER_MM_S;
     m->kp_q8 = cfg->motion_kp_q8;
     m->ki_q8 = cfg->motion_ki_q8;
+    m->ff_q16 = (MOTION_DUTY_MAX << 16) / m->top_um_tick;
+    m->integral_max_um = m->ki_q8 > 0 ? (MOTION_DUTY_MAX * 256) / m->ki_q8 : 0;
 }
 
 static int32_t clamp(int32_t v, int32_t lo, int32_t hi)
@@ -50,11 +52,9 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
             continue;
         }
         int32_t err = set - odom->step_um[w];
-        /* The integral is bounded so its term alone stays within full scale. */
-        int32_t imax = m->ki_q8 > 0 ? (MOTION_DUTY_MAX * 256) / m->ki_q8 : 0;
-        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -imax, imax);
-        /* |set| <= top <= 50 000 µm/tick, so the feed-forward fits 32 bits. */
-        int32_t ff = set * MOTION_DUTY_MAX / m->top_um_tick;
+        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
+                                  m->integral_max_um);
+        int32_t ff = (int32_t)fix_round_shift((int64_t)set * m->ff_q16, 16u);
         int32_t pi = fix_sat_i32(fix_round_shift(
             (int64_t)m->kp_q8 * err + (int64_t)m->ki_q8 * m->integral_um[w], 8u));
         int16_t d = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);

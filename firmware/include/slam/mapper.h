@@ -42,6 +42,8 @@ typedef struct {
     uint32_t outside;       /**< obstacle points outside the grid */
     uint32_t timeouts;      /**< readings without an echo */
     mapper_outcome_t last;  /**< outcome of the most recent reading */
+    int32_t last_x_um;      /**< its obstacle point, when it had one (MAPPER_HIT, */
+    int32_t last_y_um;      /**< MAPPER_OUTSIDE) */
 } mapper_t;
 
 /** Prepare the mapper for a checked configuration. */
