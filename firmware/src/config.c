@@ -53,6 +53,7 @@ static const slam_config_t slam_config_defaults = {
     .clearance_um = 130000u,
     .square_side_um = 1000000u,
     .explore_seed = 1u,
+    .save_period_s = 60u,
 };
 
 void slam_config_default(slam_config_t *cfg)

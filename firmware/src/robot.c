@@ -26,6 +26,9 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     r->ticks = 0u;
     r->ping_errors = 0u;
     r->idle_ticks = 0u;
+    mapstore_init(&r->store);
+    r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
+    r->save_requested = false;
     return SLAM_OK;
 }
 
@@ -78,6 +81,11 @@ void robot_tick(robot_t *r)
     r->ticks++;
 }
 
+void robot_request_save(robot_t *r)
+{
+    r->save_requested = true;
+}
+
 void robot_idle(robot_t *r)
 {
     /* The watchdog is fed only while the tick makes progress, so a dead tick resets us. */
@@ -86,4 +94,17 @@ void robot_idle(robot_t *r)
         r->idle_ticks = ticks;
         hal_watchdog_kick();
     }
+
+    uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
+    bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;
+    if (!r->store.active && (due || r->save_requested)) {
+        /* The pose is three words the tick rewrites: copy it in one piece. */
+        hal_irq_state_t irq = hal_critical_enter();
+        odom_pose_t pose = r->pose;
+        hal_critical_exit(irq);
+        r->save_requested = false;
+        r->next_save = ticks + period;
+        mapstore_begin(&r->store, &r->grid, &pose, ticks);
+    }
+    (void)mapstore_step(&r->store, &r->grid);
 }

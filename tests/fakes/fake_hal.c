@@ -10,6 +10,7 @@ void fake_hal_reset(void)
 {
     memset(&fake_hal, 0, sizeof fake_hal);
     fake_hal.sonar_next = HAL_SONAR_BUSY;
+    fake_hal.storage_size = FAKE_HAL_STORAGE_SIZE;
 }
 
 int hal_init(void)
@@ -85,7 +86,7 @@ size_t hal_uart_read(uint8_t *data, size_t len)
 
 size_t hal_storage_size(void)
 {
-    return FAKE_HAL_STORAGE_SIZE;
+    return fake_hal.storage_size;
 }
 
 int hal_storage_begin(uint8_t slot)
@@ -107,6 +108,9 @@ static bool storage_range_ok(uint8_t slot, uint32_t offset, size_t len)
 int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
 {
     fake_hal.calls_storage_write++;
+    if ((int)fake_hal.calls_storage_write == fake_hal.storage_fail_at) {
+        return HAL_EIO;
+    }
     if (!storage_range_ok(slot, offset, len)) {
         return HAL_EINVAL;
     }
@@ -119,6 +123,7 @@ int hal_storage_commit(uint8_t slot)
     if (slot >= HAL_STORAGE_SLOTS) {
         return HAL_EINVAL;
     }
+    fake_hal.calls_storage_commit++;
     fake_hal.storage_committed[slot] = true;
     return HAL_OK;
 }

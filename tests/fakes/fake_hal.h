@@ -14,7 +14,7 @@
 
 #include "hal/hal.h"
 
-#define FAKE_HAL_STORAGE_SIZE 4096u
+#define FAKE_HAL_STORAGE_SIZE 65536u
 
 typedef struct {
     /* Set by the test. */
@@ -22,6 +22,7 @@ typedef struct {
     hal_sonar_status_t sonar_next;    /**< what the next hal_sonar_poll() returns */
     uint32_t sonar_echo_us;           /**< width returned with HAL_SONAR_ECHO */
     int trigger_result;               /**< what hal_sonar_trigger() returns */
+    size_t storage_size;              /**< what hal_storage_size() returns */
 
     /* Recorded from the firmware. */
     int16_t motor[2];                 /**< last duty per wheel */
@@ -33,6 +34,8 @@ typedef struct {
     unsigned calls_poll;
     unsigned calls_watchdog;
     unsigned calls_storage_write;
+    unsigned calls_storage_commit;
+    int storage_fail_at;              /**< hal_storage_write call number that fails (0: none) */
     uint8_t storage[HAL_STORAGE_SLOTS][FAKE_HAL_STORAGE_SIZE];
     bool storage_committed[HAL_STORAGE_SLOTS];
 } fake_hal_t;

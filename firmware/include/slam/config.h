@@ -92,6 +92,9 @@ typedef struct {
     uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
     uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
+
+    /* Persistence (mapstore.h). */
+    uint16_t save_period_s;  /**< save the maps this often from robot_idle(); 0 = never; 60 */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */

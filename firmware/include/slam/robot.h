@@ -21,6 +21,7 @@
 #include "slam/explore.h"
 #include "slam/grid.h"
 #include "slam/mapper.h"
+#include "slam/mapstore.h"
 #include "slam/motion.h"
 #include "slam/odometry.h"
 #include "slam/sweep.h"
@@ -39,6 +40,9 @@ typedef struct {
     uint32_t ticks;        /**< control ticks since robot_init() */
     uint32_t ping_errors;  /**< pings the sonar refused (busy) */
     uint32_t idle_ticks;   /**< robot_idle(): the tick count it saw last */
+    mapstore_t store;      /**< map saves, run by robot_idle() */
+    uint32_t next_save;    /**< the tick count at which the next periodic save begins */
+    volatile bool save_requested; /**< robot_request_save() was called */
 } robot_t;
 
 /**
@@ -53,7 +57,14 @@ int robot_init(robot_t *r, const slam_config_t *cfg);
 /** One control period: the body of the 10 ms interrupt. ISR-context, O(1). */
 void robot_tick(robot_t *r);
 
-/** Background work, from the main loop; never called from the tick. */
+/**
+ * Background work, from the main loop; never called from the tick: feeds the watchdog
+ * while ticks progress, and saves the maps (every save_period_s, and on request) a chunk
+ * per call.
+ */
 void robot_idle(robot_t *r);
+
+/** Ask robot_idle() to save the maps as soon as it can. ISR-safe. */
+void robot_request_save(robot_t *r);
 
 #endif /* SLAM_ROBOT_H */

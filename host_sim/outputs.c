@@ -1,0 +1,99 @@
+/* SPDX-License-Identifier: MIT */
+/* Output files of a run: directories, PGM maps with their ROS YAML, checked writes. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "host_sim.h"
+
+int make_dirs(const char *path)
+{
+    char buf[4096];
+    if (strlen(path) >= sizeof buf) {
+        fprintf(stderr, "host_sim: output path too long: %s\n", path);
+        return -1;
+    }
+    strcpy(buf, path);
+    for (char *p = buf + 1; ; p++) {
+        if (*p == '/' || *p == '\0') {
+            char c = *p;
+            *p = '\0';
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                fprintf(stderr, "host_sim: cannot create %s: %s\n", buf, strerror(errno));
+                return -1;
+            }
+            *p = c;
+            if (c == '\0') {
+                break;
+            }
+        }
+    }
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "host_sim: %s is not a directory\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+FILE *open_out(const char *dir, const char *name)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "wb");
+    if (f == NULL) {
+        fprintf(stderr, "host_sim: cannot write %s: %s\n", path, strerror(errno));
+    }
+    return f;
+}
+
+int close_out(FILE *f, const char *dir, const char *name)
+{
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad) {
+        fprintf(stderr, "host_sim: writing %s/%s failed\n", dir, name);
+        return -1;
+    }
+    return 0;
+}
+
+int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *cells,
+              uint8_t max, double occupied_thresh, double free_thresh)
+{
+    char file[256];
+    snprintf(file, sizeof file, "%s.pgm", name);
+    FILE *f = open_out(dir, file);
+    if (f == NULL) {
+        return -1;
+    }
+    fprintf(f, "P5\n%lu %lu\n255\n", (unsigned long)g->a, (unsigned long)g->b);
+    uint8_t *row = malloc(g->a);
+    if (row == NULL) {
+        fclose(f);
+        return -1;
+    }
+    for (uint32_t y = g->b; y-- > 0;) {
+        for (uint32_t x = 0; x < g->a; x++) {
+            uint32_t v = cells[(size_t)y * g->a + x];
+            v = v > max ? max : v;
+            row[x] = (uint8_t)(255u - (v * 255u + max / 2u) / max);
+        }
+        fwrite(row, 1, g->a, f);
+    }
+    free(row);
+    if (close_out(f, dir, file) != 0) {
+        return -1;
+    }
+    snprintf(file, sizeof file, "%s.yaml", name);
+    f = open_out(dir, file);
+    if (f == NULL) {
+        return -1;
+    }
+    fprintf(f,
+            "image: %s.pgm\nresolution: %.6f\norigin: [%.6f, %.6f, 0.0]\nnegate: 0\n"
+            "occupied_thresh: %.4f\nfree_thresh: %.4f\n",
+            name, g->cell_m, g->origin_x, g->origin_y, occupied_thresh, free_thresh);
+    return close_out(f, dir, file);
+}

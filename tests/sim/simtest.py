@@ -1,0 +1,56 @@
+# SPDX-License-Identifier: MIT
+"""Shared helpers of the simulator's integration tests: run host_sim, read its outputs."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+
+class Sim:
+    """host_sim in a scratch folder; argv[1] is the binary, argv[2] the source tree."""
+
+    def __init__(self):
+        if len(sys.argv) < 3:
+            sys.exit("usage: %s HOST_SIM SOURCE_DIR" % sys.argv[0])
+        self.bin = sys.argv[1]
+        self.src = sys.argv[2]
+        self.work = tempfile.mkdtemp(prefix="slam-simtest-")
+
+    def room(self, name):
+        return os.path.join(self.src, "host_sim", "rooms", name)
+
+    def run(self, *args, expect=0):
+        """Runs host_sim; fails the test unless it exits with `expect`."""
+        cmd = [self.bin, "--no-plot", "--quiet"] + [str(a) for a in args]
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if p.returncode != expect:
+            fail("%s exited %d, expected %d\n%s%s" % (" ".join(cmd), p.returncode, expect,
+                                                      p.stdout, p.stderr))
+        return p
+
+    def out(self, name):
+        return os.path.join(self.work, name)
+
+    def metrics(self, out):
+        with open(os.path.join(out, "metrics.json")) as f:
+            return json.load(f)
+
+    def done(self):
+        shutil.rmtree(self.work, ignore_errors=True)
+
+
+def fail(msg):
+    print("FAIL: " + msg)
+    sys.exit(1)
+
+
+def check(cond, msg):
+    if not cond:
+        fail(msg)
+    print("ok: " + msg)
+
+
+def mean(xs):
+    return sum(xs) / len(xs)

@@ -1,0 +1,178 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Reproduces the simulator's figures: the paper's claims, measured over several seeds.
+
+usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick]
+
+Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
+README): post-processing in the paper's two rooms at the paper's defaults and at the
+threshold/template that maximise F1; odometry error under high and moderate
+acceleration; the map with perfect odometry; and, per cell size, F1, odometry error, RAM,
+and the time random and TM-guided exploration take to cover 80 % of the free cells.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOMS = os.path.join(SRC, "host_sim", "rooms")
+STEPS = ("raw", "threshold", "template", "insert")
+
+
+def run(bin_, out, args):
+    """One host_sim run (cached: an existing metrics.json with the same args is reused)."""
+    stamp = os.path.join(out, "args.json")
+    if os.path.exists(stamp) and os.path.exists(os.path.join(out, "metrics.json")):
+        with open(stamp) as f:
+            if json.load(f) == args:
+                with open(os.path.join(out, "metrics.json")) as g:
+                    return json.load(g)
+    cmd = [bin_, "--quiet", "--no-plot", "--out", out] + [str(a) for a in args]
+    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        sys.exit("sim_report: %s failed:\n%s" % (" ".join(cmd), p.stderr))
+    with open(stamp, "w") as f:
+        json.dump(args, f)
+    with open(os.path.join(out, "metrics.json")) as f:
+        return json.load(f)
+
+
+def run_all(bin_, base, jobs, workers):
+    """jobs: {name: args}; returns {name: metrics}, running `workers` at a time."""
+    names = sorted(jobs)
+    with ThreadPoolExecutor(max_workers=workers) as ex:
+        res = ex.map(lambda n: run(bin_, os.path.join(base, n), jobs[n]), names)
+        done = dict(zip(names, res))
+    return done
+
+
+def mean(xs):
+    xs = list(xs)
+    return sum(xs) / len(xs) if xs else float("nan")
+
+
+def post_means(ms, which="odometry"):
+    """Mean precision, recall, F1 over runs, per post-processing step."""
+    return {s: tuple(mean(m["maps"][which][s][k] for m in ms) for k in ("precision", "recall", "f1"))
+            for s in STEPS}
+
+
+def tuned(ms):
+    """The (TH, K) with the best mean F1 over runs, and its mean precision, recall, F1."""
+    sw = [m["post_sweep"] for m in ms]
+    ths, ks = sw[0]["threshold"], sw[0]["k"]
+    best = None
+    for i, th in enumerate(ths):
+        for j, k in enumerate(ks):
+            f1 = mean(s["f1"][i][j] for s in sw)
+            if best is None or f1 > best[2]:
+                best = (th, k, f1, mean(s["precision"][i][j] for s in sw),
+                        mean(s["recall"][i][j] for s in sw))
+    return best
+
+
+def report(args):
+    seeds = list(range(1, args.seeds + 1))
+    base = args.out
+    dur = 120 if args.quick else 600
+    jobs = {}
+    for room in ("default", "obstacles"):
+        for s in seeds:
+            jobs["post-%s-%d" % (room, s)] = ["--room", os.path.join(ROOMS, room + ".room"),
+                                              "--seed", s, "--duration", dur]
+            jobs["ideal-%s-%d" % (room, s)] = ["--room", os.path.join(ROOMS, room + ".room"),
+                                               "--seed", s, "--duration", dur, "--ideal"]
+    for acc in (300, 3000):
+        for s in seeds:
+            jobs["accel-%d-%d" % (acc, s)] = ["--explore", "square", "--set",
+                                              "accel_mm_s2=%d" % acc, "--seed", s,
+                                              "--duration", 120]
+    for cell in (25, 50, 100):
+        for s in seeds:
+            jobs["cell-%d-%d" % (cell, s)] = ["--cell", cell, "--seed", s, "--duration", dur]
+    cover = 600 if args.quick else 3600
+    for mode in ("random", "tm"):
+        for s in seeds:
+            jobs["cover-%s-%d" % (mode, s)] = ["--explore", mode, "--seed", s,
+                                               "--duration", cover]
+    res = run_all(args.host_sim, base, jobs, args.jobs)
+
+    def group(prefix):
+        return [res[n] for n in sorted(res) if n.startswith(prefix + "-")]
+
+    print("### Post-processing (mean of %d seeds, %d s each)\n" % (len(seeds), dur))
+    for room in ("default", "obstacles"):
+        ms = group("post-" + room)
+        pm = post_means(ms)
+        th, k, f1, p, r = tuned(ms)
+        post = ms[0]["scenario"]["post"]
+        print("`%s.room` — paper defaults TH = %d, K = %d; tuned TH = %d, K = %d\n"
+              % (room, post["threshold"], post["k"], th, k))
+        print("| map | precision | recall | F1 |\n|---|---|---|---|")
+        for s, label in zip(STEPS, ("raw OM (OM ≥ 1)", "after threshold", "after template",
+                                    "after insert (final)")):
+            print("| %s | %.3f | %.3f | %.3f |" % ((label,) + pm[s]))
+        print("| tuned chain (TH %d, K %d) | %.3f | %.3f | %.3f |\n" % (th, k, p, r, f1))
+
+    print("### Acceleration and odometry (square path, %d seeds)\n" % len(seeds))
+    print("| acceleration limit | final odometry error (m) | max error (m) |\n|---|---|---|")
+    for acc in (300, 3000):
+        ms = group("accel-%d" % acc)
+        print("| %d mm/s² | %.3f | %.3f |" % (acc, mean(m["odometry"]["final_position_m"] for m in ms),
+                                            mean(m["odometry"]["max_position_m"] for m in ms)))
+    print()
+
+    print("### Perfect odometry (`--ideal`)\n")
+    print("| room | raw F1 | final F1 |\n|---|---|---|")
+    for room in ("default", "obstacles"):
+        pm = post_means(group("ideal-" + room))
+        print("| %s | %.3f | %.3f |" % (room, pm["raw"][2], pm["insert"][2]))
+    print()
+
+    print("### Cell size (default room, %d seeds, %d s)\n" % (len(seeds), dur))
+    print("| cell | F1 raw | F1 post | odometry error (m) | grid for the room | RAM of the maps |")
+    print("|---|---|---|---|---|---|")
+    for cell in (25, 50, 100):
+        ms = group("cell-%d" % cell)
+        pm = post_means(ms)
+        ram = ms[0]["ram"]
+        print("| %d mm | %.3f | %.3f | %.3f | %d × %d | %d B |" % (
+            cell, pm["raw"][2], pm["insert"][2],
+            mean(m["odometry"]["final_position_m"] for m in ms),
+            ram["grid_a"], ram["grid_b"], ram["maps_bytes"]))
+    print()
+
+    print("### Exploration (default room, 50 mm cells, %d s, %d seeds)\n" % (cover, len(seeds)))
+    print("| mode | time to 50 % (s) | time to 80 % (s) | coverage at the end |\n|---|---|---|---|")
+    for mode in ("random", "tm"):
+        ms = group("cover-" + mode)
+
+        def t(key):
+            ts = [m["exploration"][key] for m in ms]
+            got = [x for x in ts if x is not None]
+            if len(got) < len(ts):
+                return "%d of %d runs reached it%s" % (len(got), len(ts),
+                                                       ", mean %.0f" % mean(got) if got else "")
+            return "%.0f" % mean(got)
+        print("| %s | %s | %s | %.1f %% |" % (mode, t("time_to_50_s"), t("time_to_80_s"),
+                                              100 * mean(m["exploration"]["coverage"] for m in ms)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--out", default=os.path.join(SRC, "out", "report"))
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
+    args = ap.parse_args()
+    if not os.path.exists(args.host_sim):
+        sys.exit("sim_report: %s not found: build it first (make sim)" % args.host_sim)
+    report(args)
+
+
+if __name__ == "__main__":
+    main()
