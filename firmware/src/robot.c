@@ -5,6 +5,8 @@
 #include "hal/hal.h"
 #include "slam/error.h"
 
+#define ROBOT_POSE_EVERY 10u /* ticks between POSE telemetry events */
+
 int robot_init(robot_t *r, const slam_config_t *cfg)
 {
     if (slam_config_check(cfg, NULL) != SLAM_OK) {
@@ -27,6 +29,7 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     r->ping_errors = 0u;
     r->idle_ticks = 0u;
     mapstore_init(&r->store);
+    telem_init(&r->telem);
     r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
     r->save_requested = false;
     return SLAM_OK;
@@ -69,6 +72,17 @@ void robot_tick(robot_t *r)
     /* Algorithm C.1. */
     mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
 
+    /* Telemetry: the pose ten times a second, and every reading. */
+    if (r->ticks % ROBOT_POSE_EVERY == 0u) {
+        telem_post_pose(&r->telem, r->ticks, &r->pose);
+    }
+    if (r->last.reading_ready) {
+        const sweep_reading_t *rd = &r->last.reading;
+        uint32_t range = rd->echo ? sonar_range_um(&r->mapper.sonar, rd->echo_us) : 0u;
+        telem_post_reading(&r->telem, r->ticks, rd->stop, (uint8_t)r->mapper.last,
+                           rd->servo_mdeg, range, &r->mapper.ping_pose);
+    }
+
     /* Where to go, and the wheel speeds that get us there. */
     int32_t target_mm_s[2];
     explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, target_mm_s);
@@ -107,4 +121,15 @@ void robot_idle(robot_t *r)
         mapstore_begin(&r->store, &r->grid, &pose, ticks);
     }
     (void)mapstore_step(&r->store, &r->grid);
+
+    telem_status_t st = {
+        .ticks = ticks,
+        .pings = r->sweep.pings,
+        .echoes = r->sweep.echoes,
+        .timeouts = r->sweep.timeouts,
+        .om_hits = r->mapper.hits,
+        .overruns = hal_tick_overruns(),
+        .saves = r->store.saves,
+    };
+    telem_idle(&r->telem, &r->grid, &st, ticks);
 }

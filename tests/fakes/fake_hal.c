@@ -73,8 +73,13 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
 {
-    (void)data;
-    return len;
+    size_t n = fake_hal.uart_room != 0u && len > fake_hal.uart_room ? fake_hal.uart_room : len;
+    if (n > FAKE_HAL_UART_SIZE - fake_hal.uart_len) {
+        n = FAKE_HAL_UART_SIZE - fake_hal.uart_len;
+    }
+    memcpy(fake_hal.uart + fake_hal.uart_len, data, n);
+    fake_hal.uart_len += n;
+    return n;
 }
 
 size_t hal_uart_read(uint8_t *data, size_t len)

@@ -15,6 +15,7 @@
 #include "hal/hal.h"
 
 #define FAKE_HAL_STORAGE_SIZE 65536u
+#define FAKE_HAL_UART_SIZE (1u << 20)
 
 typedef struct {
     /* Set by the test. */
@@ -23,6 +24,7 @@ typedef struct {
     uint32_t sonar_echo_us;           /**< width returned with HAL_SONAR_ECHO */
     int trigger_result;               /**< what hal_sonar_trigger() returns */
     size_t storage_size;              /**< what hal_storage_size() returns */
+    size_t uart_room;                 /**< bytes hal_uart_write() takes per call (0: all) */
 
     /* Recorded from the firmware. */
     int16_t motor[2];                 /**< last duty per wheel */
@@ -37,6 +39,8 @@ typedef struct {
     unsigned calls_storage_commit;
     int storage_fail_at;              /**< hal_storage_write call number that fails (0: none) */
     uint8_t storage[HAL_STORAGE_SLOTS][FAKE_HAL_STORAGE_SIZE];
+    uint8_t uart[FAKE_HAL_UART_SIZE]; /**< every byte written to the UART */
+    size_t uart_len;
     bool storage_committed[HAL_STORAGE_SLOTS];
 } fake_hal_t;
 

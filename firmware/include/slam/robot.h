@@ -25,6 +25,7 @@
 #include "slam/motion.h"
 #include "slam/odometry.h"
 #include "slam/sweep.h"
+#include "slam/telemetry.h"
 
 /** All state of the robot's firmware. */
 typedef struct {
@@ -43,6 +44,7 @@ typedef struct {
     mapstore_t store;      /**< map saves, run by robot_idle() */
     uint32_t next_save;    /**< the tick count at which the next periodic save begins */
     volatile bool save_requested; /**< robot_request_save() was called */
+    telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
 
 /**
@@ -59,8 +61,8 @@ void robot_tick(robot_t *r);
 
 /**
  * Background work, from the main loop; never called from the tick: feeds the watchdog
- * while ticks progress, and saves the maps (every save_period_s, and on request) a chunk
- * per call.
+ * while ticks progress, sends telemetry, and saves the maps (every save_period_s, and on
+ * request) a chunk per call.
  */
 void robot_idle(robot_t *r);
 
