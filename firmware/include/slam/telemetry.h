@@ -36,7 +36,7 @@
 #define TELEM_SYNC0 0xA5u
 #define TELEM_SYNC1 0x5Au
 #define TELEM_VERSION 1u
-#define TELEM_RING 16u              /**< events the tick may post before idle drains them */
+#define TELEM_RING 8u               /**< events the tick may post before idle drains them */
 #define TELEM_MAP_CELLS 200u        /**< cells per MAP_ROW frame at most */
 #define TELEM_FRAME_MAX (4u + 255u + 2u)
 
