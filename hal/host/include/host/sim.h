@@ -8,9 +8,13 @@
  * `sim_t`, faking the wire: encoder counters, echo pulse widths, servo pulses, motor duty.
  * The firmware above it is the robot's, unchanged.
  *
- * Everything is deterministic for a seed: the same room, parameters, seed and firmware
- * give the same run bit for bit. Units here are SI (metres, seconds, radians); this is
- * host code and uses double.
+ * Everything is deterministic for a seed: the same room, parameters, error levels, seed
+ * and firmware give the same run bit for bit (on one build: x87 and SSE arithmetic may
+ * differ in the last bit). Units here are SI (metres, seconds, radians unless a name says
+ * degrees); this is host code and uses double. The world frame is the room's: x right,
+ * y up, angles counter-clockwise from +x. hal/host/README.md describes the models.
+ *
+ * Nothing here is thread-safe; one thread drives the world.
  */
 #ifndef HOST_SIM_H
 #define HOST_SIM_H
@@ -20,70 +24,115 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "hal/hal.h"
+
 /* ---- rooms --------------------------------------------------------------------------- */
 
+/** The robot body radius the start pose of a room file is checked against, m. */
+#define ROOM_BODY_RADIUS_M 0.09
+
+/** A wall: a line segment, m. */
 typedef struct {
     double x1, y1, x2, y2;
 } room_segment_t;
 
+/** A round obstacle (solid), m. */
 typedef struct {
     double cx, cy, r;
 } room_circle_t;
 
-/** A room: vector geometry (segments and circles) and/or a raster of occupied pixels. */
+/** An axis-aligned rectangular obstacle (solid), m; its edges are also in room_t.segs. */
+typedef struct {
+    double x0, y0, x1, y1; /**< lower-left and upper-right corners */
+} room_box_t;
+
+/**
+ * A room: vector geometry (segments and circles) and/or a raster of occupied pixels.
+ *
+ * Boxes and circles are solid: their inside is an obstacle. Walls and polygons are
+ * outlines only (a `poly` may surround the robot as the room's outline or stand in the
+ * room as an obstacle; the robot can never cross its edges either way). Outside a raster
+ * is empty space.
+ */
 typedef struct {
     room_segment_t *segs;  /**< walls, box and polygon edges */
     size_t nsegs;
     room_circle_t *circles;
     size_t ncircles;
+    room_box_t *boxes;     /**< the solid insides of `box` statements */
+    size_t nboxes;
     uint8_t *occ;          /**< raster rooms (ROS maps): 1 = occupied pixel, row 0 at the bottom */
+    uint8_t *occ_free;     /**< the same raster: 1 = known free pixel (p < free_thresh) */
     uint32_t occ_w, occ_h; /**< raster size in pixels */
     double occ_res;        /**< raster pixel size, m */
     double occ_x0, occ_y0; /**< world position of the raster's lower-left corner, m */
-    double min_x, min_y, max_x, max_y; /**< bounding box of all geometry, m */
+    double min_x, min_y, max_x, max_y; /**< bounding box of all geometry (occupied pixels
+                                            for a raster), m */
     double start_x, start_y, start_th; /**< start pose (m, m, rad) */
     bool has_start;        /**< the file gave a start pose (ROS maps do not) */
 } room_t;
 
 /** A crop of a building map, in metres of the map's frame. */
 typedef struct {
-    double x, y, w, h;
+    double x, y, w, h; /**< lower-left corner and size; pixels whose centre lies inside are kept */
 } room_crop_t;
 
 /**
- * Load a room: a `.room` text file (DESIGN.md §4) or a ROS map `.yaml` with its image.
+ * Load a room: a `.room` text file (DESIGN.md §4) or a ROS map `.yaml` (by its extension,
+ * `.yaml` or `.yml`) with the PGM image it names (P5 or P2, 8-bit).
+ *
+ * A room file needs exactly one `start`, some geometry, and a start pose whose body disc
+ * (ROOM_BODY_RADIUS_M) touches nothing. A ROS map gets occupied pixels by ROS map_server
+ * rules: p = (maxval − v)/maxval (v/maxval with `negate: 1`), occupied when
+ * p > occupied_thresh, known free when p < free_thresh; it has no start pose.
+ *
  * @param crop  for a ROS map, the part to keep (NULL: all of it); ignored for .room files
  * @param err   out: on failure "FILE:LINE: what is wrong" (or "FILE: ...")
  * @return 0, or -1 with err set and @p r untouched
  */
 int room_load(room_t *r, const char *path, const room_crop_t *crop, char *err, size_t errlen);
 
-/** Free what room_load() allocated. */
+/** Free what room_load() allocated and zero the room. */
 void room_free(room_t *r);
 
 /**
- * Distance along a ray to the first obstacle surface.
+ * Distance along a ray to the first obstacle surface. Vector rooms test every segment and
+ * circle; rasters walk the pixels (grid DDA). A ray that starts inside a solid obstacle
+ * or an occupied pixel hits at 0.
+ * @param dir             direction of the ray, rad
  * @param max_m           give up beyond this distance
  * @param cos_incidence   out (may be NULL): |cos| of the angle between the ray and the
- *                        surface normal at the hit (1 = head-on, 0 = grazing)
+ *                        surface normal at the hit (1 = head-on, 0 = grazing). A raster's
+ *                        normal is the occupancy gradient around the hit, so a staircase
+ *                        of pixels reflects like the straight wall it stands for.
  * @return the distance in m, or a value > max_m when nothing is hit within max_m
  */
 double room_ray(const room_t *r, double x, double y, double dir, double max_m,
                 double *cos_incidence);
 
-/** Whether a disc of radius r_m at (x, y) touches no obstacle. */
+/**
+ * Distance from a point to the nearest obstacle boundary (0 inside a solid obstacle or an
+ * occupied pixel), looking no further than @p cap_m.
+ * @return the distance in m, or @p cap_m when nothing is nearer
+ */
+double room_clearance(const room_t *r, double x, double y, double cap_m);
+
+/** Whether a disc of radius r_m at (x, y) touches no obstacle (touching exactly is free). */
 bool room_disc_free(const room_t *r, double x, double y, double r_m);
 
 /**
- * A free start pose for a room without one: the free point nearest the middle of the room
- * with at least clearance_m to every obstacle, facing +x.
- * @return 0, or -1 when no such point exists
+ * A free start pose for a room without one: the point nearest the middle of the room's
+ * bounding box, on a grid of the raster's pixel size (20 mm for vector rooms), with at
+ * least clearance_m to every obstacle, enclosed (rays in eight directions all hit
+ * something) and, for a raster, on a known free pixel; facing +x.
+ * @return 0, or -1 when no such point exists (outputs untouched)
  */
 int room_find_start(const room_t *r, double clearance_m, double *x, double *y, double *th);
 
 /**
  * Ground truth at a grid's geometry: out[b·A + a] = 1 when any obstacle boundary passes
- * through cell (a, b), else 0 (DESIGN.md §5).
+ * through cell (a, b), else 0 (DESIGN.md §5): segments (box and polygon edges too),
+ * circle outlines, and for a raster every cell that overlaps an occupied pixel.
  * @param origin_x, origin_y  world position of the lower-left corner of cell (0, 0), m
  */
 void room_rasterize(const room_t *r, double origin_x, double origin_y, double cell_m,
@@ -105,50 +154,82 @@ typedef struct {
     double servo_pulse_0_us;   /**< servo pulse at 0°: 500 */
     double servo_pulse_180_us; /**< servo pulse at 180°: 2500 */
     double sonar_cone_deg;     /**< full beam width; 15 */
-    double sonar_min_m;        /**< 0.02 */
-    double sonar_max_m;        /**< 4.0 */
+    double sonar_min_m;        /**< 0.02: nearer surfaces read as this */
+    double sonar_max_m;        /**< 4.0: farther surfaces give no echo */
     double sonar_timeout_us;   /**< 38000 */
     double sound_mps;          /**< 343 */
 } sim_params_t;
 
 /** Error sources, each with a level; sim_errors_ideal() turns all off (--ideal). */
 typedef struct {
-    double wheel_ratio_ed;   /**< E_d: actual right/left wheel diameter; 1.0 = none */
+    double wheel_ratio_ed;   /**< E_d: actual right/left wheel diameter (mean stays nominal);
+                                  1.0 = none */
     double wheel_base_eb;    /**< E_b: actual/nominal wheel base; 1.0 = none */
-    double slip_per_mps2;    /**< wheel slip fraction per m/s² of wheel acceleration */
-    double wheel_noise;      /**< relative random error of each wheel's travel per tick */
+    double slip_per_mps2;    /**< wheel slip fraction per m/s² of wheel acceleration
+                                  (the ground moves that much less than the wheel) */
+    double wheel_noise;      /**< relative random error of each wheel's ground travel per tick
+                                  (one standard deviation) */
     double sonar_noise_m;    /**< standard deviation of the range noise */
     double sonar_dropout;    /**< probability that a ping gets no echo */
     double sonar_ghost;      /**< probability of a ghost echo at a random range */
-    double grazing_deg;      /**< beyond this incidence within 1 m the echo is lost; 0 = off */
+    double grazing_deg;      /**< a ray hitting a surface beyond this incidence returns no
+                                  echo (at every range); 0 = off */
 } sim_errors_t;
 
 void sim_params_default(sim_params_t *p);
 void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario */
 void sim_errors_ideal(sim_errors_t *e);   /**< every error source off */
 
+/**
+ * Check parameters and error levels for sim_create().
+ * @param field  out (may be NULL): on error the name of the first bad field ("p.motor_tau_s",
+ *               "e.sonar_dropout", ...), a static string
+ * @return 0, or -1 when a value is out of range or not finite
+ */
+int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **field);
+
 /** What the world knows that the robot does not. */
 typedef struct {
-    double x, y, th;          /**< true pose of the axle centre, m and rad */
+    double x, y, th;          /**< true pose of the axle centre, m and rad (th unwrapped) */
     double servo_deg;         /**< where the servo actually is */
+    double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
     uint32_t collisions;      /**< times the robot ran into something and was stopped */
-    uint64_t time_us;         /**< virtual time since sim_init() */
-    uint64_t ticks;           /**< control ticks run */
+    bool contact;             /**< the body touches an obstacle now */
+    uint64_t time_us;         /**< virtual time since sim_create() */
+    uint64_t ticks;           /**< control periods run (sim_step() calls) */
 } sim_truth_t;
+
+/** What became of a ping. */
+typedef enum {
+    SIM_PING_NONE = 0,  /**< no ping yet */
+    SIM_PING_ECHO,      /**< a real echo from the nearest echoing surface in the cone */
+    SIM_PING_GHOST,     /**< a ghost echo at a random range */
+    SIM_PING_DROPOUT,   /**< the echo was lost at random: timeout */
+    SIM_PING_GRAZING,   /**< surfaces in range, all at grazing incidence: timeout */
+    SIM_PING_NOTHING,   /**< no surface within sonar_max_m in the cone: timeout */
+} sim_ping_kind_t;
 
 /** The pose and sonar geometry of the last ping, for logs. */
 typedef struct {
     double x, y, th;          /**< true pose at the ping */
     double servo_deg;         /**< actual servo angle at the ping */
-    double true_range_m;      /**< geometric distance to the nearest surface in the cone */
+    double bearing;           /**< world direction of the beam axis, rad */
+    double true_range_m;      /**< distance from the servo axis to the nearest surface in
+                                   the cone (any incidence); -1 when none within sonar_max_m */
+    double range_m;           /**< the range the echo stands for (noise included); 0 without */
+    uint32_t echo_us;         /**< the echo width reported; 0 without an echo */
+    uint64_t time_us;         /**< virtual time of the trigger */
+    sim_ping_kind_t kind;
 } sim_ping_t;
 
 typedef struct sim sim_t;
 
 /**
  * Create a world: the robot at the room's start pose, motors off, servo at 90°.
+ * The room is borrowed: it must outlive the world.
  * @param seed  the random stream of every error source
- * @return NULL when out of memory
+ * @return NULL when out of memory, when sim_params_check() refuses @p p or @p e, or when
+ *         the body disc (p->body_radius_m) at the start pose touches an obstacle
  */
 sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e,
                   uint64_t seed);
@@ -160,21 +241,72 @@ sim_truth_t sim_truth(const sim_t *s);
 /** The true pose and beam of the most recent ping. */
 sim_ping_t sim_last_ping(const sim_t *s);
 
+/**
+ * Put the robot somewhere else (tests, scenarios): wheels stopped, contact cleared.
+ * @return 0, or -1 when its body disc there touches an obstacle (nothing changes)
+ */
+int sim_place(sim_t *s, double x, double y, double th);
+
+/* The wires: what the HAL calls. Times are the world's current virtual time. */
+
+/** Motor duty, -HAL_DUTY_MAX..HAL_DUTY_MAX (clamped): target wheel speed duty/1000 · top speed. */
+void sim_motor_set(sim_t *s, hal_wheel_t wheel, int16_t duty);
+
+/** The duty in force (after clamping). */
+int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel);
+
+/** The 16-bit encoder counter: true wheel rotation in counts, wrapping. */
+uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel);
+
+/** Servo command (clamped to 400..2600 µs); the servo slews toward it in sim_step(). */
+void sim_servo_set_pulse(sim_t *s, uint16_t pulse_us);
+
+/** The servo pulse in force. */
+uint16_t sim_servo_pulse(const sim_t *s);
+
+/**
+ * Ping now, from where the servo actually is. The cone is cast at once; the result comes
+ * back through sim_sonar_poll() after its time of flight (or the timeout).
+ * @retval HAL_OK     the ping is out
+ * @retval HAL_EBUSY  the previous ping's echo or timeout has not come yet
+ */
+int sim_sonar_trigger(sim_t *s);
+
+/** As hal_sonar_poll(): ECHO/TIMEOUT once the virtual time has reached it, once; then IDLE. */
+hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us);
+
+/**
+ * Advance the world by one control period, HAL_TICK_PERIOD_US: motors, wheels, encoders,
+ * the pose with its collisions, the servo, the clock. O(1) away from obstacles.
+ */
+void sim_step(sim_t *s);
+
 /* ---- the host backend ---------------------------------------------------------------- */
 
-/** Attach the world the HAL functions act on (exactly one at a time). */
+/**
+ * Attach the world the HAL functions act on (exactly one at a time; NULL detaches). This
+ * is a power-up: the tick callback is forgotten and the clock of hal_time_us() restarts
+ * at hal_init(). Storage, the UART sink and the trace stay.
+ */
 void hal_host_attach(sim_t *s);
 
 /**
  * One control period: run the tick callback registered with hal_tick_start() at the
  * current virtual time (the firmware reads sensors and sets outputs), then advance the
- * world by HAL_TICK_PERIOD_US (motors, servo, sonar flight, collisions).
+ * world by HAL_TICK_PERIOD_US (sim_step()). Without a callback only the world advances.
  */
 void hal_host_step(void);
 
 /**
- * Record what the firmware saw at the HAL in every tick from now on, as a trace a replay
- * HAL can play back on another machine (format in hal/host/README or trace.h). NULL stops.
+ * Record what the firmware saw at the HAL in every tick from now on, as a HAL trace
+ * (hal_common/trace.h) a replay HAL can play back on another machine.
+ *
+ * The caller writes the header first (trace_write_header() with the firmware's
+ * configuration, which the HAL does not know); the HAL writes one tick line per callback
+ * run by hal_host_step(). hal_host_trace(NULL), or a call with another file, writes the
+ * end line to the file being recorded and stops; closing the file is the caller's.
+ * Encoder reads outside a tick (robot_init()) see the counters of the first tick that
+ * follows, as long as the world does not step in between.
  */
 void hal_host_trace(FILE *f);
 

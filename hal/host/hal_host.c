@@ -1,0 +1,267 @@
+/* SPDX-License-Identifier: MIT */
+/* The host backend: every call of hal/hal.h against the attached simulated world. */
+#include <stdbool.h>
+#include <string.h>
+
+#include "hal/hal.h"
+#include "hal_common/trace.h"
+#include "host/sim.h"
+
+/* Bytes in each storage slot: OM and TM of a 160 x 160 grid with room to spare. */
+#define HOST_STORAGE_SIZE (128u * 1024u)
+
+static struct {
+    sim_t *sim;
+    hal_tick_fn fn;
+    void *ctx;
+    uint64_t t0_us;      /* world time at hal_init() */
+    FILE *uart;
+    FILE *trace;
+    uint64_t trace_ticks;
+    bool in_tick;
+    trace_tick_t rec;    /* what the firmware saw in the tick under way */
+    uint8_t storage[HAL_STORAGE_SLOTS][HOST_STORAGE_SIZE];
+    bool rewriting[HAL_STORAGE_SLOTS];
+    bool storage_ready;
+} hh;
+
+static void storage_erase(uint8_t slot)
+{
+    memset(hh.storage[slot], 0xFF, HOST_STORAGE_SIZE); /* as erased flash reads */
+}
+
+/* Storage starts erased, once per process: it outlives worlds and hal_init(). */
+static void storage_power_on(void)
+{
+    if (!hh.storage_ready) {
+        for (uint8_t i = 0; i < HAL_STORAGE_SLOTS; i++) {
+            storage_erase(i);
+        }
+        hh.storage_ready = true;
+    }
+}
+
+void hal_host_attach(sim_t *s)
+{
+    hh.sim = s;
+    hh.fn = NULL;
+    hh.ctx = NULL;
+    hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
+    hh.in_tick = false;
+}
+
+void hal_host_uart_sink(FILE *f)
+{
+    hh.uart = f;
+}
+
+void hal_host_trace(FILE *f)
+{
+    if (hh.trace != NULL && hh.trace != f) {
+        trace_write_end(hh.trace, hh.trace_ticks);
+        fflush(hh.trace);
+    }
+    if (hh.trace != f) {
+        hh.trace_ticks = 0u;
+    }
+    hh.trace = f;
+}
+
+void hal_host_step(void)
+{
+    if (hh.sim == NULL) {
+        return;
+    }
+    if (hh.fn != NULL) {
+        hh.rec = (trace_tick_t){
+            .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
+                    sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
+            .poll = '-',
+            .trig = '-',
+        };
+        hh.in_tick = true;
+        hh.fn(hh.ctx);
+        hh.in_tick = false;
+        if (hh.trace != NULL) {
+            hh.rec.duty[0] = sim_motor_duty(hh.sim, HAL_WHEEL_LEFT);
+            hh.rec.duty[1] = sim_motor_duty(hh.sim, HAL_WHEEL_RIGHT);
+            hh.rec.servo_us = sim_servo_pulse(hh.sim);
+            trace_write_tick(hh.trace, &hh.rec);
+            hh.trace_ticks++;
+        }
+    }
+    sim_step(hh.sim);
+}
+
+/* ---- hal.h ----------------------------------------------------------------------------- */
+
+int hal_init(void)
+{
+    if (hh.sim == NULL) {
+        fprintf(stderr, "hal_host: no world attached (call hal_host_attach() first)\n");
+        return HAL_EIO;
+    }
+    storage_power_on();
+    hh.fn = NULL;
+    hh.ctx = NULL;
+    hh.t0_us = sim_truth(hh.sim).time_us;
+    sim_motor_set(hh.sim, HAL_WHEEL_LEFT, 0);
+    sim_motor_set(hh.sim, HAL_WHEEL_RIGHT, 0);
+    return HAL_OK;
+}
+
+int hal_tick_start(hal_tick_fn fn, void *ctx)
+{
+    if (fn == NULL) {
+        return HAL_EINVAL;
+    }
+    if (hh.fn != NULL) {
+        return HAL_EBUSY;
+    }
+    hh.fn = fn; /* the caller drives time with hal_host_step() */
+    hh.ctx = ctx;
+    return HAL_OK;
+}
+
+uint32_t hal_time_us(void)
+{
+    return hh.sim != NULL ? (uint32_t)(sim_truth(hh.sim).time_us - hh.t0_us) : 0u;
+}
+
+uint32_t hal_tick_overruns(void)
+{
+    return 0u; /* virtual time: a tick never overruns */
+}
+
+uint16_t hal_encoder_count(hal_wheel_t wheel)
+{
+    return hh.sim != NULL ? sim_encoder_count(hh.sim, wheel) : 0u;
+}
+
+void hal_motor_set(hal_wheel_t wheel, int16_t duty)
+{
+    if (hh.sim != NULL) {
+        sim_motor_set(hh.sim, wheel, duty);
+    }
+}
+
+void hal_servo_set_pulse(uint16_t pulse_us)
+{
+    if (hh.sim != NULL) {
+        sim_servo_set_pulse(hh.sim, pulse_us);
+    }
+}
+
+int hal_sonar_trigger(void)
+{
+    if (hh.sim == NULL) {
+        return HAL_EIO;
+    }
+    int rc = sim_sonar_trigger(hh.sim);
+    if (hh.in_tick) {
+        hh.rec.trig = rc == HAL_OK ? 'o' : 'b';
+    }
+    return rc;
+}
+
+hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+{
+    if (hh.sim == NULL) {
+        return HAL_SONAR_IDLE;
+    }
+    uint32_t width = 0u;
+    hal_sonar_status_t st = sim_sonar_poll(hh.sim, &width);
+    if (st == HAL_SONAR_ECHO) {
+        *echo_us = width;
+    }
+    if (hh.in_tick) {
+        static const char code[] = {'i', 'b', 'e', 't'};
+        hh.rec.poll = code[st];
+        hh.rec.echo_us = st == HAL_SONAR_ECHO ? width : 0u;
+    }
+    return st;
+}
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    if (hh.uart != NULL && len > 0u) {
+        return fwrite(data, 1u, len, hh.uart);
+    }
+    return len; /* no cable: the bytes go nowhere, as on a robot without a radio */
+}
+
+size_t hal_uart_read(uint8_t *data, size_t len)
+{
+    (void)data;
+    (void)len;
+    return 0u;
+}
+
+size_t hal_storage_size(void)
+{
+    return HOST_STORAGE_SIZE;
+}
+
+/* A range [offset, offset + len) inside a slot, without overflow. */
+static bool storage_range_ok(uint8_t slot, uint32_t offset, const void *data, size_t len)
+{
+    return slot < HAL_STORAGE_SLOTS && offset <= HOST_STORAGE_SIZE &&
+           len <= HOST_STORAGE_SIZE - offset && (data != NULL || len == 0u);
+}
+
+int hal_storage_begin(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS) {
+        return HAL_EINVAL;
+    }
+    storage_power_on();
+    storage_erase(slot);
+    hh.rewriting[slot] = true;
+    return HAL_OK;
+}
+
+int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
+{
+    if (!storage_range_ok(slot, offset, data, len) || !hh.rewriting[slot]) {
+        return HAL_EINVAL;
+    }
+    if (len > 0u) {
+        memcpy(&hh.storage[slot][offset], data, len);
+    }
+    return HAL_OK;
+}
+
+int hal_storage_commit(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS || !hh.rewriting[slot]) {
+        return HAL_EINVAL;
+    }
+    hh.rewriting[slot] = false;
+    return HAL_OK;
+}
+
+int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
+{
+    if (!storage_range_ok(slot, offset, data, len)) {
+        return HAL_EINVAL;
+    }
+    storage_power_on();
+    if (len > 0u) {
+        memcpy(data, &hh.storage[slot][offset], len);
+    }
+    return HAL_OK;
+}
+
+hal_irq_state_t hal_critical_enter(void)
+{
+    return 0u; /* one thread: the tick never interrupts anything */
+}
+
+void hal_critical_exit(hal_irq_state_t state)
+{
+    (void)state;
+}
+
+void hal_watchdog_kick(void)
+{
+}

@@ -1,0 +1,608 @@
+/* SPDX-License-Identifier: MIT */
+/* The simulated robot: motors, wheels and encoders, collisions, the servo and the sonar. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "host/sim.h"
+#include "room_internal.h"
+#include "sim_rng.h"
+
+#define DEG (HOST_PI / 180.0)
+#define DT_S ((double)HAL_TICK_PERIOD_US * 1e-6)
+
+/* Rays cast across the sonar cone, edges included. */
+#define SIM_SONAR_RAYS 9
+/* Clearance beyond the body looked for at once: the robot moves this far unchecked. */
+#define SIM_MARGIN_CAP_M 0.25
+/* The body leaves contact once this far from every obstacle (hysteresis). */
+#define SIM_CONTACT_RELEASE_M 0.001
+/* Bisections of a blocked step: 2^-14 of a 3 mm step is well below a micrometre. */
+#define SIM_CONTACT_ITER 14
+/* Slip never takes more than this fraction of a wheel's travel. */
+#define SIM_SLIP_MAX 0.9
+
+/* Independent random streams, so changing one error level leaves the others' draws. */
+enum { STREAM_WHEELS = 1, STREAM_SONAR = 2 };
+
+struct sim {
+    const room_t *room;
+    sim_params_t p;
+    sim_errors_t e;
+    sim_rng_t rng_wheels;
+    sim_rng_t rng_sonar;
+
+    /* Derived once. */
+    double r_nom;            /* nominal wheel radius, m */
+    double r_act[2];         /* actual wheel radii (E_d), m */
+    double base_act;         /* actual wheel base (E_b), m */
+    double counts_per_rad;   /* encoder counts per radian of wheel */
+    double decay;            /* exp(-dt/tau): the motor's response over one tick */
+    double gain;             /* tau·(1 - decay): weight of the speed error in a tick's travel */
+    double servo_step_deg;   /* servo travel per tick */
+    double cos_graze;        /* echoes need |cos incidence| >= this */
+
+    /* The robot. */
+    double x, y, th;
+    double omega[2];         /* wheel angular speeds, rad/s */
+    double omega_cmd[2];     /* what the duty asks for, rad/s */
+    int16_t duty[2];
+    double enc[2];           /* true wheel rotation, counts */
+
+    /* Collisions: every point within `margin` of the anchor is known to be free. */
+    double ax, ay, margin, margin2;
+    bool contact;
+    uint32_t collisions;
+
+    /* Servo. */
+    uint16_t servo_pulse;
+    double servo_deg;
+    double servo_cmd_deg;
+
+    /* Sonar. */
+    bool sonar_out;          /* a ping is out and not yet reported */
+    bool sonar_echo;         /* it will report an echo (else a timeout) */
+    uint64_t sonar_ready_us; /* when its echo or timeout is due */
+    sim_ping_t ping;
+    uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
+
+    uint64_t time_us;
+    uint64_t ticks;
+};
+
+void sim_params_default(sim_params_t *p)
+{
+    *p = (sim_params_t){
+        .wheel_diameter_m = 0.065,
+        .wheel_base_m = 0.130,
+        .counts_per_rev = 700.0,
+        .top_speed_mps = 0.3,
+        .motor_tau_s = 0.08,
+        .body_radius_m = 0.09,
+        .sonar_x_m = 0.05,
+        .sonar_y_m = 0.0,
+        .servo_s_per_60deg = 0.1,
+        .servo_pulse_0_us = 500.0,
+        .servo_pulse_180_us = 2500.0,
+        .sonar_cone_deg = 15.0,
+        .sonar_min_m = 0.02,
+        .sonar_max_m = 4.0,
+        .sonar_timeout_us = 38000.0,
+        .sound_mps = 343.0,
+    };
+}
+
+void sim_errors_default(sim_errors_t *e)
+{
+    *e = (sim_errors_t){
+        .wheel_ratio_ed = 1.005,
+        .wheel_base_eb = 1.01,
+        .slip_per_mps2 = 0.02,
+        .wheel_noise = 0.015,
+        .sonar_noise_m = 0.01,
+        .sonar_dropout = 0.03,
+        .sonar_ghost = 0.01,
+        .grazing_deg = 45.0,
+    };
+}
+
+void sim_errors_ideal(sim_errors_t *e)
+{
+    *e = (sim_errors_t){
+        .wheel_ratio_ed = 1.0,
+        .wheel_base_eb = 1.0,
+        .slip_per_mps2 = 0.0,
+        .wheel_noise = 0.0,
+        .sonar_noise_m = 0.0,
+        .sonar_dropout = 0.0,
+        .sonar_ghost = 0.0,
+        .grazing_deg = 0.0,
+    };
+}
+
+static bool in(double v, double lo, double hi)
+{
+    return isfinite(v) && v >= lo && v <= hi;
+}
+
+int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **field)
+{
+    const struct {
+        bool ok;
+        const char *name;
+    } checks[] = {
+        {in(p->wheel_diameter_m, 1e-3, 10.0), "p.wheel_diameter_m"},
+        {in(p->wheel_base_m, 1e-3, 10.0), "p.wheel_base_m"},
+        {in(p->counts_per_rev, 1.0, 1e6), "p.counts_per_rev"},
+        {in(p->top_speed_mps, 1e-3, 10.0), "p.top_speed_mps"},
+        {in(p->motor_tau_s, 1e-4, 10.0), "p.motor_tau_s"},
+        {in(p->body_radius_m, 1e-3, 10.0), "p.body_radius_m"},
+        {in(p->sonar_x_m, -10.0, 10.0), "p.sonar_x_m"},
+        {in(p->sonar_y_m, -10.0, 10.0), "p.sonar_y_m"},
+        {in(p->servo_s_per_60deg, 1e-4, 100.0), "p.servo_s_per_60deg"},
+        {in(p->servo_pulse_0_us, 0.0, 1e5), "p.servo_pulse_0_us"},
+        {in(p->servo_pulse_180_us, 0.0, 1e5) && p->servo_pulse_180_us != p->servo_pulse_0_us,
+         "p.servo_pulse_180_us"},
+        {in(p->sonar_cone_deg, 0.0, 89.0), "p.sonar_cone_deg"},
+        {in(p->sonar_min_m, 0.0, 100.0), "p.sonar_min_m"},
+        {in(p->sonar_max_m, p->sonar_min_m + 1e-6, 100.0), "p.sonar_max_m"},
+        {in(p->sound_mps, 1.0, 1e5), "p.sound_mps"},
+        /* The farthest echo must come back before the timeout. */
+        {in(p->sonar_timeout_us, 1.0, 1e7) && isfinite(p->sound_mps) && p->sound_mps > 0.0 &&
+             2.0 * p->sonar_max_m / p->sound_mps * 1e6 < p->sonar_timeout_us,
+         "p.sonar_timeout_us"},
+        {in(e->wheel_ratio_ed, 0.5, 2.0), "e.wheel_ratio_ed"},
+        {in(e->wheel_base_eb, 0.5, 2.0), "e.wheel_base_eb"},
+        {in(e->slip_per_mps2, 0.0, 1.0), "e.slip_per_mps2"},
+        {in(e->wheel_noise, 0.0, 0.5), "e.wheel_noise"},
+        {in(e->sonar_noise_m, 0.0, 10.0), "e.sonar_noise_m"},
+        {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
+        {in(e->sonar_ghost, 0.0, 1.0), "e.sonar_ghost"},
+        {in(e->grazing_deg, 0.0, 90.0), "e.grazing_deg"},
+    };
+    for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
+        if (!checks[i].ok) {
+            if (field != NULL) {
+                *field = checks[i].name;
+            }
+            return -1;
+        }
+    }
+    return 0;
+}
+
+sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e,
+                  uint64_t seed)
+{
+    if (room == NULL || sim_params_check(p, e, NULL) != 0 ||
+        !room_disc_free(room, room->start_x, room->start_y, p->body_radius_m)) {
+        return NULL;
+    }
+    sim_t *s = calloc(1u, sizeof *s);
+    if (s == NULL) {
+        return NULL;
+    }
+    s->cand = malloc((room->nsegs + room->ncircles + 1u) * sizeof *s->cand);
+    if (s->cand == NULL) {
+        free(s);
+        return NULL;
+    }
+    s->room = room;
+    s->p = *p;
+    s->e = *e;
+    sim_rng_seed(&s->rng_wheels, seed, STREAM_WHEELS);
+    sim_rng_seed(&s->rng_sonar, seed, STREAM_SONAR);
+
+    /* E_d = D_R / D_L with the mean diameter nominal (Borenstein and Feng). */
+    s->r_nom = 0.5 * p->wheel_diameter_m;
+    s->r_act[HAL_WHEEL_LEFT] = s->r_nom * 2.0 / (e->wheel_ratio_ed + 1.0);
+    s->r_act[HAL_WHEEL_RIGHT] = s->r_nom * 2.0 * e->wheel_ratio_ed / (e->wheel_ratio_ed + 1.0);
+    s->base_act = p->wheel_base_m * e->wheel_base_eb;
+    s->counts_per_rad = p->counts_per_rev / (2.0 * HOST_PI);
+    s->decay = exp(-DT_S / p->motor_tau_s);
+    s->gain = p->motor_tau_s * (1.0 - s->decay);
+    s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S;
+    s->cos_graze = e->grazing_deg > 0.0 ? cos(e->grazing_deg * DEG) : 0.0;
+
+    s->x = room->start_x;
+    s->y = room->start_y;
+    s->th = room->start_th;
+    s->margin = -1.0;
+    s->margin2 = -1.0;
+    s->servo_deg = 90.0;
+    s->servo_cmd_deg = 90.0;
+    s->servo_pulse = (uint16_t)lround(0.5 * (p->servo_pulse_0_us + p->servo_pulse_180_us));
+    return s;
+}
+
+void sim_destroy(sim_t *s)
+{
+    if (s != NULL) {
+        free(s->cand);
+        free(s);
+    }
+}
+
+sim_truth_t sim_truth(const sim_t *s)
+{
+    return (sim_truth_t){
+        .x = s->x,
+        .y = s->y,
+        .th = s->th,
+        .servo_deg = s->servo_deg,
+        .wheel_mps = {s->omega[0] * s->r_act[0], s->omega[1] * s->r_act[1]},
+        .collisions = s->collisions,
+        .contact = s->contact,
+        .time_us = s->time_us,
+        .ticks = s->ticks,
+    };
+}
+
+sim_ping_t sim_last_ping(const sim_t *s)
+{
+    return s->ping;
+}
+
+int sim_place(sim_t *s, double x, double y, double th)
+{
+    if (!isfinite(x) || !isfinite(y) || !isfinite(th) ||
+        !room_disc_free(s->room, x, y, s->p.body_radius_m)) {
+        return -1;
+    }
+    s->x = x;
+    s->y = y;
+    s->th = remainder(th, 2.0 * HOST_PI);
+    s->omega[0] = 0.0;
+    s->omega[1] = 0.0;
+    s->contact = false;
+    s->margin = -1.0;
+    s->margin2 = -1.0;
+    return 0;
+}
+
+/* ---- wires ---------------------------------------------------------------------------- */
+
+void sim_motor_set(sim_t *s, hal_wheel_t wheel, int16_t duty)
+{
+    if (wheel != HAL_WHEEL_LEFT && wheel != HAL_WHEEL_RIGHT) {
+        return;
+    }
+    if (duty > HAL_DUTY_MAX) {
+        duty = HAL_DUTY_MAX;
+    } else if (duty < -HAL_DUTY_MAX) {
+        duty = -HAL_DUTY_MAX;
+    }
+    s->duty[wheel] = duty;
+    s->omega_cmd[wheel] = (double)duty / HAL_DUTY_MAX * s->p.top_speed_mps / s->r_nom;
+}
+
+int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel)
+{
+    return wheel == HAL_WHEEL_RIGHT ? s->duty[1] : s->duty[0];
+}
+
+uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel)
+{
+    double c = s->enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
+    /* A quadrature counter counts edges: the floor of the true position, modulo 2^16. */
+    return (uint16_t)(uint64_t)(int64_t)floor(c);
+}
+
+void sim_servo_set_pulse(sim_t *s, uint16_t pulse_us)
+{
+    pulse_us = pulse_us < 400u ? 400u : (pulse_us > 2600u ? 2600u : pulse_us);
+    s->servo_pulse = pulse_us;
+    double deg = ((double)pulse_us - s->p.servo_pulse_0_us) /
+                 (s->p.servo_pulse_180_us - s->p.servo_pulse_0_us) * 180.0;
+    s->servo_cmd_deg = fmin(fmax(deg, 0.0), 180.0); /* the horn's end stops */
+}
+
+uint16_t sim_servo_pulse(const sim_t *s)
+{
+    return s->servo_pulse;
+}
+
+/* ---- the sonar ------------------------------------------------------------------------ */
+
+/* The first hit along one ray among the cone's candidates. */
+static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, double oy,
+                       double dx, double dy, double *cosi)
+{
+    const room_t *r = s->room;
+    double best = HOST_INF;
+    for (size_t i = 0; i < nseg; i++) {
+        best = room_hit_segment(&r->segs[s->cand[i]], ox, oy, dx, dy, best, cosi);
+    }
+    for (size_t i = 0; i < ncirc; i++) {
+        best = room_hit_circle(&r->circles[s->cand[nseg + i]], ox, oy, dx, dy, best, cosi);
+    }
+    if (r->occ != NULL) {
+        double rc = 1.0;
+        double d = room_hit_raster(r, ox, oy, dx, dy, fmin(s->p.sonar_max_m, best), &rc);
+        if (d < best) {
+            best = d;
+            *cosi = rc;
+        }
+    }
+    return best;
+}
+
+/*
+ * One ping: cast the cone now, decide what comes back and when. Rays go across the cone
+ * (edges included) and straight at every round obstacle whose centre is inside it, so a
+ * thin post is not missed between two rays. A ray's first hit echoes when it is within
+ * range and, unless grazing is off, hit at an incidence of at most grazing_deg; the echo
+ * is the nearest of those. Occlusion is the rays': a grazing wall in front hides what is
+ * behind it along that ray.
+ */
+static void sonar_ping(sim_t *s)
+{
+    const sim_params_t *p = &s->p;
+    const room_t *r = s->room;
+    double ch = cos(s->th);
+    double sh = sin(s->th);
+    double ox = s->x + p->sonar_x_m * ch - p->sonar_y_m * sh;
+    double oy = s->y + p->sonar_x_m * sh + p->sonar_y_m * ch;
+    double bearing = s->th + (90.0 - s->servo_deg) * DEG;
+    double half = 0.5 * p->sonar_cone_deg * DEG;
+    double bx = cos(bearing);
+    double by = sin(bearing);
+    double lx = cos(bearing + half); /* left edge */
+    double ly = sin(bearing + half);
+    double rx = cos(bearing - half); /* right edge */
+    double ry = sin(bearing - half);
+    double max = p->sonar_max_m;
+
+    /* Cull what cannot meet the cone: wholly left of its left edge, right of its right
+       edge, or behind the sensor. */
+    size_t nseg = 0u;
+    for (size_t i = 0; i < r->nsegs; i++) {
+        const room_segment_t *g = &r->segs[i];
+        double q1x = g->x1 - ox;
+        double q1y = g->y1 - oy;
+        double q2x = g->x2 - ox;
+        double q2y = g->y2 - oy;
+        if ((lx * q1y - ly * q1x > 0.0 && lx * q2y - ly * q2x > 0.0) ||
+            (rx * q1y - ry * q1x < 0.0 && rx * q2y - ry * q2x < 0.0) ||
+            (bx * q1x + by * q1y < 0.0 && bx * q2x + by * q2y < 0.0)) {
+            continue;
+        }
+        s->cand[nseg++] = (uint32_t)i;
+    }
+    size_t ncirc = 0u;
+    for (size_t i = 0; i < r->ncircles; i++) {
+        const room_circle_t *c = &r->circles[i];
+        double qx = c->cx - ox;
+        double qy = c->cy - oy;
+        if (lx * qy - ly * qx > c->r || rx * qy - ry * qx < -c->r || bx * qx + by * qy < -c->r ||
+            qx * qx + qy * qy > (max + c->r) * (max + c->r)) {
+            continue;
+        }
+        s->cand[nseg + ncirc++] = (uint32_t)i;
+    }
+
+    double geo = HOST_INF;  /* nearest surface in the cone */
+    double echo = HOST_INF; /* nearest surface that echoes */
+    double step = SIM_SONAR_RAYS > 1 ? 2.0 * half / (SIM_SONAR_RAYS - 1) : 0.0;
+    double cs = cos(step);
+    double ss = sin(step);
+    double dx = rx;
+    double dy = ry;
+    for (int k = 0; k < SIM_SONAR_RAYS + (int)ncirc; k++) {
+        if (k >= SIM_SONAR_RAYS) { /* straight at a post */
+            const room_circle_t *c = &r->circles[s->cand[nseg + (size_t)(k - SIM_SONAR_RAYS)]];
+            double qx = c->cx - ox;
+            double qy = c->cy - oy;
+            double n = sqrt(qx * qx + qy * qy);
+            if (n <= c->r || lx * qy - ly * qx > 0.0 || rx * qy - ry * qx < 0.0 ||
+                bx * qx + by * qy <= 0.0) {
+                continue;
+            }
+            dx = qx / n;
+            dy = qy / n;
+        }
+        double ci = 1.0;
+        double d = cone_ray(s, nseg, ncirc, ox, oy, dx, dy, &ci);
+        if (d <= max) {
+            geo = fmin(geo, d);
+            if (ci >= s->cos_graze) {
+                echo = fmin(echo, d);
+            }
+        }
+        if (k < SIM_SONAR_RAYS) { /* rotate to the next ray */
+            double nx = dx * cs - dy * ss;
+            dy = dx * ss + dy * cs;
+            dx = nx;
+        }
+    }
+
+    /* The same draws whatever happens, so one ping's fate never shifts the next one's. */
+    double u_drop = sim_rng_unit(&s->rng_sonar);
+    double u_ghost = sim_rng_unit(&s->rng_sonar);
+    double u_range = sim_rng_unit(&s->rng_sonar);
+    double g = sim_rng_gauss(&s->rng_sonar);
+
+    sim_ping_t *pg = &s->ping;
+    *pg = (sim_ping_t){
+        .x = s->x,
+        .y = s->y,
+        .th = s->th,
+        .servo_deg = s->servo_deg,
+        .bearing = remainder(bearing, 2.0 * HOST_PI),
+        .true_range_m = isfinite(geo) ? geo : -1.0,
+        .time_us = s->time_us,
+    };
+    double range = 0.0;
+    if (u_drop < s->e.sonar_dropout) {
+        pg->kind = SIM_PING_DROPOUT;
+    } else if (u_ghost < s->e.sonar_ghost) {
+        pg->kind = SIM_PING_GHOST;
+        range = p->sonar_min_m + u_range * (max - p->sonar_min_m);
+    } else if (isfinite(echo)) {
+        pg->kind = SIM_PING_ECHO;
+        range = fmax(echo + s->e.sonar_noise_m * g, p->sonar_min_m);
+    } else {
+        pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
+    }
+    s->sonar_out = true;
+    s->sonar_echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_GHOST;
+    if (s->sonar_echo) {
+        double width = 2.0 * range / p->sound_mps * 1e6;
+        pg->range_m = range;
+        pg->echo_us = (uint32_t)lround(fmin(width, p->sonar_timeout_us - 1.0));
+        s->sonar_ready_us = s->time_us + pg->echo_us;
+    } else {
+        s->sonar_ready_us = s->time_us + (uint64_t)llround(p->sonar_timeout_us);
+    }
+}
+
+int sim_sonar_trigger(sim_t *s)
+{
+    if (s->sonar_out && s->time_us < s->sonar_ready_us) {
+        return HAL_EBUSY;
+    }
+    /* A finished but unread result is overwritten, as the sensor would. */
+    sonar_ping(s);
+    return HAL_OK;
+}
+
+hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us)
+{
+    if (!s->sonar_out) {
+        return HAL_SONAR_IDLE;
+    }
+    if (s->time_us < s->sonar_ready_us) {
+        return HAL_SONAR_BUSY;
+    }
+    s->sonar_out = false;
+    if (s->sonar_echo) {
+        *echo_us = s->ping.echo_us;
+        return HAL_SONAR_ECHO;
+    }
+    return HAL_SONAR_TIMEOUT;
+}
+
+/* ---- motion ----------------------------------------------------------------------------- */
+
+/* Whether the body fits at (x, y); a free answer moves the anchor of the free margin. */
+static bool body_fits(sim_t *s, double x, double y)
+{
+    double ex = x - s->ax;
+    double ey = y - s->ay;
+    if (ex * ex + ey * ey <= s->margin2) {
+        return true;
+    }
+    double r = s->p.body_radius_m;
+    double c = room_clearance(s->room, x, y, r + SIM_MARGIN_CAP_M);
+    if (c < r) {
+        return false;
+    }
+    s->ax = x;
+    s->ay = y;
+    s->margin = c - r;
+    s->margin2 = s->margin * s->margin;
+    return true;
+}
+
+/*
+ * Move the body by du along the mean heading and turn it by dth. The body is a disc about
+ * the axle centre, so turning never collides; a translation that would touch an obstacle
+ * stops where the body meets it (bisection). Steps are cut to half the body radius, so
+ * not even a thin wall can be jumped over.
+ */
+static void sim_move(sim_t *s, double du, double dth)
+{
+    const double r = s->p.body_radius_m;
+    int n = 1;
+    if (fabs(du) > 0.5 * r) {
+        n = (int)ceil(fabs(du) / (0.5 * r));
+    }
+    du /= n;
+    dth /= n;
+    bool blocked = false;
+    for (int i = 0; i < n; i++) {
+        double thm = s->th + 0.5 * dth;
+        double mx = du * cos(thm);
+        double my = du * sin(thm);
+        double nx = s->x + mx;
+        double ny = s->y + my;
+        if (du != 0.0 && !body_fits(s, nx, ny)) {
+            double lo = 0.0;
+            double hi = 1.0;
+            for (int k = 0; k < SIM_CONTACT_ITER; k++) {
+                double mid = 0.5 * (lo + hi);
+                if (room_clearance(s->room, s->x + mid * mx, s->y + mid * my, r) >= r) {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            nx = s->x + lo * mx;
+            ny = s->y + lo * my;
+            s->ax = nx;
+            s->ay = ny;
+            s->margin = 0.0;
+            s->margin2 = 0.0;
+            blocked = true;
+        }
+        s->x = nx;
+        s->y = ny;
+        s->th += dth;
+    }
+    if (s->th > HOST_PI || s->th <= -HOST_PI) {
+        s->th = remainder(s->th, 2.0 * HOST_PI);
+    }
+    if (blocked) {
+        if (!s->contact) {
+            s->contact = true;
+            s->collisions++;
+        }
+    } else if (s->contact && du != 0.0 && s->margin > SIM_CONTACT_RELEASE_M) {
+        s->contact = false;
+    }
+}
+
+void sim_step(sim_t *s)
+{
+    double d[2];
+    for (int w = 0; w < 2; w++) {
+        double om0 = s->omega[w];
+        double omt = s->omega_cmd[w];
+        double turn; /* wheel rotation this tick, rad */
+        double accel = 0.0;
+        if (om0 == omt) {
+            turn = omt * DT_S;
+        } else {
+            /* The exact first-order response over the tick, and its integral. */
+            double om1 = omt + (om0 - omt) * s->decay;
+            if (fabs(om1 - omt) < 1e-9) {
+                om1 = omt;
+            }
+            turn = omt * DT_S + (om0 - omt) * s->gain;
+            accel = (om1 - om0) * s->r_act[w] / DT_S;
+            s->omega[w] = om1;
+        }
+        s->enc[w] += turn * s->counts_per_rad;
+        double travel = turn * s->r_act[w];
+        if (accel != 0.0 && s->e.slip_per_mps2 > 0.0) {
+            travel *= 1.0 - fmin(s->e.slip_per_mps2 * fabs(accel), SIM_SLIP_MAX);
+        }
+        if (travel != 0.0 && s->e.wheel_noise > 0.0) {
+            travel *= 1.0 + s->e.wheel_noise * sim_rng_gauss4(&s->rng_wheels);
+        }
+        d[w] = travel;
+    }
+    if (d[0] != 0.0 || d[1] != 0.0) {
+        sim_move(s, 0.5 * (d[0] + d[1]), (d[1] - d[0]) / s->base_act);
+    }
+
+    double diff = s->servo_cmd_deg - s->servo_deg;
+    if (fabs(diff) <= s->servo_step_deg) {
+        s->servo_deg = s->servo_cmd_deg;
+    } else {
+        s->servo_deg += diff > 0.0 ? s->servo_step_deg : -s->servo_step_deg;
+    }
+
+    s->time_us += HAL_TICK_PERIOD_US;
+    s->ticks++;
+}

@@ -1,0 +1,84 @@
+/* SPDX-License-Identifier: MIT */
+/* Helpers shared by the host world's tests: scratch files, small rooms, a world per test. */
+#ifndef HOST_TEST_H
+#define HOST_TEST_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "host/sim.h"
+
+#define TEST_PI 3.14159265358979323846
+
+/* A scratch path in the test's build directory, unique to the process and a tag. */
+static inline const char *test_path(const char *tag)
+{
+    static char buf[8][512];
+    static unsigned n;
+    char *p = buf[n++ % 8u];
+    snprintf(p, sizeof buf[0], "%s/scratch-%ld-%s", HOST_TEST_DIR, (long)getpid(), tag);
+    return p;
+}
+
+/* Write a text file; returns its path. */
+static inline const char *test_write(const char *tag, const char *text)
+{
+    const char *path = test_path(tag);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(text, 1u, strlen(text), f), strlen(text));
+    fclose(f);
+    return path;
+}
+
+/* Load a room from text; fails the test on an error. */
+static inline void test_room(room_t *r, const char *text)
+{
+    char err[300] = "";
+    const char *path = test_write("room.room", text);
+    int rc = room_load(r, path, NULL, err, sizeof err);
+    if (rc != 0) {
+        fail_msg("room_load: %s", err);
+    }
+    unlink(path);
+}
+
+/* A world with the given errors in a room. */
+static inline sim_t *test_world(const room_t *r, const sim_errors_t *e, uint64_t seed)
+{
+    sim_params_t p;
+    sim_params_default(&p);
+    sim_t *s = sim_create(r, &p, e, seed);
+    assert_non_null(s);
+    return s;
+}
+
+static inline sim_t *test_ideal_world(const room_t *r)
+{
+    sim_errors_t e;
+    sim_errors_ideal(&e);
+    return test_world(r, &e, 1u);
+}
+
+/* Wrapped angle difference a - b in (-pi, pi]. */
+static inline double test_angle_diff(double a, double b)
+{
+    double d = a - b;
+    while (d > TEST_PI) {
+        d -= 2.0 * TEST_PI;
+    }
+    while (d <= -TEST_PI) {
+        d += 2.0 * TEST_PI;
+    }
+    return d;
+}
+
+#endif /* HOST_TEST_H */
