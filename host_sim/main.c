@@ -56,6 +56,8 @@ typedef struct {
     const char *sets[MAX_SETS];
     size_t nsets;
     const char *trace;
+    const char *telemetry;
+    bool realtime;
     const char *replay;
     bool plot;
     bool quiet;
@@ -89,6 +91,9 @@ static void usage(FILE *f)
         "outputs:\n"
         "  --out DIR            output folder (default out/sim)\n"
         "  --trace FILE         also record the HAL trace of the run\n"
+        "  --telemetry FILE     write the firmware's telemetry bytes (the UART) to FILE\n"
+        "                       (watch: tools/telemetry.py view FILE --follow)\n"
+        "  --realtime           run at the speed of the real robot, not as fast as possible\n"
         "  --no-plot            do not draw figure.png\n"
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
@@ -136,11 +141,17 @@ static bool parse_u64(const char *s, uint64_t *out)
     return true;
 }
 
-/* Takes the n arguments after an option; false if there are fewer. */
+/* Takes the n arguments after an option; false if there are fewer, or if one of them is
+ * itself an option (a missing value must not swallow the next option). */
 static bool take(int argc, char **argv, int *i, int n)
 {
     if (*i + n >= argc) {
         return false;
+    }
+    for (int k = 1; k <= n; k++) {
+        if (strncmp(argv[*i + k], "--", 2) == 0) {
+            return false;
+        }
     }
     *i += n;
     return true;
@@ -244,6 +255,13 @@ static int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--trace needs a file");
             }
             o->trace = argv[i];
+        } else if (strcmp(a, "--telemetry") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--telemetry needs a file");
+            }
+            o->telemetry = argv[i];
+        } else if (strcmp(a, "--realtime") == 0) {
+            o->realtime = true;
         } else if (strcmp(a, "--replay") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--replay needs a readings.csv");
@@ -415,6 +433,7 @@ typedef struct {
     size_t nseries;
     double max_pos_err, max_th_err, final_pos_err, final_th_err, path_m;
     double last_x, last_y;
+    double marked_x, marked_y;  /* the sonar position last marked observable around */
 } run_t;
 
 static const double coverage_marks[3] = {0.5, 0.8, 0.9};
@@ -468,11 +487,14 @@ static double wrap_pi(double a)
 }
 
 /* After each tick: odometry error, coverage, and the reading of the tick if any. */
-static void observe_tick(run_t *r, const sim_t *sim, const sim_params_t *p, FILE *readings,
-                         FILE *trajectory, uint64_t tick, bool last)
+static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
+                         const sim_params_t *p, FILE *readings, FILE *trajectory, uint64_t tick,
+                         bool last)
 {
-    sim_truth_t tr = sim_truth(sim);
-    double t = (double)(tick + 1u) * TICK_S;
+    /* The firmware read its encoders at the start of the period: compare its pose with
+     * the truth of that instant, not with the world already advanced by the period. */
+    const sim_truth_t tr = *before;
+    double t = (double)tick * TICK_S;
     double ox = robot.pose.x_um * 1e-6;
     double oy = robot.pose.y_um * 1e-6;
     double oth = bam_rad(robot.pose.heading);
@@ -521,7 +543,13 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_params_t *p, FILE
     const odom_pose_t *op = &robot.mapper.ping_pose;
     double sx = ping.x + p->sonar_x_m * cos(ping.th) - p->sonar_y_m * sin(ping.th);
     double sy = ping.y + p->sonar_x_m * sin(ping.th) + p->sonar_y_m * cos(ping.th);
-    mark_disc(&r->geom, r->observable, sx, sy, robot.cfg.confidence_radius_um * 1e-6);
+    /* Cells within rc of a sonar position are observable; a new disc only once the
+     * sonar has moved by a quarter cell. */
+    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m / 4.0) {
+        mark_disc(&r->geom, r->observable, sx, sy, robot.cfg.confidence_radius_um * 1e-6);
+        r->marked_x = sx;
+        r->marked_y = sy;
+    }
     fprintf(readings, "%.2f,%.3f,", t, sw->reading.servo_mdeg / 1000.0);
     if (sw->reading.echo) {
         uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
@@ -531,7 +559,9 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_params_t *p, FILE
     } else {
         fprintf(readings, ",timeout,");
     }
-    fprintf(readings, "%.6f,%.6f,%.17g,%.6f,%.6f,%.6f\n", op->x_um * 1e-6, op->y_um * 1e-6,
+    /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
+     * the replay recovers the exact heading. */
+    fprintf(readings, "%.6f,%.6f,%.10f,%.6f,%.6f,%.6f\n", op->x_um * 1e-6, op->y_um * 1e-6,
             bam_rad(op->heading), ping.x, ping.y, wrap_pi(ping.th));
 }
 
@@ -753,7 +783,7 @@ static void print_summary(const options_t *o, const run_t *r, const chain_scores
            o->room, o->duration_s, (unsigned long long)o->seed, o->cell_mm,
            explore_names[o->explore], o->ideal ? ", ideal" : "");
     printf("  simulated %llu ticks in %.2f s of wall time: %.0fx real time\n",
-           (unsigned long long)ticks, wall_s, wall_s > 0 ? ticks * TICK_S / wall_s : 0.0);
+           (unsigned long long)ticks, wall_s, wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
     printf("\n  map (vs truth)        precision  recall     F1   | perfect odometry F1\n");
     const char *names[4] = {"raw OM", "+ threshold", "+ template", "+ insert (final)"};
     const score_t *a[4] = {&odo->raw, &odo->threshold, &odo->templ, &odo->insert};
@@ -867,7 +897,7 @@ static double wall_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
 int main(int argc, char **argv)
@@ -951,12 +981,20 @@ int main(int argc, char **argv)
             fprintf(stderr, "host_sim: cannot write %s: %s\n", o.trace, strerror(errno));
         }
     }
+    FILE *telemetry = NULL;
+    if (o.telemetry != NULL) {
+        telemetry = fopen(o.telemetry, "wb");
+        if (telemetry == NULL) {
+            fprintf(stderr, "host_sim: cannot write %s: %s\n", o.telemetry, strerror(errno));
+        }
+    }
     sim_t *sim = sim_create(&room, &params, &errors, o.seed);
     run_t *r = calloc(1, sizeof *r);
     size_t ncells = (size_t)SLAM_GRID_CELLS;
     uint8_t *bufs = calloc(7u, ncells);
     uint8_t *scratch = calloc(2u, SLAM_GRID_A);
     if (readings == NULL || trajectory == NULL || (o.trace != NULL && trace == NULL) ||
+        (o.telemetry != NULL && telemetry == NULL) ||
         sim == NULL || r == NULL || bufs == NULL || scratch == NULL) {
         fprintf(stderr, "host_sim: cannot start the run\n");
         return 1;
@@ -976,6 +1014,10 @@ int main(int argc, char **argv)
         trace_write_header(trace, &cfg);
         hal_host_trace(trace);
     }
+    if (telemetry != NULL) {
+        setvbuf(telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
+        hal_host_uart_sink(telemetry);
+    }
 
     r->geom = (map_geom_t){SLAM_GRID_A, SLAM_GRID_B, cfg.cell_um * 1e-6,
                            robot.grid.origin_x_um * 1e-6, robot.grid.origin_y_um * 1e-6};
@@ -994,13 +1036,23 @@ int main(int argc, char **argv)
     r->time_to[0] = r->time_to[1] = r->time_to[2] = -1.0;
     r->last_x = sx;
     r->last_y = sy;
+    r->marked_x = r->marked_y = INFINITY;
 
     uint64_t ticks = (uint64_t)llround(o.duration_s / TICK_S);
     bool progress = !o.quiet && isatty(STDERR_FILENO);
     double t0 = wall_now();
     for (uint64_t k = 0; k < ticks; k++) {
+        sim_truth_t before = sim_truth(sim);
         hal_host_step();
-        observe_tick(r, sim, &params, readings, trajectory, k, k + 1u == ticks);
+        robot_idle(&robot); /* the robot's background loop runs between ticks */
+        observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
+        if (o.realtime) {
+            double ahead = (double)(k + 1u) * TICK_S - (wall_now() - t0);
+            if (ahead > 0.0) {
+                struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
+                nanosleep(&ts, NULL);
+            }
+        }
         if (progress && (k % 4096u == 0u || k + 1u == ticks)) {
             double done = (double)(k + 1u) / (double)ticks;
             int bar = (int)(done * 30.0);
@@ -1015,9 +1067,15 @@ int main(int argc, char **argv)
     if (progress) {
         fprintf(stderr, "\n");
     }
+    if (telemetry != NULL) {
+        hal_host_uart_sink(NULL);
+        if (fclose(telemetry) != 0) {
+            fprintf(stderr, "host_sim: writing %s failed\n", o.telemetry);
+            return 1;
+        }
+    }
     if (trace != NULL) {
-        hal_host_trace(NULL);
-        trace_write_end(trace, ticks);
+        hal_host_trace(NULL); /* writes the end line */
         if (fclose(trace) != 0) {
             fprintf(stderr, "host_sim: writing %s failed\n", o.trace);
             return 1;
@@ -1047,8 +1105,8 @@ int main(int argc, char **argv)
     if (tf != NULL) {
         fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
                     "\"real_time_factor\": %.0f}\n",
-                wall_s, (unsigned long long)ticks, wall_s > 0 ? ticks / wall_s : 0.0,
-                wall_s > 0 ? ticks * TICK_S / wall_s : 0.0);
+                wall_s, (unsigned long long)ticks, wall_s > 0 ? (double)ticks / wall_s : 0.0,
+                wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
         bad |= close_out(tf, o.out, "timing.json");
     }
     if (!o.quiet) {

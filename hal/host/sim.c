@@ -95,10 +95,10 @@ void sim_params_default(sim_params_t *p)
 void sim_errors_default(sim_errors_t *e)
 {
     *e = (sim_errors_t){
-        .wheel_ratio_ed = 1.005,
-        .wheel_base_eb = 1.01,
+        .wheel_ratio_ed = 1.0002,
+        .wheel_base_eb = 1.002,
         .slip_per_mps2 = 0.02,
-        .wheel_noise = 0.015,
+        .wheel_noise = 0.01,
         .sonar_noise_m = 0.01,
         .sonar_dropout = 0.03,
         .sonar_ghost = 0.01,

@@ -59,7 +59,7 @@ check("missing.room" in p.stderr, "a missing room file is named")
 # A room larger than the grid at this cell size is refused with advice.
 big = sim.out("big.room")
 with open(big, "w") as f:
-    f.write("box 0 0 40 30\nstart 20 15 0\n")
+    f.write("wall 0 0 40 0\nwall 40 0 40 30\nwall 40 30 0 30\nwall 0 30 0 0\nstart 20 15 0\n")
 p = sim.run("--room", big, "--out", sim.out("never"), expect=2)
 check("does not fit" in p.stderr and "--cell" in p.stderr, "a room too large for the grid says how to fit it")
 sim.done()

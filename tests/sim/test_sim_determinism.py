@@ -16,7 +16,9 @@ for name, seed in [("a", 3), ("b", 3), ("c", 4)]:
     sim.run("--duration", 60, "--seed", seed, "--out", runs[name])
 
 files = sorted(f for f in os.listdir(runs["a"]) if f != "timing.json")
-check(len(files) >= 15, "the run wrote its files: " + " ".join(files))
+expected = ["config.txt", "metrics.json", "readings.csv", "trajectory.csv"] + [
+    m + ext for m in ("om", "om_post", "om_ideal", "tm", "truth") for ext in (".pgm", ".yaml")]
+check(sorted(expected) == files, "the run wrote its files: " + " ".join(files))
 same, diff, errors = filecmp.cmpfiles(runs["a"], runs["b"], files, shallow=False)
 check(not diff and not errors, "seed 3 twice: all %d files byte-identical (differ: %s)" % (len(files), diff))
 same, diff, errors = filecmp.cmpfiles(runs["a"], runs["c"], ["readings.csv", "om.pgm"], shallow=False)

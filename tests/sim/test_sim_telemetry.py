@@ -1,0 +1,56 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""The firmware's telemetry, as host_sim records it, decodes with tools/telemetry.py and
+says exactly what the run's logs say: every reading and the pose ten times a second."""
+import csv
+import importlib.util
+import math
+import os
+
+from simtest import Sim, check
+
+sim = Sim()
+spec = importlib.util.spec_from_file_location("telemetry", os.path.join(sim.src, "tools", "telemetry.py"))
+telemetry = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(telemetry)
+
+run = sim.out("run")
+tel = sim.out("telemetry.bin")
+sim.run("--duration", 60, "--seed", 2, "--out", run, "--telemetry", tel)
+
+frames = list(f for f in telemetry.frames(tel, 115200, False) if f is not None)
+kinds = {}
+for f in frames:
+    kinds[f["type"]] = kinds.get(f["type"], 0) + 1
+check(kinds.get("hello", 0) >= 12 and kinds.get("status", 0) >= 59,
+      "hello every 5 s and status every second: %s" % kinds)
+
+with open(os.path.join(run, "readings.csv")) as f:
+    rows = list(csv.DictReader(f))
+readings = [f for f in frames if f["type"] == "reading"]
+check(len(readings) == len(rows) and len(rows) > 500,
+      "one READING frame per logged reading (%d)" % len(rows))
+mismatch = 0
+for fr, row in zip(readings, rows):
+    same = (abs(fr["ticks"] / 100.0 - float(row["t"])) < 1e-9 and
+            fr["servo_mdeg"] == round(float(row["servo_deg"]) * 1000) and
+            fr["x_um"] == round(float(row["odom_x"]) * 1e6) and
+            fr["y_um"] == round(float(row["odom_y"]) * 1e6) and
+            abs(math.remainder(fr["heading"] * telemetry.BAM - float(row["odom_th"]), 2 * math.pi)) < 1e-8)
+    if row["status"] == "ok":
+        same = same and fr["range_um"] == round(float(row["range_m"]) * 1e6)
+    else:
+        same = same and fr["outcome"] == 4 and fr["range_um"] == 0
+    mismatch += not same
+check(mismatch == 0, "every READING frame matches its readings.csv row")
+
+with open(os.path.join(run, "trajectory.csv")) as f:
+    traj = {round(float(r["t"]) * 100): r for r in csv.DictReader(f)}
+poses = [f for f in frames if f["type"] == "pose"]
+check(len(poses) == 600, "600 POSE frames in 60 s")
+matched = [p for p in poses if p["ticks"] in traj]
+bad = sum(1 for p in matched
+          if abs(p["x_um"] * 1e-6 - float(traj[p["ticks"]]["odom_x"])) > 1e-6 or
+          abs(p["y_um"] * 1e-6 - float(traj[p["ticks"]]["odom_y"])) > 1e-6)
+check(len(matched) == 600 and bad == 0, "POSE frames match the odometry in trajectory.csv")
+sim.done()
