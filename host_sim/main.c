@@ -530,8 +530,15 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
 
     if (tick % TRAJECTORY_EVERY == 0u || last) {
-        fprintf(trajectory, "%.2f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f\n", t, ox, oy, wrap_pi(oth),
-                tr.x, tr.y, wrap_pi(tr.th));
+        char line[160];
+        char *e = fmt_fixed(line, t, 2, ',');
+        e = fmt_fixed(e, ox, 6, ',');
+        e = fmt_fixed(e, oy, 6, ',');
+        e = fmt_fixed(e, wrap_pi(oth), 6, ',');
+        e = fmt_fixed(e, tr.x, 6, ',');
+        e = fmt_fixed(e, tr.y, 6, ',');
+        e = fmt_fixed(e, wrap_pi(tr.th), 6, '\n');
+        fwrite(line, 1, (size_t)(e - line), trajectory);
     }
 
     const sweep_out_t *sw = &robot.last;
@@ -544,25 +551,35 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     double sx = ping.x + p->sonar_x_m * cos(ping.th) - p->sonar_y_m * sin(ping.th);
     double sy = ping.y + p->sonar_x_m * sin(ping.th) + p->sonar_y_m * cos(ping.th);
     /* Cells within rc of a sonar position are observable; a new disc only once the
-     * sonar has moved by a quarter cell. */
-    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m / 4.0) {
+     * sonar has moved by a cell (the disc's edge is then within a cell of exact). */
+    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m) {
         mark_disc(&r->geom, r->observable, sx, sy, robot.cfg.confidence_radius_um * 1e-6);
         r->marked_x = sx;
         r->marked_y = sy;
     }
-    fprintf(readings, "%.2f,%.3f,", t, sw->reading.servo_mdeg / 1000.0);
+    char line[256];
+    char *e = fmt_fixed(line, t, 2, ',');
+    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, 3, ',');
     if (sw->reading.echo) {
         uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
-        fprintf(readings, "%.6f,ok,", d * 1e-6);
+        e = fmt_fixed(e, d * 1e-6, 6, ',');
+        memcpy(e, "ok,", 3);
+        e += 3;
         odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
         (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
     } else {
-        fprintf(readings, ",timeout,");
+        memcpy(e, ",timeout,", 9);
+        e += 9;
     }
     /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
      * the replay recovers the exact heading. */
-    fprintf(readings, "%.6f,%.6f,%.10f,%.6f,%.6f,%.6f\n", op->x_um * 1e-6, op->y_um * 1e-6,
-            bam_rad(op->heading), ping.x, ping.y, wrap_pi(ping.th));
+    e = fmt_fixed(e, op->x_um * 1e-6, 6, ',');
+    e = fmt_fixed(e, op->y_um * 1e-6, 6, ',');
+    e = fmt_fixed(e, bam_rad(op->heading), 10, ',');
+    e = fmt_fixed(e, ping.x, 6, ',');
+    e = fmt_fixed(e, ping.y, 6, ',');
+    e = fmt_fixed(e, wrap_pi(ping.th), 6, '\n');
+    fwrite(line, 1, (size_t)(e - line), readings);
 }
 
 /* ---- after the run -------------------------------------------------------------------- */

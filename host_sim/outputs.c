@@ -8,6 +8,38 @@
 
 #include "host_sim.h"
 
+char *fmt_fixed(char *out, double v, int decimals, char sep)
+{
+    static const double scale[11] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
+    double s = v * scale[decimals];
+    long long n = (long long)(s < 0 ? s - 0.5 : s + 0.5);
+    if (n < 0) {
+        *out++ = '-';
+        n = -n;
+    } else if (n == 0 && v < 0) {
+        *out++ = '-'; /* printf keeps the sign of a negative that rounds to zero */
+    }
+    char digits[32];
+    int k = 0;
+    do {
+        digits[k++] = (char)('0' + n % 10);
+        n /= 10;
+    } while (n > 0 || k <= decimals);
+    while (k > decimals) {
+        *out++ = digits[--k];
+    }
+    if (decimals > 0) {
+        *out++ = '.';
+        while (k > 0) {
+            *out++ = digits[--k];
+        }
+    }
+    if (sep != 0) {
+        *out++ = sep;
+    }
+    return out;
+}
+
 int make_dirs(const char *path)
 {
     char buf[4096];
