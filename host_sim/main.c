@@ -84,8 +84,9 @@ static void usage(FILE *f)
         "  --cell MM            grid cell size in mm (default 50)\n"
         "  --explore MODE       random | tm | square | off (default random)\n"
         "  --ideal              turn every error source off\n"
-        "  --error NAME=VALUE   one error level: ed, eb, slip, noise, sonar_noise, dropout,\n"
-        "                       ghost, grazing (repeatable)\n"
+        "  --error NAME=VALUE   one error level (repeatable): ed, eb (wheel diameter ratio,\n"
+        "                       wheel base ratio), slip (per m/s² beyond slip_free m/s²),\n"
+        "                       noise, sonar_noise (m), dropout, ghost, grazing (deg)\n"
         "  --config FILE        firmware configuration, key = value lines\n"
         "  --set KEY=VALUE      one firmware configuration value (repeatable)\n"
         "outputs:\n"
@@ -290,7 +291,8 @@ static int apply_error(sim_errors_t *e, const char *nv)
     } names[] = {
         {"ed", offsetof(sim_errors_t, wheel_ratio_ed), 0.8, 1.2},
         {"eb", offsetof(sim_errors_t, wheel_base_eb), 0.8, 1.2},
-        {"slip", offsetof(sim_errors_t, slip_per_mps2), 0.0, 10.0},
+        {"slip", offsetof(sim_errors_t, slip_per_mps2), 0.0, 1.0},
+        {"slip_free", offsetof(sim_errors_t, slip_free_mps2), 0.0, 100.0},
         {"noise", offsetof(sim_errors_t, wheel_noise), 0.0, 1.0},
         {"sonar_noise", offsetof(sim_errors_t, sonar_noise_m), 0.0, 1.0},
         {"dropout", offsetof(sim_errors_t, sonar_dropout), 0.0, 1.0},
@@ -311,8 +313,8 @@ static int apply_error(sim_errors_t *e, const char *nv)
             return 0;
         }
     }
-    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (ed, eb, slip, noise, "
-                    "sonar_noise, dropout, ghost, grazing)\n", (int)len, nv);
+    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (ed, eb, slip, slip_free, "
+                    "noise, sonar_noise, dropout, ghost, grazing)\n", (int)len, nv);
     return -1;
 }
 
@@ -720,9 +722,10 @@ static int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
     fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"om_max\": %u},\n",
             cfg->post_threshold, cfg->post_template_k, cfg->om_max);
-    fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"noise\": %.6g, "
-               "\"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, \"grazing\": %.6g},\n",
-            e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->wheel_noise,
+    fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
+               "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
+               "\"grazing\": %.6g},\n",
+            e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->slip_free_mps2, e->wheel_noise,
             e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost, e->grazing_deg);
     fprintf(f, "    \"grid\": {\"a\": %u, \"b\": %u, \"origin\": [%.6f, %.6f]}\n  },\n",
             r->geom.a, r->geom.b, r->geom.origin_x, r->geom.origin_y);

@@ -52,6 +52,7 @@ static const slam_config_t slam_config_defaults = {
     .avoid_um = 300000u,
     .clearance_um = 130000u,
     .square_side_um = 1000000u,
+    .square_laps = 1u,
     .explore_seed = 1u,
     .save_period_s = 60u,
 };

@@ -29,12 +29,14 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     e->mount_x_um = cfg->mount_x_um;
     e->mount_y_um = cfg->mount_y_um;
     e->square_side_um = (int32_t)cfg->square_side_um;
+    e->laps = cfg->square_laps;
     e->cell_um = cfg->cell_um;
     e->om_occupied = cfg->post_threshold;
     e->tm_max = cfg->tm_max;
     e->leg_x_um = cfg->start_x_um;
     e->leg_y_um = cfg->start_y_um;
     e->target_heading = fix_bam_from_mdeg(cfg->start_heading_mdeg);
+    e->decide = true;
     switch (e->mode) {
     case EXPLORE_RANDOM:
     case EXPLORE_TM:
@@ -157,7 +159,8 @@ static uint32_t ray_cost(const explore_t *e, const grid_t *g, const odom_pose_t 
 
 static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
-    /* Candidates are visited from a random first one, so ties go a random way. */
+    /* Candidates are visited from a random first one, so ties between equal turns go a
+     * random way. */
     if (e->ticks == 1u) {
         e->candidate = (uint8_t)rng_below(e, EXPLORE_CANDIDATES);
         e->best_cost = UINT32_MAX;
@@ -168,12 +171,17 @@ static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     if (explore_blocked(e, &facing)) {
         cost += 2u * EXPLORE_LOOK_UM / e->cell_um * e->tm_max;
     }
+    /* Among equally visited ways, the smallest turn: 0 for straight on, 6 for back. */
+    uint32_t turn = e->candidate <= EXPLORE_CANDIDATES / 2u ? e->candidate
+                                                          : EXPLORE_CANDIDATES - e->candidate;
+    cost = cost * EXPLORE_CANDIDATES + turn;
     if (cost < e->best_cost) {
         e->best_cost = cost;
         e->best = e->candidate;
     }
     e->candidate = (uint8_t)((e->candidate + 1u) % EXPLORE_CANDIDATES);
     if (e->ticks >= EXPLORE_CANDIDATES) {
+        e->decide = false;
         int32_t angle = (int32_t)(e->best * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES));
         if (e->best == 0u) {
             enter(e, EXPLORE_FORWARD);
@@ -217,7 +225,7 @@ static void forward_step(explore_t *e, const odom_pose_t *pose, int32_t target_m
         int64_t side = e->square_side_um;
         if (dx * dx + dy * dy >= side * side) {
             e->leg++;
-            if (e->leg >= 4u) {
+            if (e->laps != 0u && e->leg >= 4u * e->laps) {
                 enter(e, EXPLORE_STOP);
                 target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
             } else {
@@ -261,15 +269,14 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     case EXPLORE_LOOK:
         /* One full pass of the sweep since standing still, then decide. */
         if (e->look_readings >= e->stops) {
-            if (e->mode == EXPLORE_TM) {
+            int32_t lateral = 0;
+            bool blocked = nearest_ahead(e, pose, &lateral);
+            if (e->mode == EXPLORE_TM && (blocked || e->decide)) {
                 enter(e, EXPLORE_DECIDE);
+            } else if (blocked) {
+                random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
             } else {
-                int32_t lateral = 0;
-                if (nearest_ahead(e, pose, &lateral)) {
-                    random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
-                } else {
-                    enter(e, EXPLORE_FORWARD);
-                }
+                enter(e, EXPLORE_FORWARD);
             }
         }
         break;

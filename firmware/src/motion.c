@@ -8,6 +8,8 @@
 
 /* 1 mm/s is 10 µm per 10 ms tick. */
 #define MOTION_UM_TICK_PER_MM_S 10
+#define MOTION_ERR_MAX (1 << 24)
+#define MOTION_SPEED_SHIFT 2u /* log2(MOTION_SPEED_TICKS) */
 
 void motion_init(motion_t *m, const slam_config_t *cfg)
 {
@@ -38,12 +40,18 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
 
 void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
 {
+    m->err_pos = (uint8_t)((m->err_pos + 1u) % MOTION_SPEED_TICKS);
     for (unsigned w = 0; w < 2u; w++) {
         /* The ramp: the acceleration limit of §III.B. */
         int32_t step = clamp(m->target_um_tick[w] - m->set_um_tick[w], -m->accel_um_tick2,
                              m->accel_um_tick2);
         int32_t set = m->set_um_tick[w] + step;
         m->set_um_tick[w] = set;
+        /* An encoder glitch may claim any speed; the error stays within 16 m a tick. */
+        int32_t err = clamp(fix_sat_sub_i32(set, odom->step_um[w]), -MOTION_ERR_MAX, MOTION_ERR_MAX);
+        int32_t *slot = &m->err_um_tick[w][m->err_pos];
+        m->err_sum[w] = m->err_sum[w] - *slot + err;
+        *slot = err;
         if (set == 0 && m->target_um_tick[w] == 0) {
             /* At rest: no output, and nothing left over to push the wheel later. */
             m->integral_um[w] = 0;
@@ -51,12 +59,14 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
             duty[w] = 0;
             continue;
         }
-        int32_t err = set - odom->step_um[w];
         m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
                                   m->integral_max_um);
         int32_t ff = (int32_t)fix_round_shift((int64_t)set * m->ff_q16, 16u);
+        /* (kp · Σe/N + ki · I) / 256, with the division by N = 4 folded into the shift. */
         int32_t pi = fix_sat_i32(fix_round_shift(
-            (int64_t)m->kp_q8 * err + (int64_t)m->ki_q8 * m->integral_um[w], 8u));
+            (int64_t)m->kp_q8 * m->err_sum[w] +
+                (int64_t)m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS,
+            8u + MOTION_SPEED_SHIFT));
         int16_t d = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
         m->duty[w] = d;
         duty[w] = d;

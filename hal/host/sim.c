@@ -97,7 +97,8 @@ void sim_errors_default(sim_errors_t *e)
     *e = (sim_errors_t){
         .wheel_ratio_ed = 1.0002,
         .wheel_base_eb = 1.002,
-        .slip_per_mps2 = 0.02,
+        .slip_per_mps2 = 0.3,
+        .slip_free_mps2 = 0.5,
         .wheel_noise = 0.01,
         .sonar_noise_m = 0.01,
         .sonar_dropout = 0.03,
@@ -112,6 +113,7 @@ void sim_errors_ideal(sim_errors_t *e)
         .wheel_ratio_ed = 1.0,
         .wheel_base_eb = 1.0,
         .slip_per_mps2 = 0.0,
+        .slip_free_mps2 = 0.5,
         .wheel_noise = 0.0,
         .sonar_noise_m = 0.0,
         .sonar_dropout = 0.0,
@@ -154,6 +156,7 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
         {in(e->wheel_ratio_ed, 0.5, 2.0), "e.wheel_ratio_ed"},
         {in(e->wheel_base_eb, 0.5, 2.0), "e.wheel_base_eb"},
         {in(e->slip_per_mps2, 0.0, 1.0), "e.slip_per_mps2"},
+        {in(e->slip_free_mps2, 0.0, 100.0), "e.slip_free_mps2"},
         {in(e->wheel_noise, 0.0, 0.5), "e.wheel_noise"},
         {in(e->sonar_noise_m, 0.0, 10.0), "e.sonar_noise_m"},
         {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
@@ -584,8 +587,9 @@ void sim_step(sim_t *s)
         }
         s->enc[w] += turn * s->counts_per_rad;
         double travel = turn * s->r_act[w];
-        if (accel != 0.0 && s->e.slip_per_mps2 > 0.0) {
-            travel *= 1.0 - fmin(s->e.slip_per_mps2 * fabs(accel), SIM_SLIP_MAX);
+        double hard = fabs(accel) - s->e.slip_free_mps2;
+        if (hard > 0.0 && s->e.slip_per_mps2 > 0.0) {
+            travel *= 1.0 - fmin(s->e.slip_per_mps2 * hard, SIM_SLIP_MAX);
         }
         if (travel != 0.0 && s->e.wheel_noise > 0.0) {
             travel *= 1.0 + s->e.wheel_noise * sim_rng_gauss4(&s->rng_wheels);

@@ -30,7 +30,7 @@ typedef enum {
     EXPLORE_OFF = 0,    /**< stand still; the map still updates */
     EXPLORE_RANDOM = 1, /**< the paper's random exploration with obstacle avoidance */
     EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
-    EXPLORE_SQUARE = 3, /**< drive one square, counter-clockwise (odometry tests) */
+    EXPLORE_SQUARE = 3, /**< drive a square, counter-clockwise (odometry tests) */
     EXPLORE_MODES
 } explore_mode_t;
 
@@ -91,6 +91,7 @@ typedef struct {
     uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
     uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
     uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
+    uint8_t square_laps;     /**< laps of the square, then stop; 0 = go on forever; 1 */
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
 
     /* Persistence (mapstore.h). */

@@ -13,11 +13,14 @@
  *   place by a random 90°..180° away from it; now and then (and after driving straight
  *   too long) turn by a random angle anyway. After each turn, stand still for one sweep
  *   and look before driving on.
- * - EXPLORE_TM: the same avoidance, but each new heading is the one of EXPLORE_CANDIDATES
- *   directions whose ray through TM (1 m, stopped by occupied OM cells) crosses the
- *   fewest visits: the trajectory map used for online path planning, as the paper says
- *   it can be. One candidate is weighed per tick, so the tick stays small.
- * - EXPLORE_SQUARE: one counter-clockwise square of square_side by odometry, then stop.
+ * - EXPLORE_TM: the same avoidance, but each new heading (at the start, when something is
+ *   ahead, and every EXPLORE_TM_REDECIDE_TICKS of driving) is the one of
+ *   EXPLORE_CANDIDATES directions whose ray through TM (1 m, stopped by occupied OM cells)
+ *   crosses the fewest visits, the smallest turn among equals: the trajectory map used
+ *   for online path planning, as the paper says it can be. One candidate is weighed per
+ *   tick, so the tick stays small.
+ * - EXPLORE_SQUARE: square_laps counter-clockwise squares of square_side by odometry
+ *   (UMBmark's path), turning in place at the corners, then stop.
  * - EXPLORE_OFF: stand still.
  *
  * The output is a target speed for each wheel; motion.h follows it.
@@ -54,7 +57,8 @@ typedef struct {
     uint8_t stops;       /**< sweep stops */
     uint8_t candidate;   /**< DECIDE: the candidate weighed next */
     uint8_t best;        /**< DECIDE: the best candidate so far */
-    uint8_t leg;         /**< SQUARE: legs done */
+    uint8_t laps;        /**< SQUARE: laps to drive; 0 = forever */
+    uint32_t leg;        /**< SQUARE: legs done */
     uint32_t best_cost;  /**< DECIDE: its cost */
     uint32_t rng;        /**< xorshift32 state */
     uint32_t ticks;      /**< ticks in the current state */
@@ -65,6 +69,7 @@ typedef struct {
     int32_t obst_y_um[SLAM_SWEEP_STOPS_MAX];
     uint32_t obst_seen[SLAM_SWEEP_STOPS_MAX]; /**< `now` when seen; 0 = nothing */
     uint32_t look_readings;    /**< LOOK: readings since it began */
+    bool decide;               /**< TM: the next LOOK decides a new heading */
     /* From the configuration. */
     int32_t cruise_mm_s;
     int32_t turn_mm_s;

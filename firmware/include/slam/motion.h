@@ -8,9 +8,12 @@
  * speed of a wheel moves toward its target by at most the acceleration limit, and the
  * duty is
  *
- *     duty = v_set · 1000 / v_top  +  (kp · e + ki · Σe) / 256,   e = v_set − v_measured
+ *     duty = v_set · 1000 / v_top  +  (kp · ē + ki · Σe) / 256
  *
- * clamped to ±HAL's full scale (1000). The acceleration limit is what the paper's Fig. 6
+ * clamped to ±HAL's full scale (1000), where e = v_set − v_measured this tick and ē is its
+ * mean over the last MOTION_SPEED_TICKS ticks: one encoder count is 0.3 mm, a large step
+ * of a 2 mm-per-tick speed, so the proportional part works on a smoothed speed while the
+ * integral part (a position error, which counts do not blur) takes every count. The acceleration limit is what the paper's Fig. 6
  * is about: a robot that accelerates hard slips, and its odometry drifts more.
  */
 #ifndef SLAM_MOTION_H
@@ -24,11 +27,17 @@
 /** Full-scale duty (the HAL's HAL_DUTY_MAX). */
 #define MOTION_DUTY_MAX 1000
 
+/** Ticks the proportional part averages the speed error over (a power of two). */
+#define MOTION_SPEED_TICKS 4u
+
 /** Speed control state, per wheel (ODOM_LEFT, ODOM_RIGHT). */
 typedef struct {
     int32_t target_um_tick[2]; /**< where each wheel speed is going */
     int32_t set_um_tick[2];    /**< the ramped set speed */
     int32_t integral_um[2];    /**< Σ(set − measured), clamped */
+    int32_t err_um_tick[2][MOTION_SPEED_TICKS]; /**< the last speed errors */
+    int32_t err_sum[2];        /**< their sum */
+    uint8_t err_pos;           /**< where the next error goes */
     int16_t duty[2];           /**< the last output */
     int32_t accel_um_tick2;    /**< the most the set speed changes in one tick */
     int32_t top_um_tick;       /**< wheel speed at full duty */

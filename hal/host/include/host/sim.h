@@ -165,8 +165,11 @@ typedef struct {
     double wheel_ratio_ed;   /**< E_d: actual right/left wheel diameter (mean stays nominal);
                                   1.0 = none */
     double wheel_base_eb;    /**< E_b: actual/nominal wheel base; 1.0 = none */
-    double slip_per_mps2;    /**< wheel slip fraction per m/s² of wheel acceleration
-                                  (the ground moves that much less than the wheel) */
+    double slip_per_mps2;    /**< wheel slip fraction per m/s² of wheel acceleration beyond
+                                  slip_free_mps2 (the ground moves that much less than the
+                                  wheel): traction holds for gentle accelerations and gives
+                                  way to hard ones */
+    double slip_free_mps2;   /**< wheel accelerations up to this roll without slipping */
     double wheel_noise;      /**< relative random error of each wheel's ground travel per tick
                                   (one standard deviation) */
     double sonar_noise_m;    /**< standard deviation of the range noise */
