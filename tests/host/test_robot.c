@@ -537,7 +537,7 @@ static void test_create_refuses_bad_input(void **state)
     sim_t *s = sim_create(&r, &p, &e, 1u);
     assert_non_null(s);
     assert_int_equal(sim_place(s, 1.0, 0.1, 0.0), -1);
-    assert_true(sim_truth(s).y == 0.2);
+    assert_true(sim_truth(s).y == (double)0.2);
     sim_destroy(s);
     room_free(&r);
 }

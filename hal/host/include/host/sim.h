@@ -29,7 +29,7 @@
 /* ---- rooms --------------------------------------------------------------------------- */
 
 /** The robot body radius the start pose of a room file is checked against, m. */
-#define ROOM_BODY_RADIUS_M 0.09
+#define ROOM_BODY_RADIUS_M ((double)0.09)
 
 /** A wall: a line segment, m. */
 typedef struct {
