@@ -237,17 +237,25 @@ double room_clearance(const room_t *r, double x, double y, double cap_m)
         }
         best = fmin(best, d);
     }
+    /* Squared distances from here on. "found" rather than comparing with cap² again:
+       with x87 arithmetic (-m32) sqrt(cap·cap) need not give back cap exactly. */
     double best2 = best * best;
+    bool found = false;
     for (size_t i = 0; i < r->nsegs; i++) {
         double d2 = seg_dist2(&r->segs[i], x, y);
         if (d2 < best2) {
             best2 = d2;
+            found = true;
         }
     }
     if (r->occ != NULL) {
-        best2 = raster_dist2(r, x, y, sqrt(best2), best2);
+        double d2 = raster_dist2(r, x, y, best, best2);
+        if (d2 < best2) {
+            best2 = d2;
+            found = true;
+        }
     }
-    return sqrt(best2);
+    return found ? fmin(sqrt(best2), best) : best;
 }
 
 bool room_disc_free(const room_t *r, double x, double y, double r_m)

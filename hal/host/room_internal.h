@@ -30,19 +30,25 @@ static inline double room_hit_segment(const room_segment_t *sg, double ox, doubl
     double ex = sg->x2 - sg->x1;
     double ey = sg->y2 - sg->y1;
     double denom = dx * ey - dy * ex; /* |e|·sin(angle between ray and segment) */
-    double len = sqrt(ex * ex + ey * ey);
-    if (fabs(denom) <= ROOM_PARALLEL_EPS * len) {
+    double len2 = ex * ex + ey * ey;
+    if (denom * denom <= (ROOM_PARALLEL_EPS * ROOM_PARALLEL_EPS) * len2) {
         return best;
     }
     double wx = sg->x1 - ox;
     double wy = sg->y1 - oy;
-    double t = (wx * ey - wy * ex) / denom;
-    double u = (wx * dy - wy * dx) / denom;
-    if (t < 0.0 || t >= best || u < 0.0 || u > 1.0) {
+    double nt = wx * ey - wy * ex; /* t = nt / denom along the ray */
+    double nu = wx * dy - wy * dx; /* u = nu / denom along the segment */
+    if (denom < 0.0) {
+        denom = -denom;
+        nt = -nt;
+        nu = -nu;
+    }
+    /* Divide only for a hit that beats the best so far. */
+    if (nt < 0.0 || nu < 0.0 || nu > denom || nt >= best * denom) {
         return best;
     }
-    *cosi = fabs(denom) / len;
-    return t;
+    *cosi = denom / sqrt(len2);
+    return nt / denom;
 }
 
 static inline double room_hit_circle(const room_circle_t *c, double ox, double oy, double dx,

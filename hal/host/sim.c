@@ -22,6 +22,44 @@
 /* Slip never takes more than this fraction of a wheel's travel. */
 #define SIM_SLIP_MAX 0.9
 
+/* Servo angles whose beam rotation is kept (the sweep has 6 stops). */
+#define SIM_BEAM_CACHE 16u
+/* Resynchronise the heading's unit vector with its angle this often (moves). */
+#define SIM_HEADING_RESYNC 256u
+
+static inline double dmin(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+/*
+ * cos and sin of a small angle (|x| <= 0.1 rad: the most a wheel turns the body in a tick
+ * at ten times the default top speed) by their series (to x^7 and x^8), within 3e-15 of libm;
+ * larger angles go to libm.
+ */
+static inline void small_sincos(double x, double *c, double *s)
+{
+    if (fabs(x) > 0.1) {
+        *c = cos(x);
+        *s = sin(x);
+        return;
+    }
+    double x2 = x * x;
+    *c = 1.0 - x2 * (1.0 / 2.0 - x2 * (1.0 / 24.0 - x2 * (1.0 / 720.0 - x2 * (1.0 / 40320.0))));
+    *s = x * (1.0 - x2 * (1.0 / 6.0 - x2 * (1.0 / 120.0 - x2 * (1.0 / 5040.0))));
+}
+
+/* Wrap an angle into (-pi, pi] (one turn at most away, as after a tick). */
+static inline double wrap_pi(double a)
+{
+    if (a > HOST_PI) {
+        a -= 2.0 * HOST_PI;
+    } else if (a <= -HOST_PI) {
+        a += 2.0 * HOST_PI;
+    }
+    return (a > HOST_PI || a <= -HOST_PI) ? remainder(a, 2.0 * HOST_PI) : a;
+}
+
 /* Independent random streams, so changing one error level leaves the others' draws. */
 enum { STREAM_WHEELS = 1, STREAM_SONAR = 2 };
 
@@ -41,9 +79,14 @@ struct sim {
     double gain;             /* tau·(1 - decay): weight of the speed error in a tick's travel */
     double servo_step_deg;   /* servo travel per tick */
     double cos_graze;        /* echoes need |cos incidence| >= this */
+    double omega_per_duty;   /* wheel rad/s per unit of duty */
+    double cone_c, cone_s;   /* cos, sin of half the cone */
+    double ray_c, ray_s;     /* cos, sin of the angle between two rays */
 
     /* The robot. */
     double x, y, th;
+    double hc, hs;           /* cos th, sin th, carried along with th */
+    uint32_t moves;          /* since hc, hs were last computed from th */
     double omega[2];         /* wheel angular speeds, rad/s */
     double omega_cmd[2];     /* what the duty asks for, rad/s */
     int16_t duty[2];
@@ -58,6 +101,12 @@ struct sim {
     uint16_t servo_pulse;
     double servo_deg;
     double servo_cmd_deg;
+    /* cos, sin of (90° - servo angle) for the last few servo angles pinged at: the
+       sweep revisits the same stops. */
+    struct {
+        double deg, c, s;
+    } beam[SIM_BEAM_CACHE];
+    unsigned beam_next;      /* the entry to replace next */
 
     /* Sonar. */
     bool sonar_out;          /* a ping is out and not yet reported */
@@ -206,10 +255,22 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->gain = p->motor_tau_s * (1.0 - s->decay);
     s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S;
     s->cos_graze = e->grazing_deg > 0.0 ? cos(e->grazing_deg * DEG) : 0.0;
+    s->omega_per_duty = p->top_speed_mps / HAL_DUTY_MAX / s->r_nom;
+    double half = 0.5 * p->sonar_cone_deg * DEG;
+    double step = SIM_SONAR_RAYS > 1 ? 2.0 * half / (SIM_SONAR_RAYS - 1) : 0.0;
+    s->cone_c = cos(half);
+    s->cone_s = sin(half);
+    s->ray_c = cos(step);
+    s->ray_s = sin(step);
+    for (unsigned i = 0; i < SIM_BEAM_CACHE; i++) {
+        s->beam[i].deg = NAN; /* matches no angle */
+    }
 
     s->x = room->start_x;
     s->y = room->start_y;
-    s->th = room->start_th;
+    s->th = remainder(room->start_th, 2.0 * HOST_PI);
+    s->hc = cos(s->th);
+    s->hs = sin(s->th);
     s->margin = -1.0;
     s->margin2 = -1.0;
     s->servo_deg = 90.0;
@@ -255,6 +316,9 @@ int sim_place(sim_t *s, double x, double y, double th)
     s->x = x;
     s->y = y;
     s->th = remainder(th, 2.0 * HOST_PI);
+    s->hc = cos(s->th);
+    s->hs = sin(s->th);
+    s->moves = 0u;
     s->omega[0] = 0.0;
     s->omega[1] = 0.0;
     s->contact = false;
@@ -276,7 +340,7 @@ void sim_motor_set(sim_t *s, hal_wheel_t wheel, int16_t duty)
         duty = -HAL_DUTY_MAX;
     }
     s->duty[wheel] = duty;
-    s->omega_cmd[wheel] = (double)duty / HAL_DUTY_MAX * s->p.top_speed_mps / s->r_nom;
+    s->omega_cmd[wheel] = (double)duty * s->omega_per_duty;
 }
 
 int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel)
@@ -288,7 +352,11 @@ uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel)
 {
     double c = s->enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
     /* A quadrature counter counts edges: the floor of the true position, modulo 2^16. */
-    return (uint16_t)(uint64_t)(int64_t)floor(c);
+    int64_t n = (int64_t)c; /* toward zero; |c| stays far below 2^63 */
+    if ((double)n > c) {
+        n--;
+    }
+    return (uint16_t)(uint64_t)n;
 }
 
 void sim_servo_set_pulse(sim_t *s, uint16_t pulse_us)
@@ -321,7 +389,7 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
     }
     if (r->occ != NULL) {
         double rc = 1.0;
-        double d = room_hit_raster(r, ox, oy, dx, dy, fmin(s->p.sonar_max_m, best), &rc);
+        double d = room_hit_raster(r, ox, oy, dx, dy, dmin(s->p.sonar_max_m, best), &rc);
         if (d < best) {
             best = d;
             *cosi = rc;
@@ -342,18 +410,28 @@ static void sonar_ping(sim_t *s)
 {
     const sim_params_t *p = &s->p;
     const room_t *r = s->room;
-    double ch = cos(s->th);
-    double sh = sin(s->th);
+    double ch = s->hc;
+    double sh = s->hs;
     double ox = s->x + p->sonar_x_m * ch - p->sonar_y_m * sh;
     double oy = s->y + p->sonar_x_m * sh + p->sonar_y_m * ch;
-    double bearing = s->th + (90.0 - s->servo_deg) * DEG;
-    double half = 0.5 * p->sonar_cone_deg * DEG;
-    double bx = cos(bearing);
-    double by = sin(bearing);
-    double lx = cos(bearing + half); /* left edge */
-    double ly = sin(bearing + half);
-    double rx = cos(bearing - half); /* right edge */
-    double ry = sin(bearing - half);
+    unsigned bi = 0;
+    while (bi < SIM_BEAM_CACHE && s->beam[bi].deg != s->servo_deg) {
+        bi++;
+    }
+    if (bi == SIM_BEAM_CACHE) {
+        bi = s->beam_next;
+        s->beam_next = (s->beam_next + 1u) % SIM_BEAM_CACHE;
+        s->beam[bi].deg = s->servo_deg;
+        s->beam[bi].c = cos((90.0 - s->servo_deg) * DEG);
+        s->beam[bi].s = sin((90.0 - s->servo_deg) * DEG);
+    }
+    /* Beam axis (Eq. 3) and the cone's edges, by rotating unit vectors. */
+    double bx = ch * s->beam[bi].c - sh * s->beam[bi].s;
+    double by = sh * s->beam[bi].c + ch * s->beam[bi].s;
+    double lx = bx * s->cone_c - by * s->cone_s; /* left edge */
+    double ly = by * s->cone_c + bx * s->cone_s;
+    double rx = bx * s->cone_c + by * s->cone_s; /* right edge */
+    double ry = by * s->cone_c - bx * s->cone_s;
     double max = p->sonar_max_m;
 
     /* Cull what cannot meet the cone: wholly left of its left edge, right of its right
@@ -386,9 +464,8 @@ static void sonar_ping(sim_t *s)
 
     double geo = HOST_INF;  /* nearest surface in the cone */
     double echo = HOST_INF; /* nearest surface that echoes */
-    double step = SIM_SONAR_RAYS > 1 ? 2.0 * half / (SIM_SONAR_RAYS - 1) : 0.0;
-    double cs = cos(step);
-    double ss = sin(step);
+    const double cs = s->ray_c;
+    const double ss = s->ray_s;
     double dx = rx;
     double dy = ry;
     for (int k = 0; k < SIM_SONAR_RAYS + (int)ncirc; k++) {
@@ -407,9 +484,9 @@ static void sonar_ping(sim_t *s)
         double ci = 1.0;
         double d = cone_ray(s, nseg, ncirc, ox, oy, dx, dy, &ci);
         if (d <= max) {
-            geo = fmin(geo, d);
+            geo = dmin(geo, d);
             if (ci >= s->cos_graze) {
-                echo = fmin(echo, d);
+                echo = dmin(echo, d);
             }
         }
         if (k < SIM_SONAR_RAYS) { /* rotate to the next ray */
@@ -423,7 +500,8 @@ static void sonar_ping(sim_t *s)
     double u_drop = sim_rng_unit(&s->rng_sonar);
     double u_ghost = sim_rng_unit(&s->rng_sonar);
     double u_range = sim_rng_unit(&s->rng_sonar);
-    double g = sim_rng_gauss(&s->rng_sonar);
+    double u_g1 = sim_rng_unit(&s->rng_sonar);
+    double u_g2 = sim_rng_unit(&s->rng_sonar);
 
     sim_ping_t *pg = &s->ping;
     *pg = (sim_ping_t){
@@ -431,7 +509,7 @@ static void sonar_ping(sim_t *s)
         .y = s->y,
         .th = s->th,
         .servo_deg = s->servo_deg,
-        .bearing = remainder(bearing, 2.0 * HOST_PI),
+        .bearing = wrap_pi(s->th + (90.0 - s->servo_deg) * DEG),
         .true_range_m = isfinite(geo) ? geo : -1.0,
         .time_us = s->time_us,
     };
@@ -443,7 +521,11 @@ static void sonar_ping(sim_t *s)
         range = p->sonar_min_m + u_range * (max - p->sonar_min_m);
     } else if (isfinite(echo)) {
         pg->kind = SIM_PING_ECHO;
-        range = fmax(echo + s->e.sonar_noise_m * g, p->sonar_min_m);
+        range = echo;
+        if (s->e.sonar_noise_m > 0.0) {
+            range += s->e.sonar_noise_m * sim_rng_gauss_from(u_g1, u_g2);
+        }
+        range = range > p->sonar_min_m ? range : p->sonar_min_m;
     } else {
         pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
     }
@@ -452,7 +534,7 @@ static void sonar_ping(sim_t *s)
     if (s->sonar_echo) {
         double width = 2.0 * range / p->sound_mps * 1e6;
         pg->range_m = range;
-        pg->echo_us = (uint32_t)lround(fmin(width, p->sonar_timeout_us - 1.0));
+        pg->echo_us = (uint32_t)lround(dmin(width, p->sonar_timeout_us - 1.0));
         s->sonar_ready_us = s->time_us + pg->echo_us;
     } else {
         s->sonar_ready_us = s->time_us + (uint64_t)llround(p->sonar_timeout_us);
@@ -523,10 +605,19 @@ static void sim_move(sim_t *s, double du, double dth)
     du /= n;
     dth /= n;
     bool blocked = false;
+    double hc = 1.0; /* the turn of one step, and of half a step */
+    double hs = 0.0;
+    double qc = 1.0;
+    double qs = 0.0;
+    if (dth != 0.0) {
+        small_sincos(0.5 * dth, &qc, &qs);
+        hc = qc * qc - qs * qs; /* the double angle */
+        hs = 2.0 * qc * qs;
+    }
     for (int i = 0; i < n; i++) {
-        double thm = s->th + 0.5 * dth;
-        double mx = du * cos(thm);
-        double my = du * sin(thm);
+        /* Along the mean heading of the step (the paper's Eq. 10-11 midpoint rule). */
+        double mx = du * (s->hc * qc - s->hs * qs);
+        double my = du * (s->hs * qc + s->hc * qs);
         double nx = s->x + mx;
         double ny = s->y + my;
         if (du != 0.0 && !body_fits(s, nx, ny)) {
@@ -550,10 +641,18 @@ static void sim_move(sim_t *s, double du, double dth)
         }
         s->x = nx;
         s->y = ny;
-        s->th += dth;
-    }
-    if (s->th > HOST_PI || s->th <= -HOST_PI) {
-        s->th = remainder(s->th, 2.0 * HOST_PI);
+        if (dth != 0.0) {
+            double c = s->hc * hc - s->hs * hs;
+            s->hs = s->hs * hc + s->hc * hs;
+            s->hc = c;
+            s->th = wrap_pi(s->th + dth);
+            /* Rounding would slowly part the vector from the angle: start it afresh. */
+            if (++s->moves >= SIM_HEADING_RESYNC) {
+                s->moves = 0u;
+                s->hc = cos(s->th);
+                s->hs = sin(s->th);
+            }
+        }
     }
     if (blocked) {
         if (!s->contact) {
@@ -589,7 +688,7 @@ void sim_step(sim_t *s)
         double travel = turn * s->r_act[w];
         double hard = fabs(accel) - s->e.slip_free_mps2;
         if (hard > 0.0 && s->e.slip_per_mps2 > 0.0) {
-            travel *= 1.0 - fmin(s->e.slip_per_mps2 * hard, SIM_SLIP_MAX);
+            travel *= 1.0 - dmin(s->e.slip_per_mps2 * hard, SIM_SLIP_MAX);
         }
         if (travel != 0.0 && s->e.wheel_noise > 0.0) {
             travel *= 1.0 + s->e.wheel_noise * sim_rng_gauss4(&s->rng_wheels);

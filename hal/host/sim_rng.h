@@ -36,12 +36,14 @@ static inline double sim_rng_unit(sim_rng_t *r)
     return (double)(sim_rng_u64(r) >> 11) * (1.0 / 9007199254740992.0);
 }
 
-/** A standard normal deviate (Box-Muller; one of the pair is dropped, for simplicity). */
-static inline double sim_rng_gauss(sim_rng_t *r)
+/**
+ * A standard normal deviate from two uniforms in [0, 1) (Box-Muller; one of the pair is
+ * dropped, for simplicity). Taking the uniforms rather than the stream lets a caller draw
+ * them always and pay for the logarithm only when the deviate is used.
+ */
+static inline double sim_rng_gauss_from(double u1, double u2)
 {
-    double u1 = 1.0 - sim_rng_unit(r); /* (0, 1]: log() stays finite */
-    double u2 = sim_rng_unit(r);
-    return sqrt(-2.0 * log(u1)) * cos(6.283185307179586476925 * u2);
+    return sqrt(-2.0 * log(1.0 - u1)) * cos(6.283185307179586476925 * u2); /* 1-u1 > 0 */
 }
 
 /**

@@ -16,6 +16,9 @@
 
 #include "host/sim.h"
 
+/* Compare with decimal constants through (double): on x87 (-m32) C evaluates a bare
+   constant like 0.3 in long double, which no double equals. */
+
 #define TEST_PI 3.14159265358979323846
 
 /* A scratch path in the test's build directory, unique to the process and a tag. */

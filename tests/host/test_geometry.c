@@ -187,7 +187,7 @@ static void test_clearance(void **state)
     assert_true(fabs(room_clearance(&r, 1.5, 2.05, 5.0) - 0.5) < 1e-12);
     assert_true(fabs(room_clearance(&r, 1.7, 1.6, 5.0) - 0.5) < 1e-12); /* the corner */
     assert_true(room_clearance(&r, 2.05, 2.05, 5.0) == 0.0);
-    assert_true(room_clearance(&r, 1.0, 1.0, 0.3) == 0.3);
+    assert_true(room_clearance(&r, 1.0, 1.0, 0.3) == (double)0.3);
     room_free(&r);
 }
 

@@ -28,7 +28,7 @@ static void test_every_shape(void **state)
     /* The polygon is closed: its last edge returns to the first point. */
     assert_true(r.segs[7].x1 == 3.5 && r.segs[7].y1 == 4.0 && r.segs[7].x2 == 3.0 &&
                 r.segs[7].y2 == 3.0);
-    assert_true(r.circles[0].cx == 5.0 && r.circles[0].r == 0.3);
+    assert_true(r.circles[0].cx == 5.0 && r.circles[0].r == (double)0.3);
     assert_true(r.has_start);
     assert_true(r.start_x == 2.0 && r.start_y == 2.5);
     assert_true(fabs(r.start_th - TEST_PI / 2.0) < 1e-12);

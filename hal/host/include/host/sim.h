@@ -29,7 +29,7 @@
 /* ---- rooms --------------------------------------------------------------------------- */
 
 /** The robot body radius the start pose of a room file is checked against, m. */
-#define ROOM_BODY_RADIUS_M 0.09
+#define ROOM_BODY_RADIUS_M ((double)0.09)
 
 /** A wall: a line segment, m. */
 typedef struct {
@@ -193,7 +193,7 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
 
 /** What the world knows that the robot does not. */
 typedef struct {
-    double x, y, th;          /**< true pose of the axle centre, m and rad (th unwrapped) */
+    double x, y, th;          /**< true pose of the axle centre, m and rad (th in (-pi, pi]) */
     double servo_deg;         /**< where the servo actually is */
     double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
     uint32_t collisions;      /**< times the robot ran into something and was stopped */
