@@ -236,12 +236,17 @@ static void test_slip_grows_with_acceleration(void **state)
 {
     (void)state;
     const double m_per_count = TEST_PI * 0.065 / 700.0;
-    double lag[3];
-    const double slips[3] = {0.0, 0.05, 0.10};
-    for (int i = 0; i < 3; i++) {
+    double lag[5];
+    const double slips[5] = {0.0, 0.05, 0.10, 0.10, 0.10};
+    /* Traction holds up to slip_free: the first three slip from any acceleration; a start
+     * to 0.3 m/s with τ = 80 ms peaks at 3.75 m/s², so a limit of 1 m/s² leaves part of
+     * the slip and one of 5 m/s² none. */
+    const double free[5] = {0.0, 0.0, 0.0, 1.0, 5.0};
+    for (int i = 0; i < 5; i++) {
         sim_errors_t e;
         sim_errors_ideal(&e);
         e.slip_per_mps2 = slips[i];
+        e.slip_free_mps2 = free[i];
         sim_t *s = test_world(&big, &e, 1u);
         drive(s, 1000, 1000, 100); /* 0 to 0.3 m/s in a few tau, then steady */
         double enc = (double)sim_encoder_count(s, HAL_WHEEL_LEFT) * m_per_count;
@@ -256,6 +261,8 @@ static void test_slip_grows_with_acceleration(void **state)
     assert_true(fabs(lag[0]) < m_per_count);
     assert_true(fabs(lag[1] - 0.00225) < 0.0004);
     assert_true(fabs(lag[2] - 0.0045) < 0.0006);
+    assert_true(lag[3] > 2.0 * m_per_count && lag[3] < lag[2] - 2.0 * m_per_count);
+    assert_true(fabs(lag[4]) < m_per_count);
 }
 
 static void test_wheel_noise_spreads_heading(void **state)
