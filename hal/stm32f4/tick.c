@@ -36,7 +36,7 @@ int hal_tick_start(hal_tick_fn fn, void *ctx)
     }
     uint32_t load = stm32_clocks.sysclk_hz / (1000000u / HAL_TICK_PERIOD_US) - 1u;
     if (load > CM_SYSTICK_LOAD_MAX) {
-        return HAL_EINVAL; /* cannot happen below 1.6 GHz */
+        return HAL_EINVAL; /* no clock set up yet (0 Hz), or one above 1.6 GHz */
     }
     tick_fn = fn;
     tick_ctx = ctx;
@@ -66,8 +66,12 @@ uint32_t hal_tick_overruns(void)
 
 void SysTick_Handler(void)
 {
-    /* SysTick counts down from LOAD: LOAD - VAL is how long ago this period began. */
-    bool late = CM_SYSTICK->LOAD - CM_SYSTICK->VAL > tick_late_limit;
+    /* SysTick counts ..., 1, 0, LOAD, LOAD - 1, ... and interrupts on reaching 0, so 0
+     * is the first count of the new period (QEMU takes the interrupt before the reload);
+     * any other value v is LOAD - v + 1 counts into it. */
+    uint32_t val = CM_SYSTICK->VAL;
+    uint32_t elapsed = val == 0u ? 0u : CM_SYSTICK->LOAD - val + 1u;
+    bool late = elapsed > tick_late_limit;
     tick_fn(tick_ctx);
     /* Still running when the next period began: the tick overran. */
     if (late || (CM_SCB->ICSR & CM_SCB_ICSR_PENDSTSET) != 0u) {
