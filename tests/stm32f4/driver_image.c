@@ -13,11 +13,27 @@ typedef struct {
     int (*read)(uint8_t, uint32_t, void *, size_t);
     void (*kick)(void);
     void (*start)(uint32_t);
+    int (*tick_start)(hal_tick_fn, void *);
+    uint32_t (*overruns)(void);
+    uint32_t (*time_us)(void);
+    uint16_t (*encoder)(hal_wheel_t);
+    void (*motor)(hal_wheel_t, int16_t);
+    void (*servo)(uint16_t);
+    int (*trigger)(void);
+    hal_sonar_status_t (*poll)(uint32_t *);
+    size_t (*uart_write)(const uint8_t *, size_t);
+    size_t (*uart_read)(uint8_t *, size_t);
+    hal_irq_state_t (*critical_enter)(void);
+    void (*critical_exit)(hal_irq_state_t);
+    void (*safe)(void);
 } driver_table_t;
 
 const driver_table_t driver_table = {
     hal_storage_size, hal_storage_begin, hal_storage_write, hal_storage_commit,
-    hal_storage_read, hal_watchdog_kick, stm32_watchdog_start,
+    hal_storage_read, hal_watchdog_kick, stm32_watchdog_start, hal_tick_start,
+    hal_tick_overruns, hal_time_us, hal_encoder_count, hal_motor_set, hal_servo_set_pulse,
+    hal_sonar_trigger, hal_sonar_poll, hal_uart_write, hal_uart_read, hal_critical_enter,
+    hal_critical_exit, stm32_safe_outputs,
 };
 
 int main(void)

@@ -1,16 +1,19 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Tests the map storage and watchdog drivers of the robot image against register models.
+"""Tests the STM32F4 drivers' own code against models of their registers.
 
-usage: tests/stm32f4/storage_model_test.py ROBOT_ELF
+usage: tests/stm32f4/drivers_model_test.py DRIVER_IMAGE_ELF
 
-QEMU emulates neither the flash interface nor the IWDG, so the image's own functions run
-in python3-unicorn here, with models of both written from RM0090: the flash key sequence
-and LOCK, sector erase (SER, SNB, STRT), programming only with PG set and at the PSIZE
-width, bits that only go from 1 to 0, BSY for a while after every operation, rc_w1 error
-flags; the IWDG key register, PR/RLR writable only after 0x5555, reloads. The tests call
-hal_storage_*() and check the model's flash, the register traffic, the return codes, and
-the watchdog timeout in force during an erase.
+QEMU emulates neither the flash interface nor the IWDG, nor encoder mode, captures or
+GPIO, so the test image's functions (every driver linked) run in python3-unicorn here.
+Flash and IWDG are models written from RM0090: the flash key sequence and LOCK, sector
+erase (SER, SNB, STRT), programming only with PG set and at the PSIZE width, bits that
+only go from 1 to 0, BSY for a while after every operation, rc_w1 error flags; the IWDG
+key register, PR/RLR writable only after 0x5555, reloads. Timers, SysTick and GPIO are
+plain memory the test sets (a counter, a capture) and reads back (a compare value, a
+BSRR word). Checked: map storage, the watchdog, the tick's overrun detection, the sonar
+state machine with its capture interrupt, servo clamping, motor PWM and direction pins,
+encoder counters and the safe state a fault leaves the motors in.
 """
 import os
 import sys
@@ -257,11 +260,149 @@ def main(argv):
     r.call("hal_watchdog_kick")
     check(r.wd.reloads == 1, "hal_watchdog_kick() reloads the watchdog")
 
+    test_tick(r)
+    test_sonar(r)
+    test_wheels(r)
+
     if failures:
-        print("storage_model_test: %d checks failed" % len(failures), file=sys.stderr)
+        print("drivers_model_test: %d checks failed" % len(failures), file=sys.stderr)
         return 1
-    print("storage_model_test: flash storage and watchdog drivers behave as RM0090 describes")
+    print("drivers_model_test: the STM32F4 drivers behave as RM0090 describes")
     return 0
+
+
+SYST_LOAD, SYST_VAL, ICSR = 0xE000E014, 0xE000E018, 0xE000ED04
+PENDSTSET = 1 << 26
+STUB = 0x30000100      # a tick callback: stores its argument at STUB_OUT
+STUB_OUT = 0x2001E800
+
+
+def signed(v):
+    return v - (1 << 32) if v & 0x80000000 else v
+
+
+def test_tick(r):
+    m = r.m
+    # ldr r1, [pc, #4]; str r0, [r1]; bx lr; nop; .word STUB_OUT
+    m.uc.mem_write(STUB, bytes.fromhex("0149" "0860" "7047" "00bf") + STUB_OUT.to_bytes(4, "little"))
+    check(signed(r.call("hal_tick_start", 0, 0)) == -1, "hal_tick_start(NULL) is refused")
+    r.call("stm32_clock_init")  # HSI: the model's ready bits never come
+    check(r.call("hal_tick_start", STUB | 1, 0x1234) == HAL_OK, "the tick starts")
+    check(signed(r.call("hal_tick_start", STUB | 1, 0)) == -3, "and cannot start twice")
+    load = m.read32(SYST_LOAD)
+    check(load == 16000000 // 100 - 1, "SysTick reloads every 10 ms at 16 MHz (LOAD %d)" % load)
+    check(r.wd.running, "the watchdog runs from the first tick on")
+
+    def tick(val, pending):
+        m.write32(SYST_VAL, val)
+        m.write32(ICSR, PENDSTSET if pending else 0)
+        m.write32(STUB_OUT, 0)
+        r.call("SysTick_Handler")
+        return m.read32(STUB_OUT)
+
+    check(tick(load, False) == 0x1234, "SysTick_Handler calls the callback with its context")
+    check(r.call("hal_tick_overruns") == 0, "a tick one count into its period is on time")
+    tick(0, False)
+    check(r.call("hal_tick_overruns") == 0,
+          "a tick that sees the counter at 0 (the reload not yet done) is on time")
+    tick(load - load // 10 + 1, False)
+    check(r.call("hal_tick_overruns") == 0, "a tick a tenth of the period late is on time")
+    tick(load // 2, False)
+    check(r.call("hal_tick_overruns") == 1, "a tick half a period late is an overrun")
+    tick(load, True)
+    check(r.call("hal_tick_overruns") == 2, "a tick still running at the next period is an overrun")
+    tick(load // 2, True)
+    check(r.call("hal_tick_overruns") == 3, "a tick both late and overrunning counts once")
+
+
+TIM2_CNT = 0x40000024
+TIM5_SR, TIM5_CCR2 = 0x40000C10, 0x40000C38
+TIM9_CR1 = 0x40014000
+TIM10_CCR1 = 0x40014434
+TIM3_CCR3, TIM3_CCR4 = 0x4000043C, 0x40000440
+TIM1_CNT, TIM8_CNT = 0x40010024, 0x40010424
+GPIOC_BSRR = 0x40020818
+ECHO_OUT = 0x2001E900
+IDLE, BUSY, ECHO, TIMEOUT = 0, 1, 2, 3
+
+
+def test_sonar(r):
+    m = r.m
+    r.call("hal_init")
+    now = [1000]
+
+    def advance(us):
+        now[0] += us
+        m.write32(TIM2_CNT, now[0])
+
+    def echo(width):
+        m.write32(TIM5_CCR2, width)
+        m.write32(TIM5_SR, 1 << 2)                 # CC2IF: the falling edge was captured
+        r.call("TIM5_IRQHandler")
+
+    def poll():
+        m.write32(ECHO_OUT, 0xDEAD)
+        return r.call("hal_sonar_poll", ECHO_OUT), m.read32(ECHO_OUT)
+
+    advance(0)
+    check(poll()[0] == IDLE, "no ping, the sonar is idle")
+    m.write32(TIM9_CR1, 0)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping goes out")
+    check(m.read32(TIM9_CR1) & 0x9 == 0x9, "by starting the one-pulse trigger timer (OPM, CEN)")
+    check(signed(r.call("hal_sonar_trigger")) == -3, "a second ping while the first is out is busy")
+    advance(3000)
+    check(poll()[0] == BUSY, "no echo yet: busy")
+    echo(5831)
+    check(poll() == (ECHO, 5831), "the captured width comes back with the echo")
+    check(poll()[0] == IDLE, "once")
+    r.call("hal_sonar_trigger")
+    advance(59999)
+    check(poll()[0] == BUSY, "59.999 ms without an echo: still busy")
+    advance(1)
+    check(poll()[0] == TIMEOUT, "60 ms without an echo: timeout")
+    r.call("hal_sonar_trigger")
+    echo(38000)
+    check(poll()[0] == TIMEOUT, "a 38 ms echo is the sensor's 'nothing in range': timeout")
+    r.call("hal_sonar_trigger")
+    advance(70000)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping nobody polled is over after 60 ms")
+    echo(1200)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "and one whose echo came back is over at once")
+    check(poll()[0] == BUSY, "the new ping does not take the old echo")
+    echo(1500)
+    check(poll() == (ECHO, 1500), "but its own")
+    m.write32(TIM5_SR, 1 << 9)                     # a stray CC1 flag, no capture on CH2
+    r.call("TIM5_IRQHandler")
+    check(poll()[0] == IDLE, "an interrupt without a CH2 capture posts nothing")
+
+    for pulse, want in ((100, 400), (1500, 1500), (3000, 2600)):
+        r.call("hal_servo_set_pulse", pulse)
+        check(m.read32(TIM10_CCR1) == want, "servo %d us is set as %d us" % (pulse, want))
+
+
+def test_wheels(r):
+    m = r.m
+    period = 16000000 // 20000   # TIM3 at 16 MHz (HSI), 20 kHz
+
+    def motor(wheel, duty):
+        r.call("hal_motor_set", wheel, duty)  # AAPCS: sign-extended
+        return m.read32(TIM3_CCR3 if wheel == 0 else TIM3_CCR4), m.read32(GPIOC_BSRR)
+
+    check(motor(0, 500) == (period // 2, (1 << 0) | (1 << 17)), "left half forward: PC0 high, PC1 low")
+    check(motor(0, -1000) == (period, (1 << 1) | (1 << 16)), "left full reverse: PC1 high, PC0 low")
+    check(motor(0, 0) == (0, (1 << 16) | (1 << 17)), "left stop: both low, no PWM")
+    check(motor(1, 250) == (period // 4, (1 << 3) | (1 << 18)),
+          "right quarter forward, wired inverted: PC3 high, PC2 low")
+    check(motor(1, 30000)[0] == period, "a duty beyond full scale is clamped")
+    check(motor(1, -30000)[0] == period, "in both directions")
+    m.write32(TIM1_CNT, 0x1234)
+    m.write32(TIM8_CNT, 0xFFFF)
+    check(r.call("hal_encoder_count", 0) == 0x1234 and r.call("hal_encoder_count", 1) == 0xFFFF,
+          "the encoders read their timers' 16-bit counters")
+    motor(0, 700)
+    r.call("stm32_safe_outputs")
+    check(m.read32(TIM3_CCR3) == 0 and m.read32(TIM3_CCR4) == 0, "the safe state stops both PWMs")
+    check(m.read32(GPIOC_BSRR) == 1 << (4 + 16), "and puts the driver in standby (PC4 low)")
 
 
 if __name__ == "__main__":

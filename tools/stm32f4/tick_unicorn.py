@@ -192,7 +192,7 @@ def measure_hal(path):
         out[label] = {"instructions": n, "stack": depth}
 
     cost("hal_encoder_count", "hal_encoder_count", 0)
-    cost("hal_motor_set", "hal_motor_set", 1, -500 & 0xFFFF)
+    cost("hal_motor_set", "hal_motor_set", 1, -500)  # int16_t arrives sign-extended
     cost("hal_servo_set_pulse", "hal_servo_set_pulse", 1500)
     cost("hal_sonar_poll (idle)", "hal_sonar_poll", 0x2001F800)
     cost("hal_sonar_trigger", "hal_sonar_trigger")
