@@ -5,8 +5,9 @@
  * clocks, pins, the time base and tick, the watchdog, the UART pump, faults.
  *
  * Which files an image links decides what it is: the robot image links them all with
- * main.c; the self-test image links the clock, tick, watchdog and fault parts with the
- * replay HAL (selftest/) instead of the wheel, sonar, UART and storage drivers.
+ * main.c; the self-test image links the start-up, clock, tick, watchdog and critical
+ * section with the replay HAL (selftest/) instead of the time base, wheel, sonar, UART
+ * and storage drivers.
  */
 #ifndef STM32F4_PORT_H
 #define STM32F4_PORT_H
@@ -88,7 +89,7 @@ static inline void stm32_gpio_write(uint8_t port, uint8_t pin, bool level)
     STM32_GPIO(port)->BSRR = level ? (1u << pin) : (1u << (pin + 16u));
 }
 
-/* ---- time base and tick (tick.c) ----------------------------------------------------- */
+/* ---- time base and tick (time.c, tick.c) -------------------------------------------- */
 
 /** Start the free-running 1 MHz time base behind hal_time_us(). */
 void stm32_time_init(void);

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* hal_init() for the whole board, and the critical section of the HAL contract. */
+/* hal_init() for the whole board: clocks, pins and every driver in a safe state. */
 #include "board.h"
-#include "cortex_m.h"
 #include "hal/hal.h"
 #include "stm32f4_port.h"
 
@@ -16,14 +15,4 @@ int hal_init(void)
     stm32_uart_init();
     /* A slow clock is not an error: the banner reports it (stm32_clocks). */
     return HAL_OK;
-}
-
-hal_irq_state_t hal_critical_enter(void)
-{
-    return cm_atomic_begin();
-}
-
-void hal_critical_exit(hal_irq_state_t state)
-{
-    cm_atomic_end(&state);
 }

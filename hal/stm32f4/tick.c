@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The 10 ms tick from SysTick, its overrun count, and the 1 MHz time base (hal_time_us). */
+/* The 10 ms tick from SysTick and its overrun count. */
 #include "board.h"
 #include "cortex_m.h"
 #include "hal/hal.h"
@@ -9,22 +9,6 @@ static hal_tick_fn tick_fn;
 static void *tick_ctx;
 static uint32_t tick_late_limit; /* SysTick counts after the reload that still count as on time */
 static volatile uint32_t tick_overruns;
-
-void stm32_time_init(void)
-{
-    stm32_tim_t *tim = STM32_TIM(BOARD_TIME_TIM);
-    (void)stm32_periph_enable(BOARD_TIME_TIM);
-    tim->CR1 = 0u;
-    tim->PSC = stm32_timer_clock_hz(BOARD_TIME_TIM) / 1000000u - 1u;
-    tim->ARR = 0xFFFFFFFFu;
-    tim->EGR = STM32_TIM_EGR_UG; /* load the prescaler now, not at the first wrap */
-    tim->CR1 = STM32_TIM_CR1_CEN;
-}
-
-uint32_t hal_time_us(void)
-{
-    return STM32_TIM(BOARD_TIME_TIM)->CNT;
-}
 
 int hal_tick_start(hal_tick_fn fn, void *ctx)
 {

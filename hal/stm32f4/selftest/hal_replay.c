@@ -33,6 +33,7 @@ void replay_start(const replay_scenario_t *sc)
 {
     rp = (struct replay_state){0};
     rp.sc = sc;
+    rp.st.uart_crc32 = 0u;
 }
 
 static bool get_byte(uint8_t *b)
@@ -214,6 +215,13 @@ int hal_sonar_trigger(void)
     return rp.in_tick && rp.rec.trig == 'o' && rp.triggers == 1u ? HAL_OK : HAL_EBUSY;
 }
 
+uint32_t hal_time_us(void)
+{
+    /* Replay time: the start of the current tick, as a clock read in the tick would see it. */
+    uint32_t ticks = rp.st.ticks == 0u ? 0u : rp.st.ticks - 1u;
+    return ticks * HAL_TICK_PERIOD_US;
+}
+
 hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
 {
     if (rp.polls < UINT8_MAX) {
@@ -233,4 +241,62 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
     default:
         return HAL_SONAR_IDLE;
     }
+}
+
+/* ---- the rest of the HAL, the same on every machine ----------------------------------- */
+
+size_t hal_uart_write(const uint8_t *data, size_t len)
+{
+    uint32_t crc = ~rp.st.uart_crc32;
+    for (size_t i = 0; i < len; i++) {
+        crc ^= data[i];
+        for (unsigned k = 0; k < 8u; k++) {
+            crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+        }
+    }
+    rp.st.uart_crc32 = ~crc;
+    rp.st.uart_bytes += (uint32_t)len;
+    return len;
+}
+
+size_t hal_uart_read(uint8_t *data, size_t len)
+{
+    (void)data;
+    (void)len;
+    return 0u;
+}
+
+size_t hal_storage_size(void)
+{
+    return 0u;
+}
+
+int hal_storage_begin(uint8_t slot)
+{
+    (void)slot;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
+{
+    (void)slot;
+    (void)offset;
+    (void)data;
+    (void)len;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_commit(uint8_t slot)
+{
+    (void)slot;
+    return HAL_ENOSYS;
+}
+
+int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
+{
+    (void)slot;
+    (void)offset;
+    (void)data;
+    (void)len;
+    return HAL_ENOSYS;
 }

@@ -6,7 +6,10 @@
  *
  * It implements the HAL calls robot_tick() makes (encoders, sonar poll and trigger: played
  * back; motors and servo: checked) from a scenario compiled into the program, so the same
- * file builds for the MCU and for the host and both run the same ticks. A scenario is a
+ * file builds for the MCU and for the host and both run the same ticks. The calls a trace
+ * does not record answer the same way on both: hal_time_us() is replay time (10 ms a
+ * decoded tick), hal_uart_write() takes every byte and keeps a count and a CRC-32 of them,
+ * hal_uart_read() has nothing, and there is no map storage (HAL_ENOSYS). A scenario is a
  * trace turned into C data by tools/stm32f4/trace2c.py; its byte stream, per tick:
  *
  *   byte     bits 0-2 poll ('-' 'i' 'b' 'e' 't' = 0..4), bits 3-4 trigger ('-' 'o' 'b'
@@ -72,6 +75,8 @@ typedef struct {
     int32_t first_expected;  /**< recorded value (calls: 1 called, 0 not) */
     int32_t first_got;       /**< what the firmware did */
     bool corrupt;            /**< the stream did not decode */
+    uint32_t uart_bytes;     /**< bytes the firmware wrote to the UART */
+    uint32_t uart_crc32;     /**< their CRC-32 (IEEE 802.3) */
 } replay_status_t;
 
 /** Start a scenario from its first tick; forgets the previous one. */

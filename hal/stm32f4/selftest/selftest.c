@@ -188,6 +188,11 @@ void selftest_report(const selftest_t *st, bool with_costs)
     text_str(&l, " ");
     text_u32(&l, r->pose.heading);
     print_line(&l);
+    text_str(&l, "uart bytes ");
+    text_u32(&l, rs.uart_bytes);
+    text_str(&l, " crc32 ");
+    text_hex(&l, rs.uart_crc32, 8u);
+    print_line(&l);
     report_map(&l, "om", r->grid.om);
     report_map(&l, "tm", r->grid.tm);
     text_str(&l, "end");

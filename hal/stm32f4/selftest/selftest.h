@@ -15,6 +15,7 @@
  *     robot ticks .. pings .. echoes .. timeouts .. hits .. far .. near .. outside ..
  *           rejected .. ping_errors ..         (one line)
  *     pose X_UM Y_UM HEADING_BAM
+ *     uart bytes N crc32 XXXXXXXX              what the firmware wrote to the UART
  *     om crc32 XXXXXXXX bytes A*B
  *     om HEX...                                64 cells a line, row 0 first
  *     tm crc32 XXXXXXXX bytes A*B
