@@ -77,8 +77,8 @@ void stm32_clock_init(void)
         pll = STM32_RCC_PLLCFGR_M(HSI_HZ / PLL_IN_HZ);
         stm32_clocks.source = STM32_CLOCK_HSI_PLL;
     }
-    rcc->PLLCFGR = pll | STM32_RCC_PLLCFGR_N(PLL_N) | STM32_RCC_PLLCFGR_P(PLL_P) |
-                   STM32_RCC_PLLCFGR_Q(PLL_Q);
+    rcc->PLLCFGR = (rcc->PLLCFGR & STM32_RCC_PLLCFGR_RESERVED) | pll | STM32_RCC_PLLCFGR_N(PLL_N) |
+                   STM32_RCC_PLLCFGR_P(PLL_P) | STM32_RCC_PLLCFGR_Q(PLL_Q);
     rcc->CR |= STM32_RCC_CR_PLLON;
     if (!wait_bits(&rcc->CR, STM32_RCC_CR_PLLRDY, STM32_RCC_CR_PLLRDY)) {
         stm32_clocks.pll_timeout = true;

@@ -104,6 +104,8 @@ _Static_assert(offsetof(stm32_rcc_t, PLLI2SCFGR) == 0x84, "RCC_PLLI2SCFGR");
 #define STM32_RCC_PLLCFGR_P(p) ((uint32_t)((p) / 2u - 1u) << 16) /* 2, 4, 6, 8 */
 #define STM32_RCC_PLLCFGR_SRC_HSE (1u << 22)
 #define STM32_RCC_PLLCFGR_Q(q) ((uint32_t)(q) << 24)        /* 2..15 */
+/** Reserved bits (31:28, 23, 21:18, 15) keep their reset value; bit 29 resets to 1. */
+#define STM32_RCC_PLLCFGR_RESERVED 0xF0BC8000u
 
 #define STM32_RCC_CFGR_SW_MASK (3u << 0)
 #define STM32_RCC_CFGR_SW_HSI (0u << 0)

@@ -11,7 +11,8 @@ erase (SER, SNB, STRT), programming only with PG set and at the PSIZE width, bit
 only go from 1 to 0, BSY for a while after every operation, rc_w1 error flags; the IWDG
 key register, PR/RLR writable only after 0x5555, reloads. Timers, SysTick and GPIO are
 plain memory the test sets (a counter, a capture) and reads back (a compare value, a
-BSRR word). Checked: map storage, the watchdog, the tick's overrun detection, the sonar
+BSRR word), RCC's ready flags answer or not as a test wants. Checked: the clock tree and
+its fallbacks, map storage, the watchdog, the tick's overrun detection, the sonar
 state machine with its capture interrupt, servo clamping, motor PWM and direction pins,
 encoder counters and the safe state a fault leaves the motors in.
 """
@@ -35,11 +36,17 @@ SR_EOP, SR_WRPERR, SR_PGAERR, SR_PGPERR, SR_PGSERR, SR_BSY = 1, 1 << 4, 1 << 5, 
 CR_PG, CR_SER, CR_STRT, CR_LOCK = 1, 2, 1 << 16, 1 << 31
 
 
+RCC_CR, RCC_PLLCFGR, RCC_CFGR = 0x800, 0x804, 0x808   # offsets in the page at 0x40023000
+HSEON, HSERDY, PLLON, PLLRDY = 1 << 16, 1 << 17, 1 << 24, 1 << 25
+
+
 class FlashModel:
     """The flash interface page (0x40023000, which also holds RCC) and the storage sectors."""
 
     def __init__(self, watchdog):
         self.wd = watchdog
+        self.hse_starts = False                # RCC: does the crystal come up?
+        self.pll_locks = False                 # does the PLL lock?
         self.page = bytearray(0x1000)          # RCC and anything else on the page: plain memory
         self.mem = bytearray(b"\x5a" * (2 * SECTOR_BYTES))  # not erased at power-up
         self.cr = CR_LOCK
@@ -61,7 +68,14 @@ class FlashModel:
             return v
         if off == 0xC10:                       # FLASH_CR
             return self.cr
-        return int.from_bytes(self.page[off:off + size], "little")
+        v = int.from_bytes(self.page[off:off + size], "little")
+        if off == RCC_CR:                      # ready flags follow their enables
+            v |= 2                             # HSIRDY
+            v |= HSERDY if self.hse_starts and v & HSEON else 0
+            v |= PLLRDY if self.pll_locks and v & PLLON else 0
+        if off == RCC_CFGR:                    # SWS follows SW
+            v = (v & ~0xC) | ((v & 3) << 2)
+        return v
 
     def write(self, off, size, value):
         if off == 0xC04:                       # FLASH_KEYR
@@ -263,6 +277,7 @@ def main(argv):
     test_tick(r)
     test_sonar(r)
     test_wheels(r)
+    test_clock(r)
 
     if failures:
         print("drivers_model_test: %d checks failed" % len(failures), file=sys.stderr)
@@ -403,6 +418,41 @@ def test_wheels(r):
     r.call("stm32_safe_outputs")
     check(m.read32(TIM3_CCR3) == 0 and m.read32(TIM3_CCR4) == 0, "the safe state stops both PWMs")
     check(m.read32(GPIOC_BSRR) == 1 << (4 + 16), "and puts the driver in standby (PC4 low)")
+
+
+
+FLASH_ACR = 0x40023C00
+
+
+def test_clock(r):
+    m, f = r.m, r.flash
+    base = 0x40023000
+    clocks = m.elf.addr("stm32_clocks")
+
+    def run(hse, pll):
+        f.hse_starts, f.pll_locks = hse, pll
+        m.write32(base + RCC_CR, 0x83)               # reset values
+        m.write32(base + RCC_PLLCFGR, 0x24003010)
+        m.write32(base + RCC_CFGR, 0)
+        m.write32(FLASH_ACR, 0)
+        r.call("stm32_clock_init")
+        return [m.read32(clocks + 4 * i) for i in range(6)], m.read32(base + RCC_PLLCFGR)
+
+    (src, sys_hz, p1, p2, t1, t2), pll = run(True, True)
+    check((src, sys_hz, p1, p2, t1, t2) == (0, 168000000, 42000000, 84000000, 84000000, 168000000),
+          "crystal and PLL: 168 MHz, APB1 42 MHz, APB2 84 MHz, timers 84 and 168 MHz")
+    check(pll == 0x20000000 | (1 << 22) | 4 | (168 << 6) | (7 << 24),
+          "PLL from the 8 MHz crystal: M 4, N 168, P 2, Q 7, reserved bits kept (0x%08x)" % pll)
+    check(m.read32(FLASH_ACR) & 7 == 5, "five flash wait states before the switch")
+    check(m.read32(base + RCC_CFGR) & 0xFCF3 == (5 << 10) | (4 << 13) | 2,
+          "AHB /1, APB1 /4, APB2 /2, PLL selected")
+    (src, sys_hz, *_), pll = run(False, True)
+    check((src, sys_hz) == (1, 168000000) and pll & 0x3F == 8 and not pll & (1 << 22),
+          "no crystal: 168 MHz from HSI through the PLL (M 8)")
+    (src, sys_hz, p1, p2, t1, t2), _ = run(False, False)
+    check((src, sys_hz, p1, t2) == (2, 16000000, 16000000, 16000000)
+          and m.read32(base + RCC_CFGR) & 3 == 0 and not m.read32(base + RCC_CR) & PLLON,
+          "no PLL either: HSI at 16 MHz, PLL off, every clock 16 MHz")
 
 
 if __name__ == "__main__":
