@@ -21,6 +21,7 @@ import os
 import re
 import select
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -101,6 +102,31 @@ def parse_report(text, who):
     return head, maps, info, costs, summary
 
 
+def start(cmd, **kw):
+    """Start timeout(1) + QEMU in a process group of their own, so both can be ended:
+    killing only timeout would leave QEMU running."""
+    return subprocess.Popen(cmd, start_new_session=True, **kw)
+
+
+def stop(proc):
+    """End the process group start() made: TERM, then KILL if it lingers."""
+    for sig, wait in ((signal.SIGTERM, 5), (signal.SIGKILL, 5)):
+        if proc.poll() is not None:
+            break
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            break
+        try:
+            proc.wait(timeout=wait)
+        except subprocess.TimeoutExpired:
+            pass
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)  # QEMU, should timeout(1) have gone first
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
 def run_selftest_image(elf, out_dir, seconds=120):
     """Run the self-test image; returns (exit status, report text)."""
     report = os.path.join(out_dir, "arm.txt")
@@ -111,12 +137,18 @@ def run_selftest_image(elf, out_dir, seconds=120):
         "-chardev", "file,id=semihost,path=" + report,
         "-semihosting-config", "enable=on,target=native,chardev=semihost",
         "-kernel", elf]
-    run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         timeout=seconds + 30)
+    proc = start(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        _, err = proc.communicate(timeout=seconds + 30)
+    except subprocess.TimeoutExpired:
+        stop(proc)
+        die("QEMU did not end within %d s" % (seconds + 30))
+    finally:
+        stop(proc)
     text = open(report).read() if os.path.exists(report) else ""
-    if run.stderr.strip():
-        print(run.stderr.strip(), file=sys.stderr)
-    return run.returncode, text
+    if err.strip():
+        print(err.strip(), file=sys.stderr)
+    return proc.returncode, text
 
 
 def first_difference(a, b, grid):
@@ -213,8 +245,7 @@ def cmd_boot(args):
     limit = 60
     cmd = ["timeout", "-k", "5", str(limit), qemu_binary()] + MACHINE + [
         "-serial", "stdio", "-kernel", elf]
-    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)
+    proc = start(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     banner = None
     statuses = []
     buf = b""
@@ -241,8 +272,7 @@ def cmd_boot(args):
                 if line.startswith("status "):
                     statuses.append(line)
     finally:
-        proc.kill()
-        proc.wait()
+        stop(proc)
     if banner is None:
         die("no banner from the robot image within %d s" % limit)
     if len(statuses) < want:
