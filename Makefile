@@ -2,26 +2,36 @@
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
-TEST_PRESETS := host host-asan host-m32
+TEST_PRESETS := host host-asan host-m32 stm32f4
+FIRMWARE_ELF := build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf
 
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 
-.PHONY: help sim test bench report deps deps-sim clean $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
+.PHONY: help sim test bench report deps deps-sim deps-firmware firmware flash debug clean \
+        $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
-	@echo "make sim     install what is missing, build, run the default room; picture in $(SIM_OUT)/"
-	@echo "             (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
-	@echo "make test    install what is missing, build and run every test (host, sanitizers, 32-bit)"
-	@echo "make bench   instructions per robot_tick() (callgrind) and the core's static RAM"
-	@echo "make report  the simulator's figures over several seeds (tools/sim_report.py)"
-	@echo "make clean   remove build/ and out/"
+	@echo "make sim       install what is missing, build, run the default room; picture in $(SIM_OUT)/"
+	@echo "               (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
+	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
+	@echo "               32-bit, and the STM32F4 images in QEMU)"
+	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
+	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
+	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
+	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
+	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash)"
+	@echo "make debug     OpenOCD and gdb-multiarch on the board"
+	@echo "make clean     remove build/ and out/"
 
 deps:
-	@tools/install-deps.sh test sim
+	@tools/install-deps.sh test sim firmware
 
 deps-sim:
 	@tools/install-deps.sh sim
+
+deps-firmware:
+	@tools/install-deps.sh firmware
 
 sim: deps-sim
 	cmake --preset host
@@ -41,8 +51,19 @@ $(addprefix test-,$(TEST_PRESETS)): test-%: build-%
 test: $(addprefix test-,$(TEST_PRESETS))
 	@echo "All tests passed in: $(TEST_PRESETS)."
 
-bench: build-host
+bench: build-host build-stm32f4
 	tools/bench.py build/host
+	tools/stm32f4/bench_arm.py build/stm32f4
+
+firmware: deps-firmware
+	cmake --preset stm32f4
+	cmake --build --preset stm32f4 -j $(JOBS)
+
+flash: firmware
+	tools/stm32f4/flash.sh $(FIRMWARE_ELF)
+
+debug: firmware
+	tools/stm32f4/debug.sh $(FIRMWARE_ELF)
 
 clean:
 	rm -rf build out

@@ -2,21 +2,22 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian packages sonarslam needs, and only those that are missing.
 #
-#   tools/install-deps.sh [GROUP...]     groups: test sim firmware linux all (default: all)
+#   tools/install-deps.sh [GROUP...]     groups: test sim firmware flash linux all (default: all)
 #
 # Idempotent: when everything is present it installs nothing and says so.
 # Uses sudo when not run as root. Exit status is non-zero when an install fails.
 set -eu
 
 usage() {
-    echo "usage: tools/install-deps.sh [test|sim|firmware|linux|all]...   (default: all)"
+    echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|all]...   (default: all)"
     echo "Installs the missing Debian packages the named parts of sonarslam need."
 }
 
 # What each group needs (Debian bookworm package names).
 pkgs_test="cmake make gcc pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils"
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib"
-pkgs_firmware="gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
+pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
+pkgs_flash="openocd gdb-multiarch"
 pkgs_linux="libgpiod-dev pkg-config"
 
 want=""
@@ -26,10 +27,11 @@ for group in "$@"; do
         test)     want="$want $pkgs_test" ;;
         sim)      want="$want $pkgs_sim" ;;
         firmware) want="$want $pkgs_firmware" ;;
+        flash)    want="$want $pkgs_flash" ;;
         linux)    want="$want $pkgs_linux" ;;
-        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_linux" ;;
+        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_flash $pkgs_linux" ;;
         -h|--help) usage; exit 0 ;;
-        *) echo "install-deps: unknown group '$group' (valid: test sim firmware linux all)" >&2; exit 2 ;;
+        *) echo "install-deps: unknown group '$group' (valid: test sim firmware flash linux all)" >&2; exit 2 ;;
     esac
 done
 

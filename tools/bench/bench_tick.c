@@ -4,12 +4,19 @@
  * full sweep running, through a scripted HAL, so callgrind can count the instructions of
  * every robot_tick() call (tools/bench.sh). The robot circles the room's centre on a 1 m
  * radius at 0.2 m/s and spins in place for two seconds every half minute.
+ *
+ *   bench_tick [--ticks N] [--trace FILE]
+ *
+ * --trace writes what the firmware saw and did at the HAL in every tick as a HAL trace
+ * (hal_common/trace.h), the scenario a replay HAL plays back on the emulated MCU.
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "hal/hal.h"
+#include "hal_common/trace.h"
 #include "slam/error.h"
 #include "slam/robot.h"
 
@@ -34,7 +41,12 @@ static struct {
     int ping_out;
     uint32_t echo_at_us;     /* when the echo (or the timeout) completes */
     uint32_t echo_us;        /* its width; 0 for a timeout */
+    int16_t duty[2];         /* motor duties in force */
 } w;
+
+/* The trace being recorded (NULL: none) and the HAL traffic of the current tick. */
+static FILE *trace;
+static trace_tick_t rec;
 
 /* Distance from (x, y) along bearing th to the room's walls. */
 static double wall_distance(double x, double y, double th)
@@ -114,13 +126,14 @@ uint32_t hal_tick_overruns(void)
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
 {
-    return (uint16_t)(int64_t)floor(w.count[wheel]);
+    uint16_t count = (uint16_t)(int64_t)floor(w.count[wheel]);
+    rec.enc[wheel] = count;
+    return count;
 }
 
 void hal_motor_set(hal_wheel_t wheel, int16_t duty)
 {
-    (void)wheel;
-    (void)duty;
+    w.duty[wheel] = duty;
 }
 
 void hal_servo_set_pulse(uint16_t pulse_us)
@@ -128,7 +141,7 @@ void hal_servo_set_pulse(uint16_t pulse_us)
     w.servo_us = pulse_us;
 }
 
-int hal_sonar_trigger(void)
+static int sonar_trigger(void)
 {
     if (w.ping_out) {
         return HAL_EBUSY;
@@ -148,7 +161,14 @@ int hal_sonar_trigger(void)
     return HAL_OK;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_trigger(void)
+{
+    int rc = sonar_trigger();
+    rec.trig = rc == HAL_OK ? 'o' : 'b';
+    return rc;
+}
+
+static hal_sonar_status_t sonar_poll(uint32_t *echo_us)
 {
     if (!w.ping_out) {
         return HAL_SONAR_IDLE;
@@ -162,6 +182,15 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
     }
     *echo_us = w.echo_us;
     return HAL_SONAR_ECHO;
+}
+
+hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+{
+    hal_sonar_status_t st = sonar_poll(echo_us);
+    static const char code[] = {'i', 'b', 'e', 't'};
+    rec.poll = code[st];
+    rec.echo_us = st == HAL_SONAR_ECHO ? *echo_us : 0u;
+    return st;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
@@ -226,8 +255,31 @@ void hal_watchdog_kick(void)
 {
 }
 
-int main(void)
+static int usage(const char *why)
 {
+    fprintf(stderr, "bench_tick: %s\nusage: bench_tick [--ticks N] [--trace FILE]\n", why);
+    return 2;
+}
+
+int main(int argc, char **argv)
+{
+    uint32_t ticks = TICKS;
+    const char *trace_path = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--ticks") == 0 && i + 1 < argc) {
+            char *end;
+            unsigned long n = strtoul(argv[++i], &end, 10);
+            if (*end != '\0' || n == 0u || n > 100000000ul) {
+                return usage("--ticks takes a whole number from 1 to 100000000");
+            }
+            ticks = (uint32_t)n;
+        } else if (strcmp(argv[i], "--trace") == 0 && i + 1 < argc) {
+            trace_path = argv[++i];
+        } else {
+            return usage("unknown or incomplete option");
+        }
+    }
+
     hal_init();
     slam_config_t cfg;
     slam_config_default(&cfg);
@@ -235,9 +287,31 @@ int main(void)
         fprintf(stderr, "bench_tick: robot_init failed\n");
         return 1;
     }
-    for (uint32_t t = 0; t < TICKS; t++) {
+    if (trace_path != NULL) {
+        trace = fopen(trace_path, "w");
+        if (trace == NULL) {
+            fprintf(stderr, "bench_tick: %s: cannot write the trace\n", trace_path);
+            return 1;
+        }
+        trace_write_header(trace, &cfg);
+    }
+    for (uint32_t t = 0; t < ticks; t++) {
         world_step(t);
+        rec = (trace_tick_t){.poll = '-', .trig = '-'};
         robot_tick(&bench_robot);
+        if (trace != NULL) {
+            rec.duty[0] = w.duty[0];
+            rec.duty[1] = w.duty[1];
+            rec.servo_us = w.servo_us;
+            trace_write_tick(trace, &rec);
+        }
+    }
+    if (trace != NULL) {
+        trace_write_end(trace, ticks);
+        if (fclose(trace) != 0) {
+            fprintf(stderr, "bench_tick: %s: write failed\n", trace_path);
+            return 1;
+        }
     }
     const robot_t *r = &bench_robot;
     double ex = (r->pose.x_um * 1e-6 + ROOM_W / 2.0) - w.x;

@@ -1,0 +1,119 @@
+/* SPDX-License-Identifier: MIT */
+/* Start-up of the STM32F405: vector table with weak default handlers, RAM init, faults. */
+#include "cortex_m.h"
+#include "stm32f4_port.h"
+
+/* From the linker script (stm32f405rg.ld). */
+extern uint32_t _sidata[]; /* .data's image in flash */
+extern uint32_t _sdata[];
+extern uint32_t _edata[];
+extern uint32_t _sbss[];
+extern uint32_t _ebss[];
+extern uint32_t _estack[]; /* the top of the main stack */
+
+int main(void);
+
+/* A vector without a handler is a bug: report it as a fault. */
+void stm32_default_handler(void);
+
+#define STM32_WEAK_ALIAS_(name) void name(void) __attribute__((weak, alias("stm32_default_handler")));
+STM32_EXCEPTIONS(STM32_WEAK_ALIAS_)
+#undef STM32_WEAK_ALIAS_
+#define STM32_WEAK_IRQ_(name)                                                                  \
+    void name##_IRQHandler(void) __attribute__((weak, alias("stm32_default_handler")));
+STM32_IRQS(STM32_WEAK_IRQ_)
+#undef STM32_WEAK_IRQ_
+
+typedef void (*stm32_vector_t)(void);
+
+/* The table the core reads at reset: initial stack pointer, then the handlers. */
+#define STM32_IRQ_VECTOR_(name) name##_IRQHandler,
+__attribute__((section(".isr_vector"), used)) static const stm32_vector_t vector_table[16 + STM32_IRQ_COUNT] = {
+    (stm32_vector_t)(uintptr_t)_estack,
+    Reset_Handler,
+    NMI_Handler,
+    HardFault_Handler,
+    MemManage_Handler,
+    BusFault_Handler,
+    UsageFault_Handler,
+    0,
+    0,
+    0,
+    0,
+    SVC_Handler,
+    DebugMon_Handler,
+    0,
+    PendSV_Handler,
+    SysTick_Handler,
+    STM32_IRQS(STM32_IRQ_VECTOR_)
+};
+#undef STM32_IRQ_VECTOR_
+
+void Reset_Handler(void)
+{
+    /* The loops are written out: nothing from the C library may run before RAM is set. */
+    for (uint32_t *src = _sidata, *dst = _sdata; dst < _edata;) {
+        *dst++ = *src++;
+    }
+    for (uint32_t *dst = _sbss; dst < _ebss;) {
+        *dst++ = 0u;
+    }
+    /* A boot loader may have left VTOR elsewhere. The FPU stays off: the image is fixed
+     * point and an FPU instruction would fault (UsageFault, NOCP) instead of passing. */
+    CM_SCB->VTOR = (uint32_t)(uintptr_t)vector_table;
+    CM_SCB->CCR |= CM_SCB_CCR_DIV_0_TRP;
+    CM_SCB->SHCSR |= CM_SCB_SHCSR_FAULTS_EN;
+    cm_dsb();
+    cm_isb();
+    (void)main();
+    stm32_panic("main returned");
+}
+
+/* ---- faults ------------------------------------------------------------------------- */
+
+__attribute__((weak)) void stm32_safe_outputs(void)
+{
+}
+
+__attribute__((weak)) void stm32_fault_hook(const stm32_fault_t *f)
+{
+    (void)f;
+}
+
+static _Noreturn void fault_stop(stm32_fault_t *f)
+{
+    cm_irq_disable();
+    f->cfsr = CM_SCB->CFSR;
+    f->hfsr = CM_SCB->HFSR;
+    f->bfar = CM_SCB->BFAR;
+    stm32_safe_outputs();
+    stm32_fault_hook(f);
+    /* The watchdog, when it runs, restarts the robot; the motors stay off until then. */
+    for (;;) {
+        cm_wfi();
+    }
+}
+
+/* Called by the fault entry below with the stacked exception frame (r0-r3, r12, lr, pc, psr). */
+_Noreturn void stm32_fault_report(const uint32_t *frame);
+_Noreturn void stm32_fault_report(const uint32_t *frame)
+{
+    stm32_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .lr = frame[5], .pc = frame[6]};
+    fault_stop(&f);
+}
+
+/* Every fault and unexpected interrupt: pass the frame of whichever stack was in use. */
+__attribute__((naked)) void stm32_default_handler(void)
+{
+    __asm__ volatile("tst lr, #4\n"
+                     "ite eq\n"
+                     "mrseq r0, msp\n"
+                     "mrsne r0, psp\n"
+                     "b stm32_fault_report\n");
+}
+
+_Noreturn void stm32_panic(const char *why)
+{
+    stm32_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .why = why};
+    fault_stop(&f);
+}

@@ -1,0 +1,459 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Tests the STM32F4 drivers' own code against models of their registers.
+
+usage: tests/stm32f4/drivers_model_test.py DRIVER_IMAGE_ELF
+
+QEMU emulates neither the flash interface nor the IWDG, nor encoder mode, captures or
+GPIO, so the test image's functions (every driver linked) run in python3-unicorn here.
+Flash and IWDG are models written from RM0090: the flash key sequence and LOCK, sector
+erase (SER, SNB, STRT), programming only with PG set and at the PSIZE width, bits that
+only go from 1 to 0, BSY for a while after every operation, rc_w1 error flags; the IWDG
+key register, PR/RLR writable only after 0x5555, reloads. Timers, SysTick and GPIO are
+plain memory the test sets (a counter, a capture) and reads back (a compare value, a
+BSRR word), RCC's ready flags answer or not as a test wants. Checked: the clock tree and
+its fallbacks, map storage, the watchdog, the tick's overrun detection, the sonar
+state machine with its capture interrupt, servo clamping, motor PWM and direction pins,
+encoder counters and the safe state a fault leaves the motors in.
+"""
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "stm32f4"))
+from elf32 import Elf  # noqa: E402
+from tick_unicorn import Machine  # noqa: E402
+
+FLASH_BASE = 0x08000000
+STORAGE = 0x080C0000            # sectors 10 and 11
+SECTOR_BYTES = 128 * 1024
+KEY1, KEY2 = 0x45670123, 0xCDEF89AB
+HAL_OK, HAL_EINVAL, HAL_EIO = 0, -1 & 0xFFFFFFFF, -2 & 0xFFFFFFFF
+SCRATCH = 0x2001E000            # test buffers in RAM, below the call stack
+LSI_MIN, LSI_MAX = 17000, 47000 # RM0090: the LSI may run anywhere in this range
+
+SR_EOP, SR_WRPERR, SR_PGAERR, SR_PGPERR, SR_PGSERR, SR_BSY = 1, 1 << 4, 1 << 5, 1 << 6, 1 << 7, 1 << 16
+CR_PG, CR_SER, CR_STRT, CR_LOCK = 1, 2, 1 << 16, 1 << 31
+
+
+RCC_CR, RCC_PLLCFGR, RCC_CFGR = 0x800, 0x804, 0x808   # offsets in the page at 0x40023000
+HSEON, HSERDY, PLLON, PLLRDY = 1 << 16, 1 << 17, 1 << 24, 1 << 25
+
+
+class FlashModel:
+    """The flash interface page (0x40023000, which also holds RCC) and the storage sectors."""
+
+    def __init__(self, watchdog):
+        self.wd = watchdog
+        self.hse_starts = False                # RCC: does the crystal come up?
+        self.pll_locks = False                 # does the PLL lock?
+        self.page = bytearray(0x1000)          # RCC and anything else on the page: plain memory
+        self.mem = bytearray(b"\x5a" * (2 * SECTOR_BYTES))  # not erased at power-up
+        self.cr = CR_LOCK
+        self.sr = 0
+        self.key_step = 0
+        self.dead = False                      # a wrong key: locked until reset
+        self.busy_reads = 0
+        self.erased = []                       # sector numbers, in order
+        self.erase_timeouts = []               # watchdog timeout (s, fastest LSI) at each erase
+        self.words = self.bytes = 0            # programming operations by width
+        self.fail_next_erase = 0               # an error flag the next erase ends with
+        self.fail_program = 0                  # an error flag every program ends with
+
+    # -- registers ----------------------------------------------------------------------
+    def read(self, off, size):
+        if off == 0xC0C:                       # FLASH_SR
+            v = self.sr | (SR_BSY if self.busy_reads else 0)
+            self.busy_reads = max(0, self.busy_reads - 1)
+            return v
+        if off == 0xC10:                       # FLASH_CR
+            return self.cr
+        v = int.from_bytes(self.page[off:off + size], "little")
+        if off == RCC_CR:                      # ready flags follow their enables
+            v |= 2                             # HSIRDY
+            v |= HSERDY if self.hse_starts and v & HSEON else 0
+            v |= PLLRDY if self.pll_locks and v & PLLON else 0
+        if off == RCC_CFGR:                    # SWS follows SW
+            v = (v & ~0xC) | ((v & 3) << 2)
+        return v
+
+    def write(self, off, size, value):
+        if off == 0xC04:                       # FLASH_KEYR
+            if self.dead or not self.cr & CR_LOCK:
+                return
+            if self.key_step == 0 and value == KEY1:
+                self.key_step = 1
+            elif self.key_step == 1 and value == KEY2:
+                self.cr &= ~CR_LOCK
+                self.key_step = 0
+            else:
+                self.dead = True
+            return
+        if off == 0xC0C:                       # FLASH_SR: error flags and EOP are rc_w1
+            self.sr &= ~(value & 0xF3)
+            return
+        if off == 0xC10:                       # FLASH_CR
+            if self.cr & CR_LOCK:
+                return                         # ignored while locked
+            if self.busy_reads:
+                raise AssertionError("FLASH_CR written while BSY")
+            self.cr = value
+            if value & CR_STRT:
+                self.cr &= ~CR_STRT
+                if not value & CR_SER or value & CR_PG:
+                    self.sr |= SR_PGSERR
+                    return
+                snb = (value >> 3) & 0xF
+                self.erased.append(snb)
+                self.erase_timeouts.append(self.wd.timeout_s(LSI_MAX))
+                if snb not in (10, 11):
+                    raise AssertionError("the driver erased sector %d, which holds code" % snb)
+                self.busy_reads = 3
+                if self.fail_next_erase:
+                    self.sr |= self.fail_next_erase
+                    self.fail_next_erase = 0
+                    return
+                start = (snb - 10) * SECTOR_BYTES
+                self.mem[start:start + SECTOR_BYTES] = b"\xff" * SECTOR_BYTES
+            return
+        self.page[off:off + size] = value.to_bytes(size, "little")
+
+    # -- the storage sectors -------------------------------------------------------------
+    def mem_read(self, off, size):
+        return int.from_bytes(self.mem[off:off + size], "little")
+
+    def mem_write(self, off, size, value):
+        psize = {0: 1, 1: 2, 2: 4, 3: 8}[(self.cr >> 8) & 3]
+        if self.cr & CR_LOCK or not self.cr & CR_PG:
+            self.sr |= SR_PGSERR
+            return
+        if size != psize:
+            self.sr |= SR_PGPERR
+            return
+        if off % size:
+            self.sr |= SR_PGAERR
+            return
+        self.busy_reads = 2
+        if self.fail_program:
+            self.sr |= self.fail_program
+            return
+        if size == 4:
+            self.words += 1
+        else:
+            self.bytes += 1
+        for i in range(size):
+            self.mem[off + i] &= (value >> (8 * i)) & 0xFF   # flash bits only go 1 -> 0
+
+
+class WatchdogModel:
+    def __init__(self):
+        self.page = bytearray(0x1000)
+        self.unlocked = False
+        self.pr = 0
+        self.rlr = 0xFFF
+        self.running = False
+        self.reloads = 0
+
+    def timeout_s(self, lsi_hz):
+        return self.rlr * (4 << self.pr) / lsi_hz
+
+    def read(self, off, size):
+        return 0 if off == 0xC else int.from_bytes(self.page[off:off + size], "little")
+
+    def write(self, off, size, value):
+        if off == 0:
+            if value == 0x5555:
+                self.unlocked = True
+            elif value == 0xAAAA:
+                self.reloads += 1
+                self.unlocked = False
+            elif value == 0xCCCC:
+                self.running = True
+        elif off == 4 and self.unlocked:
+            self.pr = value & 7
+        elif off == 8 and self.unlocked:
+            self.rlr = value & 0xFFF
+        else:
+            self.page[off:off + size] = value.to_bytes(size, "little")
+
+
+class Rig:
+    def __init__(self, elf_path):
+        self.wd = WatchdogModel()
+        self.flash = FlashModel(self.wd)
+        mmio = [(0x40023000, 0x1000, self.flash.read, self.flash.write),
+                (0x40003000, 0x1000, self.wd.read, self.wd.write),
+                (STORAGE, 2 * SECTOR_BYTES, self.flash.mem_read, self.flash.mem_write)]
+        self.m = Machine(Elf(elf_path), mmio)
+
+    def call(self, name, *args):
+        return self.m.call(name, *args)
+
+    def buffer(self, data, at=SCRATCH):
+        self.m.uc.mem_write(at, bytes(data))
+        return at
+
+    def ram(self, at, n):
+        return bytes(self.m.uc.mem_read(at, n))
+
+
+failures = []
+
+
+def check(cond, what):
+    print("  %s %s" % ("ok  " if cond else "FAIL", what))
+    if not cond:
+        failures.append(what)
+
+
+def main(argv):
+    if len(argv) != 2:
+        print(__doc__.strip())
+        return 2
+    r = Rig(argv[1])
+    f = r.flash
+    check(r.call("hal_storage_size") == SECTOR_BYTES, "a slot is 128 KiB")
+    check(r.call("hal_storage_write", 0, 0, r.buffer(b"x"), 1) == HAL_EINVAL,
+          "writing a slot that was not begun is refused")
+    check(r.call("hal_storage_begin", 2) == HAL_EINVAL, "slot 2 does not exist")
+
+    r.call("stm32_watchdog_start", 250)
+    normal = r.wd.timeout_s(32000)
+    check(0.2 <= normal <= 0.3, "the watchdog runs at 250 ms nominal (%.3f s)" % normal)
+
+    check(r.call("hal_storage_begin", 0) == HAL_OK, "begin(0) erases and verifies slot 0")
+    check(f.erased == [10], "only sector 10 was erased (%s)" % f.erased)
+    check(f.erase_timeouts and f.erase_timeouts[0] > 2.0,
+          "the watchdog allows more than the 2 s erase even with the fastest LSI (%.2f s)"
+          % f.erase_timeouts[0])
+    check(abs(r.wd.timeout_s(32000) - normal) < 1e-9, "the normal watchdog timeout is back")
+    check(f.cr & CR_LOCK, "the flash is locked again")
+    check(not f.dead, "the key sequence was right")
+
+    data = bytes((i * 7 + 3) & 0xFF for i in range(1000))
+    check(r.call("hal_storage_write", 0, 3, r.buffer(data), len(data)) == HAL_OK,
+          "1000 bytes at the unaligned offset 3 are written")
+    check(bytes(f.mem[3:1003]) == data, "the flash holds them")
+    check(f.mem[0:3] == b"\xff\xff\xff" and f.mem[1003] == 0xFF, "and nothing around them")
+    check(f.words == 249 and f.bytes == 4,
+          "aligned words at x32, the head and tail bytes at x8 (%d words, %d bytes)"
+          % (f.words, f.bytes))
+    check(f.sr & (SR_PGSERR | SR_PGPERR | SR_PGAERR) == 0, "no programming error flag")
+    out = SCRATCH + 0x800
+    check(r.call("hal_storage_read", 0, 3, out, len(data)) == HAL_OK and r.ram(out, len(data)) == data,
+          "hal_storage_read() reads them back")
+    check(r.call("hal_storage_read", 0, SECTOR_BYTES - 4, out, 8) == HAL_EINVAL,
+          "a read past the slot is refused")
+    check(r.call("hal_storage_write", 0, SECTOR_BYTES - 4, r.buffer(b"12345678"), 8) == HAL_EINVAL,
+          "a write past the slot is refused")
+    check(r.call("hal_storage_write", 0, 0xFFFFFFF0, r.buffer(b"1234"), 0x20) == HAL_EINVAL,
+          "an offset that wraps around is refused")
+    check(r.call("hal_storage_write", 0, 2000, r.buffer(b"\x00\x00\x00\x00"), 4) == HAL_OK
+          and r.call("hal_storage_write", 0, 2000, r.buffer(b"\xff\xff\xff\xff"), 4) == HAL_EIO,
+          "rewriting programmed bytes fails the read-back check")
+    check(r.call("hal_storage_commit", 0) == HAL_OK, "commit(0)")
+    check(r.call("hal_storage_write", 0, 4000, r.buffer(b"z"), 1) == HAL_EINVAL,
+          "a committed slot takes no more writes")
+    check(r.call("hal_storage_commit", 0) == HAL_EINVAL, "a slot is committed once")
+
+    f.fail_next_erase = SR_WRPERR
+    check(r.call("hal_storage_begin", 1) == HAL_EIO, "an erase that ends in WRPERR fails with EIO")
+    check(r.call("hal_storage_write", 1, 0, r.buffer(b"q"), 1) == HAL_EINVAL,
+          "and leaves the slot closed")
+    check(r.call("hal_storage_begin", 1) == HAL_OK and f.erased[-1] == 11,
+          "a second begin(1) clears the stale flag and erases sector 11")
+    f.fail_program = SR_PGPERR
+    check(r.call("hal_storage_write", 1, 0, r.buffer(b"abcd"), 4) == HAL_EIO,
+          "a programming error fails with EIO")
+    f.fail_program = 0
+    check(r.call("hal_storage_write", 1, 8, r.buffer(b"abcd"), 4) == HAL_OK,
+          "the next write after a programming error works")
+    check(set(f.erased) <= {10, 11}, "no sector below 10 was ever erased")
+
+    r.wd.reloads = 0
+    r.call("hal_watchdog_kick")
+    check(r.wd.reloads == 1, "hal_watchdog_kick() reloads the watchdog")
+
+    test_tick(r)
+    test_sonar(r)
+    test_wheels(r)
+    test_clock(r)
+
+    if failures:
+        print("drivers_model_test: %d checks failed" % len(failures), file=sys.stderr)
+        return 1
+    print("drivers_model_test: the STM32F4 drivers behave as RM0090 describes")
+    return 0
+
+
+SYST_LOAD, SYST_VAL, ICSR = 0xE000E014, 0xE000E018, 0xE000ED04
+PENDSTSET = 1 << 26
+STUB = 0x30000100      # a tick callback: stores its argument at STUB_OUT
+STUB_OUT = 0x2001E800
+
+
+def signed(v):
+    return v - (1 << 32) if v & 0x80000000 else v
+
+
+def test_tick(r):
+    m = r.m
+    # ldr r1, [pc, #4]; str r0, [r1]; bx lr; nop; .word STUB_OUT
+    m.uc.mem_write(STUB, bytes.fromhex("0149" "0860" "7047" "00bf") + STUB_OUT.to_bytes(4, "little"))
+    check(signed(r.call("hal_tick_start", 0, 0)) == -1, "hal_tick_start(NULL) is refused")
+    r.call("stm32_clock_init")  # HSI: the model's ready bits never come
+    check(r.call("hal_tick_start", STUB | 1, 0x1234) == HAL_OK, "the tick starts")
+    check(signed(r.call("hal_tick_start", STUB | 1, 0)) == -3, "and cannot start twice")
+    load = m.read32(SYST_LOAD)
+    check(load == 16000000 // 100 - 1, "SysTick reloads every 10 ms at 16 MHz (LOAD %d)" % load)
+    check(r.wd.running, "the watchdog runs from the first tick on")
+
+    def tick(val, pending):
+        m.write32(SYST_VAL, val)
+        m.write32(ICSR, PENDSTSET if pending else 0)
+        m.write32(STUB_OUT, 0)
+        r.call("SysTick_Handler")
+        return m.read32(STUB_OUT)
+
+    check(tick(load, False) == 0x1234, "SysTick_Handler calls the callback with its context")
+    check(r.call("hal_tick_overruns") == 0, "a tick one count into its period is on time")
+    tick(0, False)
+    check(r.call("hal_tick_overruns") == 0,
+          "a tick that sees the counter at 0 (the reload not yet done) is on time")
+    tick(load - load // 10 + 1, False)
+    check(r.call("hal_tick_overruns") == 0, "a tick a tenth of the period late is on time")
+    tick(load // 2, False)
+    check(r.call("hal_tick_overruns") == 1, "a tick half a period late is an overrun")
+    tick(load, True)
+    check(r.call("hal_tick_overruns") == 2, "a tick still running at the next period is an overrun")
+    tick(load // 2, True)
+    check(r.call("hal_tick_overruns") == 3, "a tick both late and overrunning counts once")
+
+
+TIM2_CNT = 0x40000024
+TIM5_SR, TIM5_CCR2 = 0x40000C10, 0x40000C38
+TIM9_CR1 = 0x40014000
+TIM10_CCR1 = 0x40014434
+TIM3_CCR3, TIM3_CCR4 = 0x4000043C, 0x40000440
+TIM1_CNT, TIM8_CNT = 0x40010024, 0x40010424
+GPIOC_BSRR = 0x40020818
+ECHO_OUT = 0x2001E900
+IDLE, BUSY, ECHO, TIMEOUT = 0, 1, 2, 3
+
+
+def test_sonar(r):
+    m = r.m
+    r.call("hal_init")
+    now = [1000]
+
+    def advance(us):
+        now[0] += us
+        m.write32(TIM2_CNT, now[0])
+
+    def echo(width):
+        m.write32(TIM5_CCR2, width)
+        m.write32(TIM5_SR, 1 << 2)                 # CC2IF: the falling edge was captured
+        r.call("TIM5_IRQHandler")
+
+    def poll():
+        m.write32(ECHO_OUT, 0xDEAD)
+        return r.call("hal_sonar_poll", ECHO_OUT), m.read32(ECHO_OUT)
+
+    advance(0)
+    check(poll()[0] == IDLE, "no ping, the sonar is idle")
+    m.write32(TIM9_CR1, 0)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping goes out")
+    check(m.read32(TIM9_CR1) & 0x9 == 0x9, "by starting the one-pulse trigger timer (OPM, CEN)")
+    check(signed(r.call("hal_sonar_trigger")) == -3, "a second ping while the first is out is busy")
+    advance(3000)
+    check(poll()[0] == BUSY, "no echo yet: busy")
+    echo(5831)
+    check(poll() == (ECHO, 5831), "the captured width comes back with the echo")
+    check(poll()[0] == IDLE, "once")
+    r.call("hal_sonar_trigger")
+    advance(59999)
+    check(poll()[0] == BUSY, "59.999 ms without an echo: still busy")
+    advance(1)
+    check(poll()[0] == TIMEOUT, "60 ms without an echo: timeout")
+    r.call("hal_sonar_trigger")
+    echo(38000)
+    check(poll()[0] == TIMEOUT, "a 38 ms echo is the sensor's 'nothing in range': timeout")
+    r.call("hal_sonar_trigger")
+    advance(70000)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping nobody polled is over after 60 ms")
+    echo(1200)
+    check(r.call("hal_sonar_trigger") == HAL_OK, "and one whose echo came back is over at once")
+    check(poll()[0] == BUSY, "the new ping does not take the old echo")
+    echo(1500)
+    check(poll() == (ECHO, 1500), "but its own")
+    m.write32(TIM5_SR, 1 << 9)                     # a stray CC1 flag, no capture on CH2
+    r.call("TIM5_IRQHandler")
+    check(poll()[0] == IDLE, "an interrupt without a CH2 capture posts nothing")
+
+    for pulse, want in ((100, 400), (1500, 1500), (3000, 2600)):
+        r.call("hal_servo_set_pulse", pulse)
+        check(m.read32(TIM10_CCR1) == want, "servo %d us is set as %d us" % (pulse, want))
+
+
+def test_wheels(r):
+    m = r.m
+    period = 16000000 // 20000   # TIM3 at 16 MHz (HSI), 20 kHz
+
+    def motor(wheel, duty):
+        r.call("hal_motor_set", wheel, duty)  # AAPCS: sign-extended
+        return m.read32(TIM3_CCR3 if wheel == 0 else TIM3_CCR4), m.read32(GPIOC_BSRR)
+
+    check(motor(0, 500) == (period // 2, (1 << 0) | (1 << 17)), "left half forward: PC0 high, PC1 low")
+    check(motor(0, -1000) == (period, (1 << 1) | (1 << 16)), "left full reverse: PC1 high, PC0 low")
+    check(motor(0, 0) == (0, (1 << 16) | (1 << 17)), "left stop: both low, no PWM")
+    check(motor(1, 250) == (period // 4, (1 << 3) | (1 << 18)),
+          "right quarter forward, wired inverted: PC3 high, PC2 low")
+    check(motor(1, 30000)[0] == period, "a duty beyond full scale is clamped")
+    check(motor(1, -30000)[0] == period, "in both directions")
+    m.write32(TIM1_CNT, 0x1234)
+    m.write32(TIM8_CNT, 0xFFFF)
+    check(r.call("hal_encoder_count", 0) == 0x1234 and r.call("hal_encoder_count", 1) == 0xFFFF,
+          "the encoders read their timers' 16-bit counters")
+    motor(0, 700)
+    r.call("stm32_safe_outputs")
+    check(m.read32(TIM3_CCR3) == 0 and m.read32(TIM3_CCR4) == 0, "the safe state stops both PWMs")
+    check(m.read32(GPIOC_BSRR) == 1 << (4 + 16), "and puts the driver in standby (PC4 low)")
+
+
+
+FLASH_ACR = 0x40023C00
+
+
+def test_clock(r):
+    m, f = r.m, r.flash
+    base = 0x40023000
+    clocks = m.elf.addr("stm32_clocks")
+
+    def run(hse, pll):
+        f.hse_starts, f.pll_locks = hse, pll
+        m.write32(base + RCC_CR, 0x83)               # reset values
+        m.write32(base + RCC_PLLCFGR, 0x24003010)
+        m.write32(base + RCC_CFGR, 0)
+        m.write32(FLASH_ACR, 0)
+        r.call("stm32_clock_init")
+        return [m.read32(clocks + 4 * i) for i in range(6)], m.read32(base + RCC_PLLCFGR)
+
+    (src, sys_hz, p1, p2, t1, t2), pll = run(True, True)
+    check((src, sys_hz, p1, p2, t1, t2) == (0, 168000000, 42000000, 84000000, 84000000, 168000000),
+          "crystal and PLL: 168 MHz, APB1 42 MHz, APB2 84 MHz, timers 84 and 168 MHz")
+    check(pll == 0x20000000 | (1 << 22) | 4 | (168 << 6) | (7 << 24),
+          "PLL from the 8 MHz crystal: M 4, N 168, P 2, Q 7, reserved bits kept (0x%08x)" % pll)
+    check(m.read32(FLASH_ACR) & 7 == 5, "five flash wait states before the switch")
+    check(m.read32(base + RCC_CFGR) & 0xFCF3 == (5 << 10) | (4 << 13) | 2,
+          "AHB /1, APB1 /4, APB2 /2, PLL selected")
+    (src, sys_hz, *_), pll = run(False, True)
+    check((src, sys_hz) == (1, 168000000) and pll & 0x3F == 8 and not pll & (1 << 22),
+          "no crystal: 168 MHz from HSI through the PLL (M 8)")
+    (src, sys_hz, p1, p2, t1, t2), _ = run(False, False)
+    check((src, sys_hz, p1, t2) == (2, 16000000, 16000000, 16000000)
+          and m.read32(base + RCC_CFGR) & 3 == 0 and not m.read32(base + RCC_CR) & PLLON,
+          "no PLL either: HSI at 16 MHz, PLL off, every clock 16 MHz")
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

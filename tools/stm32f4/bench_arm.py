@@ -1,0 +1,163 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""The STM32F4 image measured, not timed: tick instructions, sizes, stack, against budgets.
+
+usage: tools/stm32f4/bench_arm.py [BUILD_DIR] [--static-only]
+       (BUILD_DIR defaults to build/stm32f4, made by `make firmware`)
+
+1. Instructions per robot_tick() over the self-test scenario, two ways: TIM2 under QEMU
+   -icount (the self-test image's own measurement) and the image's functions run in
+   python3-unicorn with a code hook (tick_unicorn.py). The two must agree tick by tick.
+2. The real HAL calls of the tick, from the robot image in unicorn, and a bound on the tick
+   with them: the worst firmware-only tick plus every HAL call a tick can make.
+3. .text/.data/.bss of the robot image (arm-none-eabi-size); RAM counts the stack reserve.
+4. The worst-case stack depth of the tick path and of all handlers nested (stack_depth.py,
+   from -fcallgraph-info/-fstack-usage).
+
+Budgets (issue #4): worst tick <= 1500 instructions; RAM <= 2*A*B + 4 KiB; flash <= 32 KiB;
+tick stack <= 512 bytes. Exit status 1 when one is exceeded. --static-only skips 1 and 2
+(no QEMU, no unicorn): what the ctest stm32f4_budgets checks.
+"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import stack_depth  # noqa: E402
+from elf32 import Elf  # noqa: E402
+
+TICK_BUDGET = 1500
+FLASH_BUDGET = 32 * 1024
+STACK_BUDGET = 512
+
+
+def die(msg):
+    print("bench_arm: " + msg, file=sys.stderr)
+    sys.exit(1)
+
+
+def sizes(elf):
+    size = os.environ.get("SIZE", "arm-none-eabi-size")
+    out = subprocess.run([size, elf], stdout=subprocess.PIPE, text=True, check=True).stdout
+    text, data, bss = (int(x) for x in out.splitlines()[1].split()[:3])
+    return text, data, bss
+
+
+def stack(elf):
+    import io
+    import contextlib
+    import json
+    with tempfile.NamedTemporaryFile(suffix=".json") as tmp:
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            rc = stack_depth.main(["stack_depth", elf, "--indirect", "SysTick_Handler=tick",
+                                   "--json", tmp.name])
+        if rc != 0:
+            die("stack_depth failed:\n" + buf.getvalue())
+        return json.load(open(tmp.name)), buf.getvalue()
+
+
+def qemu_costs(selftest_elf):
+    import qemu
+    with tempfile.TemporaryDirectory(prefix="slam-bench-") as tmp:
+        status, text = qemu.run_selftest_image(selftest_elf, tmp)
+    if status != 0:
+        die("the self-test image exited with %d" % status)
+    _, _, info, costs, summary = qemu.parse_report(text, "MCU")
+    return costs, summary
+
+
+def main(argv):
+    args = argv[1:]
+    static_only = "--static-only" in args
+    args = [a for a in args if a != "--static-only"]
+    if args and args[0] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0
+    build = args[0] if args else "build/stm32f4"
+    img_dir = os.path.join(build, "hal", "stm32f4")
+    robot_elf = os.path.join(img_dir, "sonarslam_stm32f4.elf")
+    selftest_elf = os.path.join(img_dir, "sonarslam_selftest.elf")
+    for p in (robot_elf, selftest_elf):
+        if not os.path.exists(p):
+            die("%s is missing: build the stm32f4 preset first (make firmware)" % p)
+
+    verdicts = []
+
+    def budget(name, value, limit, unit):
+        ok = value <= limit
+        verdicts.append(ok)
+        print("  %-44s %7d %-12s budget %6d  %s" % (name, value, unit, limit,
+                                                     "ok" if ok else "OVER BUDGET"))
+
+    robot = Elf(robot_elf)
+    grid = robot.symbols["robot"][1]
+    text, data, bss = sizes(robot_elf)
+    stack_reserve = robot.symbols["_stack_size"][0] if "_stack_size" in robot.symbols else 0
+    # OM + TM: 2*A*B cells, A and B from the grid header (compile-time constants).
+    m = re.search(r"SLAM_GRID_A (\d+)u.*?SLAM_GRID_B (\d+)u", open(os.path.join(
+        HERE, "..", "..", "firmware", "include", "slam", "grid.h")).read(), re.S)
+    if m is None:
+        die("cannot read SLAM_GRID_A/B from firmware/include/slam/grid.h")
+    om_tm = 2 * int(m.group(1)) * int(m.group(2))
+    ram_budget = om_tm + 4096
+
+    print("sonarslam STM32F4 image (%s)" % robot_elf)
+    print("  sizes (arm-none-eabi-size): .text %d  .data %d  .bss %d (of which stack %d, robot_t %d)"
+          % (text, data, bss, stack_reserve, grid))
+    st, st_text = stack(robot_elf)
+    for line in st_text.strip().splitlines():
+        print("  stack: " + line)
+
+    if not static_only:
+        import tick_unicorn
+        costs, summary = qemu_costs(selftest_elf)
+        n = summary["ticks"]
+        print("  robot_tick() over the self-test scenario (%d ticks):" % n)
+        print("    QEMU, TIM2 under -icount:         mean %.1f, worst %d instructions (tick %d)"
+              % (summary["sum"] / n, summary["worst"], summary["at"]))
+        per_tick = tick_unicorn.measure_selftest(selftest_elf)
+        u = tick_unicorn.summarize(per_tick)
+        print("    unicorn, code hook:               mean %.1f, worst %d instructions (tick %d)"
+              % (u["mean"], u["worst"], u["worst_tick"]))
+        same = sum(1 for (t, _, _), q in zip(per_tick, costs) if t == q)
+        print("    cross-check: %d of %d ticks identical in both" % (same, len(costs)))
+        if same != len(costs) or len(per_tick) != len(costs):
+            verdicts.append(False)
+            print("    CROSS-CHECK FAILED")
+        print("    firmware only (replay HAL excluded): mean %.1f, worst %d; dynamic stack %d bytes"
+              % (u["firmware_mean"], u["firmware_worst"], u["stack"]))
+        hal = tick_unicorn.measure_hal(robot_elf)
+        print("  the robot image's HAL on the tick path (unicorn):")
+        for k, v in hal.items():
+            print("    %-40s %3d instructions" % (k, v["instructions"]))
+        per_tick_hal = (hal["SysTick_Handler (without the callback)"]["instructions"]
+                        + hal["tick wrapper (main.c)"]["instructions"]
+                        + 2 * hal["hal_encoder_count"]["instructions"]
+                        + max(hal[k]["instructions"] for k in hal if k.startswith("hal_sonar_poll"))
+                        + hal["hal_sonar_trigger"]["instructions"]
+                        + hal["hal_servo_set_pulse"]["instructions"]
+                        + 2 * hal["hal_motor_set"]["instructions"])
+        bound = u["firmware_worst"] + per_tick_hal
+        print("    every HAL call a tick can make, and the SysTick entry: %d instructions"
+              % per_tick_hal)
+        print("  budgets:")
+        budget("worst robot_tick(), measured (QEMU = unicorn)", summary["worst"], TICK_BUDGET,
+               "instructions")
+        budget("worst tick with the robot image's HAL, bound", bound, TICK_BUDGET, "instructions")
+    else:
+        print("  budgets:")
+    budget("RAM: .data + .bss incl. stack (2*A*B + 4 KiB)", data + bss, ram_budget, "bytes")
+    budget("flash: .text + .data", text + data, FLASH_BUDGET, "bytes")
+    budget("tick stack (SysTick_Handler, static)", st["SysTick_Handler"]["bytes"], STACK_BUDGET,
+           "bytes")
+    budget("all handlers nested, within the reserve", st["all nested"]["bytes"], stack_reserve,
+           "bytes")
+    return 0 if all(verdicts) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,211 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""Turns a HAL trace into C data for the replay HAL (hal/stm32f4/selftest/hal_replay.h).
+
+usage: tools/stm32f4/trace2c.py TRACE OUT.c [--name NAME]
+
+TRACE is a version 1 HAL trace (hal/common/include/hal_common/trace.h), e.g. written by
+`bench_tick --trace` or `host_sim --trace`. OUT.c defines `replay_scenario`: the recorded
+configuration and the ticks as a compact byte stream (about three bytes a tick; the
+encoding is described in hal_replay.h). The trace is checked as strictly as trace_read()
+does; a bad one is refused with FILE:LINE: and the reason, exit status 2.
+"""
+import os
+import re
+import sys
+
+POLL = "-ibet"
+TRIG = "-ob"
+KEY = re.compile(r"^[a-z_][a-z0-9_]*$")
+
+
+class TraceError(Exception):
+    pass
+
+
+def varint(v):
+    if v < 0 or v > 0xFFFFFFFF:
+        raise ValueError(v)
+    out = bytearray()
+    while True:
+        b = v & 0x7F
+        v >>= 7
+        if v:
+            out.append(b | 0x80)
+        else:
+            out.append(b)
+            return out
+
+
+def zigzag(v):
+    return (v << 1) if v >= 0 else ((-v) << 1) - 1
+
+
+def wrap16(d):
+    """A 16-bit counter's change as a signed value in [-32768, 32767]."""
+    d &= 0xFFFF
+    return d - 0x10000 if d >= 0x8000 else d
+
+
+def parse(path):
+    config = []
+    ticks = []
+    end = None
+    with open(path, encoding="ascii", errors="replace") as f:
+        for n, line in enumerate(f, 1):
+            line = line.rstrip("\r\n")
+            where = "%s:%d: " % (path, n)
+            if n == 1:
+                if line != "sonarslam-trace 1":
+                    raise TraceError(where + "not a version 1 sonarslam trace")
+                continue
+            if end is not None:
+                raise TraceError(where + "text after the end line")
+            f_ = line.split(" ")
+            if f_[0] == "config":
+                if len(f_) != 3 or not KEY.match(f_[1]) or not re.match(r"^-?\d+$", f_[2]):
+                    raise TraceError(where + "expected 'config KEY VALUE'")
+                v = int(f_[2])
+                if not -(2**31) <= v <= 2**32 - 1:
+                    raise TraceError(where + "value out of range for a configuration field")
+                config.append((f_[1], v))
+            elif f_[0] == "tick":
+                try:
+                    if len(f_) != 9:
+                        raise ValueError
+                    t = (int(f_[1]), int(f_[2]), f_[3], int(f_[4]), f_[5], int(f_[6]),
+                         int(f_[7]), int(f_[8]))
+                except ValueError:
+                    raise TraceError(where + "malformed tick line")
+                e0, e1, poll, echo, trig, d0, d1, servo = t
+                if not (0 <= e0 <= 0xFFFF and 0 <= e1 <= 0xFFFF and len(poll) == 1
+                        and poll in POLL and 0 <= echo <= 0xFFFFFFFF and len(trig) == 1
+                        and trig in TRIG and -32768 <= d0 <= 32767 and -32768 <= d1 <= 32767
+                        and 0 <= servo <= 0xFFFF):
+                    raise TraceError(where + "malformed tick line")
+                if echo != 0 and poll != "e":
+                    raise TraceError(where + "an echo width without an echo ('e')")
+                ticks.append(t)
+            elif f_[0] == "end" and len(f_) == 2 and f_[1].isdigit():
+                end = int(f_[1])
+                if end != len(ticks):
+                    raise TraceError(where + "end says %d ticks, the trace has %d"
+                                     % (end, len(ticks)))
+            else:
+                raise TraceError(where + "unexpected line")
+    if end is None:
+        raise TraceError("%s: no end line (truncated trace?)" % path)
+    if not ticks:
+        raise TraceError("%s: the trace has no ticks" % path)
+    return config, ticks
+
+
+def encode(ticks):
+    out = bytearray()
+    enc = [0, 0]
+    duty = [0, 0]
+    servo = 0
+    for e0, e1, poll, echo, trig, d0, d1, s in ticks:
+        changed = 0
+        values = []
+        if d0 != duty[0]:
+            changed |= 1
+            values.append(varint(zigzag(d0)))
+        if d1 != duty[1]:
+            changed |= 2
+            values.append(varint(zigzag(d1)))
+        if s != servo:
+            changed |= 4
+            values.append(varint(s))
+        hdr = POLL.index(poll) | (TRIG.index(trig) << 3) | (0x20 if changed else 0)
+        out.append(hdr)
+        out += varint(zigzag(wrap16(e0 - enc[0])))
+        out += varint(zigzag(wrap16(e1 - enc[1])))
+        if poll == "e":
+            out += varint(echo)
+        if changed:
+            out.append(changed)
+            for v in values:
+                out += v
+        enc = [e0, e1]
+        duty = [d0, d1]
+        servo = s
+    return out
+
+
+def c_int(v):
+    if v == -(2**31):
+        return "(-2147483647 - 1)"
+    return "%d" % v if v < 0 else "%du" % v
+
+
+def write_c(out_path, trace_path, name, config, ticks, stream):
+    lines = [
+        "/* SPDX-License-Identifier: MIT */",
+        "/* The scenario %s for the replay HAL, generated by tools/stm32f4/trace2c.py"
+        " from %s: do not edit. */" % (name, os.path.basename(trace_path)),
+        '#include "hal_replay.h"',
+        "",
+        "static void scenario_config(slam_config_t *cfg)",
+        "{",
+        "    slam_config_default(cfg);",
+    ]
+    for key, v in config:
+        lines.append("    cfg->%s = %s;" % (key, c_int(v)))
+    lines += ["}", "", "static const uint8_t scenario_stream[%d] = {" % len(stream)]
+    for i in range(0, len(stream), 16):
+        lines.append("    " + ", ".join("0x%02x" % b for b in stream[i:i + 16]) + ",")
+    lines += [
+        "};",
+        "",
+        "const replay_scenario_t replay_scenario = {",
+        '    .name = "%s",' % name,
+        "    .ticks = %du," % len(ticks),
+        "    .stream = scenario_stream,",
+        "    .stream_len = sizeof scenario_stream,",
+        "    .config = scenario_config,",
+        "};",
+        "",
+    ]
+    tmp = out_path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(lines))
+    os.replace(tmp, out_path)
+
+
+def main(argv):
+    args = argv[1:]
+    name = None
+    if "--name" in args:
+        i = args.index("--name")
+        if i + 1 >= len(args):
+            print("trace2c: --name needs a value", file=sys.stderr)
+            return 2
+        name = args[i + 1]
+        del args[i:i + 2]
+    if len(args) != 2 or args[0].startswith("-"):
+        print(__doc__.strip(), file=sys.stderr)
+        return 2
+    trace_path, out_path = args
+    if name is None:
+        name = os.path.basename(trace_path)
+        if name.endswith(".trace"):
+            name = name[:-len(".trace")]
+    if not re.match(r"^[A-Za-z0-9_.+-]+$", name):
+        print("trace2c: the scenario name may hold letters, digits and _.+- only", file=sys.stderr)
+        return 2
+    try:
+        config, ticks = parse(trace_path)
+    except OSError as e:
+        print("trace2c: %s: cannot read: %s" % (trace_path, e.strerror), file=sys.stderr)
+        return 2
+    except TraceError as e:
+        print("trace2c: %s" % e, file=sys.stderr)
+        return 2
+    stream = encode(ticks)
+    write_c(out_path, trace_path, name, config, ticks, stream)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
