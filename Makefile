@@ -8,7 +8,7 @@ FIRMWARE_ELF := build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 
-.PHONY: help sim test bench report deps deps-sim deps-firmware firmware flash debug clean \
+.PHONY: help sim test bench report trace deps deps-sim deps-firmware firmware flash debug clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
@@ -19,6 +19,7 @@ help:
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
+	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash)"
 	@echo "make debug     OpenOCD and gdb-multiarch on the board"
@@ -40,6 +41,14 @@ sim: deps-sim
 
 report: build-host
 	tools/sim_report.py
+
+# The HAL trace the STM32F4 self-test replays: one minute of the default room, recorded
+# by the simulator with the MCU's 160 x 160 grid placement. Record it again whenever the
+# firmware's behaviour changes (the test replay_host_matches_trace says when).
+trace: build-host
+	build/host/host_sim/host_sim --duration 60 --seed 1 --set start_cell_a=80 \
+	    --set start_cell_b=80 --trace tests/data/default_room_60s.trace \
+	    --out out/trace --no-plot --quiet
 
 $(addprefix build-,$(TEST_PRESETS)): build-%: deps
 	cmake --preset $*

@@ -349,6 +349,7 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
     cfg->cell_um = (uint32_t)lround(o->cell_mm * 1000.0);
     cfg->explore_mode = (uint8_t)o->explore;
     cfg->explore_seed = (uint32_t)(o->seed ^ (o->seed >> 32)) | 1u;
+    bool start_cell_set = false;
     for (size_t i = 0; i < o->nsets; i++) {
         char key[64];
         const char *eq = strchr(o->sets[i], '=');
@@ -363,16 +364,22 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
             fprintf(stderr, "host_sim: --set: %s\n", err);
             return -1;
         }
+        start_cell_set |= strncmp(key, "start_cell_", 11) == 0;
     }
     cfg->start_x_um = to_um(sx);
     cfg->start_y_um = to_um(sy);
     cfg->start_heading_mdeg = (int32_t)lround(remainder(sth, 2.0 * PI) * 180000.0 / PI);
-    /* Put the middle of the room at the middle of the grid. */
+    /* Put the middle of the room at the middle of the grid, unless the start cell was set
+     * (to record a trace for a robot with a smaller grid, say). */
     double cell = cfg->cell_um * 1e-6;
     double cx = (room->min_x + room->max_x) / 2.0;
     double cy = (room->min_y + room->max_y) / 2.0;
     long a0 = (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
     long b0 = (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
+    if (start_cell_set) {
+        a0 = cfg->start_cell_a;
+        b0 = cfg->start_cell_b;
+    }
     double ox = sx - (double)a0 * cell - cell / 2.0;
     double oy = sy - (double)b0 * cell - cell / 2.0;
     if (a0 < 0 || b0 < 0 || a0 >= (long)SLAM_GRID_A || b0 >= (long)SLAM_GRID_B ||

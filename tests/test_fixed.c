@@ -83,10 +83,10 @@ static void test_angle_wraparound(void **state)
     bam32_t a20 = fix_bam_from_mdeg(20000);
     bam32_t a10 = fix_bam_from_mdeg(10000);
     /* 350° + 20° = 10° (each conversion rounds, so allow one unit each). */
-    assert_true(abs(fix_bam_diff(a350 + a20, a10)) <= 2);
+    assert_true(llabs((long long)fix_bam_diff(a350 + a20, a10)) <= 2);
     /* Shortest signed differences across the wrap. */
-    assert_true(abs(fix_bam_diff(a10, a350) - (int32_t)fix_bam_from_mdeg(20000)) <= 2);
-    assert_true(abs(fix_bam_diff(a350, a10) + (int32_t)fix_bam_from_mdeg(20000)) <= 2);
+    assert_true(llabs((long long)fix_bam_diff(a10, a350) - (int32_t)fix_bam_from_mdeg(20000)) <= 2);
+    assert_true(llabs((long long)fix_bam_diff(a350, a10) + (int32_t)fix_bam_from_mdeg(20000)) <= 2);
     assert_int_equal(fix_bam_diff(0u, FIX_BAM_HALF), INT32_MIN);
     assert_int_equal(fix_bam_diff(1u, 0xFFFFFFFFu), 2);
     assert_int_equal(fix_bam_diff(0xFFFFFFFFu, 1u), -2);

@@ -174,17 +174,41 @@ static void test_robot_idle_saves_periodically_and_on_request(void **state)
         robot_idle(&robot);
     }
     assert_int_equal(fake_hal.calls_storage_write, 0u); /* not yet: 1 s is 100 ticks */
-    robot_tick(&robot);
-    for (int i = 0; i < 300; i++) {
+    for (int i = 0; i < 300; i++) { /* a chunk an idle call, the ticks going on */
+        robot_tick(&robot);
         robot_idle(&robot);
     }
     assert_int_equal(robot.store.saves, 1u);
     robot_request_save(&robot);
     for (int i = 0; i < 300; i++) {
+        robot_tick(&robot);
         robot_idle(&robot);
     }
     assert_int_equal(robot.store.saves, 2u);
     assert_int_equal(fake_hal.calls_storage_commit, 2u);
+}
+
+/* A save begins only with the robot at a stand: the erase may stall an MCU for seconds. */
+static void test_save_waits_for_the_robot_to_stop(void **state)
+{
+    (void)state;
+    static robot_t robot;
+    cfg.save_period_s = 2u;
+    cfg.explore_mode = EXPLORE_SQUARE; /* drives straight from the first tick */
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    unsigned moving_ticks = 0;
+    for (int t = 0; t < 700; t++) {
+        /* The wheels turn as commanded: 1 count a tick per 100 duty. */
+        fake_hal.encoder[0] = (uint16_t)(fake_hal.encoder[0] + fake_hal.motor[0] / 100);
+        fake_hal.encoder[1] = (uint16_t)(fake_hal.encoder[1] + fake_hal.motor[1] / 100);
+        robot_tick(&robot);
+        robot_idle(&robot);
+        moving_ticks += fake_hal.motor[0] != 0;
+    }
+    assert_true(moving_ticks > 400u);               /* it drove, and drove on after */
+    assert_true(fake_hal.calls_storage_begin >= 2u); /* saves every 2 s */
+    assert_int_equal(fake_hal.storage_begin_moving, 0u);
+    assert_true(robot.store.saves >= 1u);
 }
 
 static void test_no_storage_means_no_saves(void **state)
@@ -209,6 +233,7 @@ int main(void)
         cmocka_unit_test_setup(test_damage_is_detected, setup),
         cmocka_unit_test_setup(test_map_changing_during_a_save_stays_consistent, setup),
         cmocka_unit_test_setup(test_robot_idle_saves_periodically_and_on_request, setup),
+        cmocka_unit_test_setup(test_save_waits_for_the_robot_to_stop, setup),
         cmocka_unit_test_setup(test_no_storage_means_no_saves, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

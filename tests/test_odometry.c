@@ -251,11 +251,11 @@ static void test_full_turn_in_place_returns_to_start(void **state)
         moved += n;
         if (moved == 700) {
             odom_pose_t half = odom_pose(&g.o);
-            assert_true(abs(fix_bam_diff(half.heading, start.heading + FIX_BAM_HALF)) <= 1);
+            assert_true(llabs((long long)fix_bam_diff(half.heading, start.heading + FIX_BAM_HALF)) <= 1);
         }
     }
     odom_pose_t end = odom_pose(&g.o);
-    assert_true(abs(fix_bam_diff(end.heading, start.heading)) <= 1);
+    assert_true(llabs((long long)fix_bam_diff(end.heading, start.heading)) <= 1);
     assert_int_equal(end.x_um, start.x_um);
     assert_int_equal(end.y_um, start.y_um);
 }

@@ -183,10 +183,10 @@ static const char *first_bad_field(const slam_config_t *c)
     if (!in_range_u(c->accel_mm_s2, 10u, 50000u)) {
         return "accel_mm_s2";
     }
-    if (c->motion_kp_q8 > 4096u) {
+    if (c->motion_kp_q8 > 2048u) {
         return "motion_kp_q8";
     }
-    if (c->motion_ki_q8 > 4096u) {
+    if (c->motion_ki_q8 > 2048u) {
         return "motion_ki_q8";
     }
     if (c->explore_mode >= EXPLORE_MODES) {

@@ -97,11 +97,13 @@ static bool nearest_ahead(const explore_t *e, const odom_pose_t *pose, int32_t *
         if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > EXPLORE_MEMORY_TICKS) {
             continue;
         }
-        /* The point in the robot frame; |d| < 2^32 and |c|, |s| <= 2^30, so no overflow. */
-        int64_t dx = (int64_t)e->obst_x_um[i] - pose->x_um;
-        int64_t dy = (int64_t)e->obst_y_um[i] - pose->y_um;
-        int64_t ahead = (dx * c + dy * s) >> 30;
-        int64_t side = (dy * c - dx * s) >> 30;
+        /* The point in the robot frame. A remembered point lies within a few metres of the
+         * robot, so the differences fit 32 bits (taken modulo 2^32, which is exact here),
+         * and the 32 x 32-bit products (one SMULL each on a Cortex-M4) fit 64. */
+        int32_t dx = (int32_t)((uint32_t)e->obst_x_um[i] - (uint32_t)pose->x_um);
+        int32_t dy = (int32_t)((uint32_t)e->obst_y_um[i] - (uint32_t)pose->y_um);
+        int64_t ahead = ((int64_t)dx * c + (int64_t)dy * s) >> 30;
+        int64_t side = ((int64_t)dy * c - (int64_t)dx * s) >> 30;
         bool in_corridor = side > -e->clearance_um && side < e->clearance_um;
         if (in_corridor && ahead > 0 && ahead < e->mount_x_um + e->avoid_um && ahead < best) {
             best = ahead;
@@ -134,40 +136,79 @@ static void random_turn(explore_t *e, const odom_pose_t *pose, bam32_t min, int 
     begin_turn(e, pose, dir * angle);
 }
 
-/* TM mode: visits along a 1 m ray; beyond an occupied OM cell, or outside the grid, every
- * cell counts as fully visited, so blocked and short rays lose. */
-static uint32_t ray_cost(const explore_t *e, const grid_t *g, const odom_pose_t *pose, bam32_t h)
+/* TM mode, one candidate heading: the visits along a 1 m ray, walked a cell at a time
+ * from the centre of the robot's cell in Q16 cell units (no division per cell). Beyond an
+ * occupied OM cell, or outside the grid, every cell counts as fully visited, so blocked
+ * and short rays lose. The weighing is spread over ticks to keep each one small: one tick
+ * starts the ray, then EXPLORE_RAY_CELLS cells a tick, then one tick checks the obstacle
+ * memory and compares. */
+static bam32_t candidate_heading(const explore_t *e, const odom_pose_t *pose)
 {
-    int32_t steps = (int32_t)(EXPLORE_LOOK_UM / e->cell_um);
-    steps = steps < 1 ? 1 : steps;
-    int32_t dx = fix_mul_q30((int32_t)e->cell_um, fix_cos(h));
-    int32_t dy = fix_mul_q30((int32_t)e->cell_um, fix_sin(h));
-    int32_t x = pose->x_um;
-    int32_t y = pose->y_um;
-    uint32_t cost = 0;
-    for (int32_t i = 0; i < steps; i++) {
-        x = fix_sat_add_i32(x, dx);
-        y = fix_sat_add_i32(y, dy);
-        grid_cell_t cell;
-        if (grid_cell_of(g, x, y, &cell) != SLAM_OK || g->om[grid_index(cell)] > e->om_occupied) {
-            return cost + (uint32_t)(steps - i) * e->tm_max;
-        }
-        cost += g->tm[grid_index(cell)];
-    }
-    return cost;
+    return pose->heading + e->candidate * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES);
 }
 
-static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+static void ray_begin(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
-    /* Candidates are visited from a random first one, so ties between equal turns go a
-     * random way. */
-    if (e->ticks == 1u) {
-        e->candidate = (uint8_t)rng_below(e, EXPLORE_CANDIDATES);
-        e->best_cost = UINT32_MAX;
+    uint32_t steps = EXPLORE_LOOK_UM / e->cell_um;
+    steps = steps < 1u ? 1u : steps;
+    e->ray_cost = 0u;
+    e->ray_left = steps;
+    grid_cell_t start;
+    if (grid_cell_of(g, pose->x_um, pose->y_um, &start) != SLAM_OK) {
+        e->ray_cost = steps * e->tm_max;
+        e->ray_left = 0u;
+        return;
     }
-    bam32_t h = pose->heading + e->candidate * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES);
-    odom_pose_t facing = {pose->x_um, pose->y_um, h};
-    uint32_t cost = ray_cost(e, g, pose, h);
+    bam32_t h = candidate_heading(e, pose);
+    e->ray_fx = ((int32_t)start.a << 16) + 0x8000;
+    e->ray_fy = ((int32_t)start.b << 16) + 0x8000;
+    e->ray_dx = fix_cos(h) >> 14; /* one cell, Q16 */
+    e->ray_dy = fix_sin(h) >> 14;
+}
+
+static void ray_walk(explore_t *e, const grid_t *g)
+{
+    for (uint32_t n = 0; n < EXPLORE_RAY_CELLS && e->ray_left > 0u; n++) {
+        e->ray_fx += e->ray_dx;
+        e->ray_fy += e->ray_dy;
+        uint32_t a = (uint32_t)(e->ray_fx >> 16);
+        uint32_t b = (uint32_t)(e->ray_fy >> 16);
+        uint32_t k = b * SLAM_GRID_A + a;
+        if (e->ray_fx < 0 || e->ray_fy < 0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B ||
+            g->om[k] > e->om_occupied) {
+            e->ray_cost += e->ray_left * e->tm_max;
+            e->ray_left = 0u;
+            return;
+        }
+        e->ray_cost += g->tm[k];
+        e->ray_left--;
+    }
+}
+
+static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g, bool reading)
+{
+    if (e->ticks == 1u) {
+        /* Candidates are weighed from a random first one, so ties between equal turns go
+         * a random way. */
+        e->candidate = (uint8_t)rng_below(e, EXPLORE_CANDIDATES);
+        e->weighed = 0u;
+        e->best_cost = UINT32_MAX;
+        e->ray_phase = 0u;
+    }
+    if (e->ray_phase == 0u) {
+        ray_begin(e, pose, g);
+        e->ray_phase = 1u;
+        return;
+    }
+    if (e->ray_left > 0u) {
+        ray_walk(e, g);
+        return;
+    }
+    if (reading) {
+        return; /* the memory check waits for a tick without a reading to map */
+    }
+    uint32_t cost = e->ray_cost;
+    odom_pose_t facing = {pose->x_um, pose->y_um, candidate_heading(e, pose)};
     if (explore_blocked(e, &facing)) {
         cost += 2u * EXPLORE_LOOK_UM / e->cell_um * e->tm_max;
     }
@@ -180,7 +221,8 @@ static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
         e->best = e->candidate;
     }
     e->candidate = (uint8_t)((e->candidate + 1u) % EXPLORE_CANDIDATES);
-    if (e->ticks >= EXPLORE_CANDIDATES) {
+    e->ray_phase = 0u;
+    if (++e->weighed >= EXPLORE_CANDIDATES) {
         e->decide = false;
         int32_t angle = (int32_t)(e->best * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES));
         if (e->best == 0u) {
@@ -216,7 +258,8 @@ static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
     target_mm_s[ODOM_RIGHT] = dir * speed;
 }
 
-static void forward_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
+static void forward_step(explore_t *e, const odom_pose_t *pose, bool reading,
+                         int32_t target_mm_s[2])
 {
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = e->cruise_mm_s;
     if (e->mode == EXPLORE_SQUARE) {
@@ -237,8 +280,10 @@ static void forward_step(explore_t *e, const odom_pose_t *pose, int32_t target_m
         }
         return;
     }
+    /* The corridor is checked in the ticks without a new reading: a reading's tick already
+     * maps it, and the check one tick (2 mm) later keeps the worst tick small. */
     int32_t lateral = 0;
-    if (nearest_ahead(e, pose, &lateral)) {
+    if (!reading && nearest_ahead(e, pose, &lateral)) {
         e->avoidances++;
         target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
         if (e->mode == EXPLORE_TM) {
@@ -267,8 +312,9 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
     switch (e->state) {
     case EXPLORE_LOOK:
-        /* One full pass of the sweep since standing still, then decide. */
-        if (e->look_readings >= e->stops) {
+        /* One full pass of the sweep since standing still, then decide (in a tick without
+         * a reading, like every corridor check). */
+        if (e->look_readings >= e->stops && !sw->reading_ready) {
             int32_t lateral = 0;
             bool blocked = nearest_ahead(e, pose, &lateral);
             if (e->mode == EXPLORE_TM && (blocked || e->decide)) {
@@ -281,13 +327,13 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
         }
         break;
     case EXPLORE_DECIDE:
-        decide_step(e, pose, g);
+        decide_step(e, pose, g, sw->reading_ready);
         break;
     case EXPLORE_TURN:
         turn_step(e, pose, target_mm_s);
         break;
     case EXPLORE_FORWARD:
-        forward_step(e, pose, target_mm_s);
+        forward_step(e, pose, sw->reading_ready, target_mm_s);
         break;
     default:
         break;

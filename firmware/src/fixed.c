@@ -65,9 +65,10 @@ q1_30_t fix_sin(bam32_t a)
     uint32_t frac = p & ((1u << FIX_SIN_FRAC_BITS) - 1u);
     q1_30_t v = fix_sin_table[idx];
     if (frac != 0u) {
-        /* idx < 256 here, so idx + 1 is inside the table. The slope is never negative. */
-        int64_t slope = (int64_t)fix_sin_table[idx + 1u] - v;
-        v += (q1_30_t)fix_round_shift(slope * (int64_t)frac, FIX_SIN_FRAC_BITS);
+        /* idx < 256 here, so idx + 1 is inside the table. The slope is below 2^23 and
+         * never negative: a 32 x 32-bit product suffices. */
+        int32_t slope = fix_sin_table[idx + 1u] - v;
+        v += (q1_30_t)fix_round_shift((int64_t)slope * (int32_t)frac, FIX_SIN_FRAC_BITS);
     }
     return (quadrant & 2u) ? -v : v;
 }

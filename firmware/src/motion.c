@@ -8,7 +8,7 @@
 
 /* 1 mm/s is 10 µm per 10 ms tick. */
 #define MOTION_UM_TICK_PER_MM_S 10
-#define MOTION_ERR_MAX (1 << 24)
+#define MOTION_ERR_MAX (1 << 17) /* 131 mm in a tick: far beyond any real wheel */
 #define MOTION_SPEED_SHIFT 2u /* log2(MOTION_SPEED_TICKS) */
 
 void motion_init(motion_t *m, const slam_config_t *cfg)
@@ -22,7 +22,6 @@ void motion_init(motion_t *m, const slam_config_t *cfg)
     m->top_um_tick = (int32_t)cfg->top_speed_mm_s * MOTION_UM_TICK_PER_MM_S;
     m->kp_q8 = cfg->motion_kp_q8;
     m->ki_q8 = cfg->motion_ki_q8;
-    m->ff_q16 = (MOTION_DUTY_MAX << 16) / m->top_um_tick;
     m->integral_max_um = m->ki_q8 > 0 ? (MOTION_DUTY_MAX * 256) / m->ki_q8 : 0;
 }
 
@@ -47,7 +46,8 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
                              m->accel_um_tick2);
         int32_t set = m->set_um_tick[w] + step;
         m->set_um_tick[w] = set;
-        /* An encoder glitch may claim any speed; the error stays within 16 m a tick. */
+        /* An encoder glitch may claim any speed; the error is bounded so every product
+         * below fits 32 bits. */
         int32_t err = clamp(fix_sat_sub_i32(set, odom->step_um[w]), -MOTION_ERR_MAX, MOTION_ERR_MAX);
         int32_t *slot = &m->err_um_tick[w][m->err_pos];
         m->err_sum[w] = m->err_sum[w] - *slot + err;
@@ -61,12 +61,13 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         }
         m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
                                   m->integral_max_um);
-        int32_t ff = (int32_t)fix_round_shift((int64_t)set * m->ff_q16, 16u);
-        /* (kp · Σe/N + ki · I) / 256, with the division by N = 4 folded into the shift. */
-        int32_t pi = fix_sat_i32(fix_round_shift(
-            (int64_t)m->kp_q8 * m->err_sum[w] +
-                (int64_t)m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS,
-            8u + MOTION_SPEED_SHIFT));
+        /* |set| <= 50 000 µm/tick, so set · 1000 fits 32 bits. */
+        int32_t ff = set * MOTION_DUTY_MAX / m->top_um_tick;
+        /* (kp · Σe/N + ki · I) / 256, the division by N = 4 folded into the shift. With
+         * |Σe| <= 2^19, kp <= 2^11 and |ki · I| <= 256 000, everything fits 32 bits. */
+        int32_t acc = m->kp_q8 * m->err_sum[w] +
+                      m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS;
+        int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
         int16_t d = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
         m->duty[w] = d;
         duty[w] = d;

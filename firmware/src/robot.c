@@ -32,6 +32,8 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     telem_init(&r->telem);
     r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
     r->save_requested = false;
+    r->hold = false;
+    r->held = false;
     return SLAM_OK;
 }
 
@@ -83,14 +85,19 @@ void robot_tick(robot_t *r)
                            rd->servo_mdeg, range, &r->mapper.ping_pose);
     }
 
-    /* Where to go, and the wheel speeds that get us there. */
-    int32_t target_mm_s[2];
-    explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, target_mm_s);
+    /* Where to go, and the wheel speeds that get us there. Under a hold the exploration
+     * waits where it is and the robot comes to a stand. */
+    int32_t target_mm_s[2] = {0, 0};
+    bool hold = r->hold;
+    if (!hold) {
+        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, target_mm_s);
+    }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];
     motion_step(&r->motion, &r->odom, duty);
     hal_motor_set(HAL_WHEEL_LEFT, duty[ODOM_LEFT]);
     hal_motor_set(HAL_WHEEL_RIGHT, duty[ODOM_RIGHT]);
+    r->held = hold && duty[ODOM_LEFT] == 0 && duty[ODOM_RIGHT] == 0;
 
     r->ticks++;
 }
@@ -111,14 +118,19 @@ void robot_idle(robot_t *r)
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;
-    if (!r->store.active && (due || r->save_requested)) {
-        /* The pose is three words the tick rewrites: copy it in one piece. */
-        hal_irq_state_t irq = hal_critical_enter();
-        odom_pose_t pose = r->pose;
-        hal_critical_exit(irq);
-        r->save_requested = false;
-        r->next_save = ticks + period;
-        mapstore_begin(&r->store, &r->grid, &pose, ticks);
+    if (!r->store.active && r->store.available && (due || r->save_requested)) {
+        /* Stop first: beginning a slot erases it, which may stall the CPU. */
+        r->hold = true;
+        if (r->held) {
+            /* The pose is three words the tick rewrites: copy it in one piece. */
+            hal_irq_state_t irq = hal_critical_enter();
+            odom_pose_t pose = r->pose;
+            hal_critical_exit(irq);
+            r->save_requested = false;
+            r->next_save = ticks + period;
+            mapstore_begin(&r->store, &r->grid, &pose, ticks);
+            r->hold = false;
+        }
     }
     (void)mapstore_step(&r->store, &r->grid);
 

@@ -36,9 +36,12 @@ void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
 {
     q1_30_t c = fix_cos(pose->heading);
     q1_30_t sn = fix_sin(pose->heading);
-    /* The servo axis in the world: the pose plus the mount offset turned by Ψ. */
-    int64_t xs = (int64_t)pose->x_um + fix_mul_q30(s->mount_x_um, c) - fix_mul_q30(s->mount_y_um, sn);
-    int64_t ys = (int64_t)pose->y_um + fix_mul_q30(s->mount_x_um, sn) + fix_mul_q30(s->mount_y_um, c);
+    /* The servo axis in the world: the pose plus the mount offset turned by Ψ. The offset
+     * is within 1 m (slam_config_check), so the 32 x 32-bit products cannot overflow. */
+    int64_t mx = s->mount_x_um;
+    int64_t my = s->mount_y_um;
+    int64_t xs = (int64_t)pose->x_um + fix_round_shift(mx * c - my * sn, 30u);
+    int64_t ys = (int64_t)pose->y_um + fix_round_shift(mx * sn + my * c, 30u);
     /* Eq. 4-5 along the bearing; d < 2^32 and |cos| <= 1, so the products fit. */
     bam32_t theta = sonar_bearing(s, pose->heading, servo);
     int64_t d = range_um;

@@ -54,17 +54,23 @@ uint16_t telem_crc16(const uint8_t *data, size_t len)
     return crc;
 }
 
+/* Header and CRC around a payload already at frame + 4; returns the frame's length. */
+static size_t wrap(uint8_t *frame, uint8_t type, size_t len)
+{
+    frame[0] = TELEM_SYNC0;
+    frame[1] = TELEM_SYNC1;
+    frame[2] = type;
+    frame[3] = (uint8_t)len;
+    uint16_t crc = telem_crc16(frame + 2, len + 2u);
+    frame[4u + len] = (uint8_t)crc;
+    frame[5u + len] = (uint8_t)(crc >> 8);
+    return len + 6u;
+}
+
 size_t telem_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len)
 {
-    buf[0] = TELEM_SYNC0;
-    buf[1] = TELEM_SYNC1;
-    buf[2] = type;
-    buf[3] = len;
-    memcpy(buf + 4, payload, len);
-    uint16_t crc = telem_crc16(buf + 2, (size_t)len + 2u);
-    buf[4u + len] = (uint8_t)crc;
-    buf[5u + len] = (uint8_t)(crc >> 8);
-    return (size_t)len + 6u;
+    memmove(buf + 4, payload, len);
+    return wrap(buf, type, len);
 }
 
 void telem_init(telem_t *t)
@@ -126,10 +132,13 @@ static uint8_t *put32(uint8_t *p, uint32_t v)
     return p + 4;
 }
 
-static void send(telem_t *t, uint8_t type, const uint8_t *payload, size_t len)
+/* Every frame is built in place: the payload at frame + 4, then the header and the CRC
+ * around it, so one buffer of TELEM_FRAME_MAX bytes is the only stack it takes. */
+#define PAYLOAD(frame) ((frame) + 4)
+
+static void send(telem_t *t, uint8_t *frame, uint8_t type, size_t len)
 {
-    uint8_t frame[TELEM_FRAME_MAX];
-    size_t n = telem_frame(frame, type, payload, (uint8_t)len);
+    size_t n = wrap(frame, type, len);
     if (hal_uart_write(frame, n) != n) {
         t->short_writes++;
     } else {
@@ -137,10 +146,9 @@ static void send(telem_t *t, uint8_t type, const uint8_t *payload, size_t len)
     }
 }
 
-static void send_event(telem_t *t, const telem_event_t *e)
+static void send_event(telem_t *t, uint8_t *frame, const telem_event_t *e)
 {
-    uint8_t pl[32];
-    uint8_t *p = put32(pl, e->ticks);
+    uint8_t *p = put32(PAYLOAD(frame), e->ticks);
     if (e->type == TELEM_READING) {
         p = put8(p, e->stop);
         p = put8(p, e->outcome);
@@ -150,13 +158,12 @@ static void send_event(telem_t *t, const telem_event_t *e)
     p = put32(p, (uint32_t)e->pose.x_um);
     p = put32(p, (uint32_t)e->pose.y_um);
     p = put32(p, e->pose.heading);
-    send(t, e->type, pl, (size_t)(p - pl));
+    send(t, frame, e->type, (size_t)(p - PAYLOAD(frame)));
 }
 
-static void send_hello(telem_t *t, const grid_t *g)
+static void send_hello(telem_t *t, uint8_t *frame, const grid_t *g)
 {
-    uint8_t pl[19];
-    uint8_t *p = put8(pl, TELEM_VERSION);
+    uint8_t *p = put8(PAYLOAD(frame), TELEM_VERSION);
     p = put16(p, SLAM_GRID_A);
     p = put16(p, SLAM_GRID_B);
     p = put32(p, g->cell_um);
@@ -164,33 +171,31 @@ static void send_hello(telem_t *t, const grid_t *g)
     p = put32(p, (uint32_t)g->origin_y_um);
     p = put8(p, g->om_max);
     p = put8(p, g->tm_max);
-    send(t, TELEM_HELLO, pl, (size_t)(p - pl));
+    send(t, frame, TELEM_HELLO, (size_t)(p - PAYLOAD(frame)));
 }
 
-static void send_status(telem_t *t, const telem_status_t *st)
+static void send_status(telem_t *t, uint8_t *frame, const telem_status_t *st)
 {
-    uint8_t pl[32];
     const uint32_t v[8] = {st->ticks, st->pings, st->echoes, st->timeouts,
                            st->om_hits, st->overruns, st->saves, t->dropped + t->short_writes};
-    uint8_t *p = pl;
+    uint8_t *p = PAYLOAD(frame);
     for (unsigned i = 0; i < 8u; i++) {
         p = put32(p, v[i]);
     }
-    send(t, TELEM_STATUS, pl, sizeof pl);
+    send(t, frame, TELEM_STATUS, (size_t)(p - PAYLOAD(frame)));
 }
 
 /* The next segment of the map rows, OM then TM, round and round. */
-static void send_map_row(telem_t *t, const grid_t *g)
+static void send_map_row(telem_t *t, uint8_t *frame, const grid_t *g)
 {
-    uint8_t pl[5u + TELEM_MAP_CELLS];
     uint16_t n = (uint16_t)(SLAM_GRID_A - t->first);
     n = n > TELEM_MAP_CELLS ? (uint16_t)TELEM_MAP_CELLS : n;
     const uint8_t *cells = (t->map == 0u ? g->om : g->tm) + (uint32_t)t->row * SLAM_GRID_A + t->first;
-    uint8_t *p = put8(pl, t->map);
+    uint8_t *p = put8(PAYLOAD(frame), t->map);
     p = put16(p, t->row);
     p = put16(p, t->first);
     memcpy(p, cells, n);
-    send(t, TELEM_MAP_ROW, pl, 5u + n);
+    send(t, frame, TELEM_MAP_ROW, 5u + n);
     t->first = (uint16_t)(t->first + n);
     if (t->first >= SLAM_GRID_A) {
         t->first = 0u;
@@ -203,23 +208,24 @@ static void send_map_row(telem_t *t, const grid_t *g)
 
 void telem_idle(telem_t *t, const grid_t *g, const telem_status_t *st, uint32_t ticks)
 {
+    uint8_t frame[TELEM_FRAME_MAX];
     uint8_t tail = t->tail;
     while (tail != __atomic_load_n(&t->head, __ATOMIC_ACQUIRE)) {
         telem_event_t e = t->ring[tail];
         tail = (uint8_t)((tail + 1u) % TELEM_RING);
         __atomic_store_n(&t->tail, tail, __ATOMIC_RELEASE);
-        send_event(t, &e);
+        send_event(t, frame, &e);
     }
     if (ticks - t->last_hello_tick >= 5u * TELEM_TICKS_PER_S) {
         t->last_hello_tick = ticks;
-        send_hello(t, g);
+        send_hello(t, frame, g);
     }
     if (ticks - t->last_status_tick >= TELEM_TICKS_PER_S) {
         t->last_status_tick = ticks;
-        send_status(t, st);
+        send_status(t, frame, st);
     }
     if (ticks - t->last_row_tick >= TELEM_ROW_TICKS) {
         t->last_row_tick = ticks;
-        send_map_row(t, g);
+        send_map_row(t, frame, g);
     }
 }

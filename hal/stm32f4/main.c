@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The robot image: bring the board up, run the mapper on the 10 ms tick, report on the UART. */
+/* The robot image: bring the board up, say hello in text, then run the mapper on the 10 ms
+ * tick while robot_idle() streams telemetry frames on the UART (tools/telemetry.py). */
 #include <string.h>
 
 #include "board.h"
@@ -14,7 +15,6 @@
 #define SLAM_VERSION "unknown"
 #endif
 
-#define STATUS_EVERY_TICKS 100u /* one status line a second */
 
 static robot_t robot;
 
@@ -64,44 +64,6 @@ static void banner(void)
     send(&l);
 }
 
-/* One line a second: a consistent snapshot taken with the tick held off. */
-static void status(void)
-{
-    hal_irq_state_t s = hal_critical_enter();
-    uint32_t ticks = robot.ticks;
-    odom_pose_t pose = robot.pose;
-    uint32_t pings = robot.sweep.pings;
-    uint32_t echoes = robot.sweep.echoes;
-    uint32_t timeouts = robot.sweep.timeouts;
-    uint32_t hits = robot.mapper.hits;
-    hal_critical_exit(s);
-
-    text_line_t l;
-    text_clear(&l);
-    text_str(&l, "status t ");
-    text_u32(&l, ticks / 100u);
-    text_str(&l, " s ticks ");
-    text_u32(&l, ticks);
-    text_str(&l, " overruns ");
-    text_u32(&l, hal_tick_overruns());
-    text_str(&l, " pose ");
-    text_i32(&l, pose.x_um / 1000);
-    text_str(&l, " ");
-    text_i32(&l, pose.y_um / 1000);
-    text_str(&l, " mm ");
-    text_i32(&l, fix_bam_to_mdeg(pose.heading) / 1000);
-    text_str(&l, " deg pings ");
-    text_u32(&l, pings);
-    text_str(&l, " echoes ");
-    text_u32(&l, echoes);
-    text_str(&l, " timeouts ");
-    text_u32(&l, timeouts);
-    text_str(&l, " om_hits ");
-    text_u32(&l, hits);
-    text_str(&l, "\r\n");
-    send(&l);
-}
-
 void stm32_fault_hook(const stm32_fault_t *f)
 {
     text_line_t l;
@@ -146,15 +108,9 @@ int main(void)
         stm32_panic("the tick did not start");
     }
 
-    uint32_t reported = 0u;
     for (;;) {
         cm_wfi(); /* until the next tick or UART interrupt */
-        robot_idle(&robot);
-        uint32_t ticks = *(volatile const uint32_t *)&robot.ticks;
-        if (ticks - reported >= STATUS_EVERY_TICKS) {
-            reported = ticks;
-            status();
-        }
+        robot_idle(&robot); /* telemetry: HELLO, POSE, READING, MAP_ROW, STATUS frames */
         stm32_uart_pump();
     }
 }

@@ -96,6 +96,8 @@ size_t hal_storage_size(void)
 
 int hal_storage_begin(uint8_t slot)
 {
+    fake_hal.calls_storage_begin++;
+    fake_hal.storage_begin_moving += fake_hal.motor[0] != 0 || fake_hal.motor[1] != 0;
     if (slot >= HAL_STORAGE_SLOTS) {
         return HAL_EINVAL;
     }

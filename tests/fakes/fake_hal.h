@@ -37,6 +37,8 @@ typedef struct {
     unsigned calls_watchdog;
     unsigned calls_storage_write;
     unsigned calls_storage_commit;
+    unsigned calls_storage_begin;
+    unsigned storage_begin_moving;    /**< hal_storage_begin() calls with a motor running */
     int storage_fail_at;              /**< hal_storage_write call number that fails (0: none) */
     uint8_t storage[HAL_STORAGE_SLOTS][FAKE_HAL_STORAGE_SIZE];
     uint8_t uart[FAKE_HAL_UART_SIZE]; /**< every byte written to the UART */

@@ -9,8 +9,9 @@ usage:
       their CRC-32 and compared cell by cell. Prints robot_tick() instructions (mean and
       worst, from TIM2 under -icount) and fails when the worst exceeds the budget.
   tools/stm32f4/qemu.py boot ELF [--status N]
-      Boot the robot image, wait for its banner and N status lines on USART1, check that
-      the ticks advance without overruns, then stop it.
+      Boot the robot image, wait for its text banner and then N telemetry STATUS frames on
+      USART1 (decoded with tools/telemetry.py), check that the ticks advance without
+      overruns and that the HELLO frame describes the grid, then stop it.
   tools/stm32f4/qemu.py run ELF [--seconds S]
       Run an image for a person: USART1 and semihosting to this terminal.
 
@@ -232,6 +233,16 @@ def cmd_selftest(args):
     return 0
 
 
+def load_telemetry():
+    """tools/telemetry.py, the decoder of the firmware's frames."""
+    import importlib.util
+    path = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "telemetry.py")
+    spec = importlib.util.spec_from_file_location("telemetry", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def cmd_boot(args):
     if not args:
         die(__doc__.strip(), 2)
@@ -242,13 +253,15 @@ def cmd_boot(args):
     elif len(args) != 1:
         die("unknown option %r" % args[1], 2)
     check_elf(elf)
+    telemetry = load_telemetry()
     limit = 60
     cmd = ["timeout", "-k", "5", str(limit), qemu_binary()] + MACHINE + [
         "-serial", "stdio", "-kernel", elf]
     proc = start(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    banner = None
+    text = b""          # what came before the first frame: the banner
+    decoder = None
+    hello = None
     statuses = []
-    buf = b""
     deadline = time.monotonic() + limit
     try:
         while len(statuses) < want and time.monotonic() < deadline:
@@ -260,30 +273,45 @@ def cmd_boot(args):
             chunk = os.read(proc.stdout.fileno(), 4096)
             if not chunk:
                 break
-            buf += chunk
-            while b"\n" in buf:
-                line, buf = buf.split(b"\n", 1)
-                line = line.decode("ascii", "replace").rstrip("\r")
-                print("  | " + line)
-                if line.startswith("FAULT") or "FAULT" in line:
-                    die("the image faulted: " + line)
-                if line.startswith("sonarslam ") and banner is None:
-                    banner = line
-                if line.startswith("status "):
-                    statuses.append(line)
+            if decoder is None:
+                text += chunk
+                start_of_frames = text.find(telemetry.SYNC)
+                if start_of_frames < 0:
+                    continue
+                chunk = text[start_of_frames:]
+                text = text[:start_of_frames]
+                for line in text.decode("ascii", "replace").splitlines():
+                    print("  | " + line)
+                if b"FAULT" in text:
+                    die("the image faulted")
+                decoder = telemetry.Decoder()
+            for ftype, payload in decoder.feed(chunk):
+                fr = telemetry.decode(ftype, payload)
+                if fr["type"] == "hello" and hello is None:
+                    hello = fr
+                    print("  | telemetry HELLO: grid %dx%d, %d mm cells" % (
+                        fr["a"], fr["b"], fr["cell_um"] // 1000))
+                elif fr["type"] == "status":
+                    statuses.append(fr)
+                    print("  | telemetry STATUS: ticks %d, pings %d, echoes %d, overruns %d" % (
+                        fr["ticks"], fr["pings"], fr["echoes"], fr["overruns"]))
     finally:
         stop(proc)
-    if banner is None:
+    banner = [l for l in text.decode("ascii", "replace").splitlines() if l.startswith("sonarslam ")]
+    if not banner:
         die("no banner from the robot image within %d s" % limit)
+    if hello is None or hello["a"] <= 0 or hello["b"] <= 0:
+        die("no telemetry HELLO frame describing the grid")
     if len(statuses) < want:
-        die("%d status lines within %d s, wanted %d" % (len(statuses), limit, want))
-    ticks = [int(re.search(r" ticks (\d+)", s).group(1)) for s in statuses]
-    overruns = [int(re.search(r" overruns (\d+)", s).group(1)) for s in statuses]
+        die("%d telemetry STATUS frames within %d s, wanted %d" % (len(statuses), limit, want))
+    ticks = [s["ticks"] for s in statuses]
     if any(b <= a for a, b in zip(ticks, ticks[1:])):
         die("the ticks do not advance: %s" % ticks)
-    if overruns[-1] != 0:
-        die("the tick overran %d times" % overruns[-1])
-    print("boot: banner and %d status lines; ticks %s, no overruns" % (len(statuses), ticks))
+    if statuses[-1]["overruns"] != 0:
+        die("the tick overran %d times" % statuses[-1]["overruns"])
+    if decoder.bad:
+        die("%d telemetry frames failed their CRC" % decoder.bad)
+    print("boot: banner, HELLO and %d STATUS frames; ticks %s, no overruns" % (len(statuses), ticks))
     return 0
 
 

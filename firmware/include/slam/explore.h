@@ -17,8 +17,8 @@
  *   ahead, and every EXPLORE_TM_REDECIDE_TICKS of driving) is the one of
  *   EXPLORE_CANDIDATES directions whose ray through TM (1 m, stopped by occupied OM cells)
  *   crosses the fewest visits, the smallest turn among equals: the trajectory map used
- *   for online path planning, as the paper says it can be. One candidate is weighed per
- *   tick, so the tick stays small.
+ *   for online path planning, as the paper says it can be. A candidate is weighed over a
+ *   few ticks (about half a second for all, standing still), so every tick stays small.
  * - EXPLORE_SQUARE: square_laps counter-clockwise squares of square_side by odometry
  *   (UMBmark's path), turning in place at the corners, then stop.
  * - EXPLORE_OFF: stand still.
@@ -40,6 +40,7 @@
 #define EXPLORE_CANDIDATES 12u          /**< headings weighed in TM mode, 30° apart */
 #define EXPLORE_MEMORY_TICKS 300u       /**< obstacle points are forgotten after 3 s */
 #define EXPLORE_FORWARD_MAX_TICKS 2000u /**< turn anyway after 20 s straight */
+#define EXPLORE_RAY_CELLS 8u            /**< TM cells a DECIDE tick walks at most */
 
 /** States of the exploration. */
 typedef enum {
@@ -55,11 +56,17 @@ typedef struct {
     uint8_t mode;        /**< an explore_mode_t */
     uint8_t state;       /**< an explore_state_t */
     uint8_t stops;       /**< sweep stops */
-    uint8_t candidate;   /**< DECIDE: the candidate weighed next */
+    uint8_t candidate;   /**< DECIDE: the candidate being weighed */
+    uint8_t weighed;     /**< DECIDE: candidates weighed */
     uint8_t best;        /**< DECIDE: the best candidate so far */
+    uint8_t ray_phase;   /**< DECIDE: 0 start the candidate's ray, 1 walk and judge it */
     uint8_t laps;        /**< SQUARE: laps to drive; 0 = forever */
     uint32_t leg;        /**< SQUARE: legs done */
     uint32_t best_cost;  /**< DECIDE: its cost */
+    uint32_t ray_left;   /**< DECIDE: cells of the ray still to walk */
+    uint32_t ray_cost;   /**< DECIDE: visits counted along it so far */
+    int32_t ray_fx, ray_fy; /**< DECIDE: where the walk is, Q16 cells */
+    int32_t ray_dx, ray_dy; /**< DECIDE: one cell along the candidate, Q16 cells */
     uint32_t rng;        /**< xorshift32 state */
     uint32_t ticks;      /**< ticks in the current state */
     uint32_t now;        /**< ticks since init */
@@ -90,11 +97,11 @@ typedef struct {
 void explore_init(explore_t *e, const slam_config_t *cfg);
 
 /**
- * One tick of exploration. ISR-safe, O(1) (at most one TM ray of 1 m a tick).
+ * One tick of exploration. ISR-safe, O(1).
  * @param pose    the pose after this tick's odometry step
  * @param sw      what the sweep did this tick (a completed reading feeds the memory)
  * @param m       the mapper, for the sensor geometry and the pose of the reading's ping
- * @param g       the maps (TM mode reads them)
+ * @param g       the maps (TM mode reads them, at most EXPLORE_RAY_CELLS cells a tick)
  * @param target_mm_s  out: target speed of each wheel (ODOM_LEFT, ODOM_RIGHT), mm/s
  */
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,

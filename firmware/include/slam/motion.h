@@ -43,7 +43,6 @@ typedef struct {
     int32_t top_um_tick;       /**< wheel speed at full duty */
     int32_t kp_q8;             /**< duty per µm/tick of error, Q8 */
     int32_t ki_q8;             /**< duty per µm of accumulated error, Q8 */
-    int32_t ff_q16;            /**< feed-forward duty per µm/tick, Q16 */
     int32_t integral_max_um;   /**< |Σe| limit: the integral term alone stays in range */
 } motion_t;
 

@@ -44,6 +44,8 @@ typedef struct {
     mapstore_t store;      /**< map saves, run by robot_idle() */
     uint32_t next_save;    /**< the tick count at which the next periodic save begins */
     volatile bool save_requested; /**< robot_request_save() was called */
+    volatile bool hold;    /**< robot_idle() asks the tick to stop the robot */
+    volatile bool held;    /**< the tick says the robot stands still under hold */
     telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
 
@@ -62,7 +64,9 @@ void robot_tick(robot_t *r);
 /**
  * Background work, from the main loop; never called from the tick: feeds the watchdog
  * while ticks progress, sends telemetry, and saves the maps (every save_period_s, and on
- * request) a chunk per call.
+ * request) a chunk per call. A save begins only once the tick has brought the robot to a
+ * stand: beginning a slot erases it, and on an MCU that stalls the CPU, ticks included,
+ * for up to two seconds.
  */
 void robot_idle(robot_t *r);
 
