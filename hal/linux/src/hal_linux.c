@@ -195,12 +195,12 @@ static int lx_spawn(pthread_t *t, void *(*fn)(void *), unsigned prio, bool *fifo
 }
 
 /* Waits a bounded time for a thread; one that is stuck is left behind (the process is
- * about to end) and reported. */
+ * about to end) and reported. The motors are already stopped by then. */
 static bool lx_join(pthread_t t, const char *name)
 {
     struct timespec deadline;
     clock_gettime(CLOCK_REALTIME, &deadline);
-    deadline.tv_sec += 1;
+    deadline.tv_sec += 5;
     if (pthread_timedjoin_np(t, NULL, &deadline) == 0) {
         return true;
     }
@@ -420,6 +420,7 @@ static void lx_line_set(gpio_line_t *line, int value)
 
 void lhal_shutdown(void)
 {
+    lx_motors_kill(); /* first, and without a lock: a stuck thread must not delay it */
     atomic_store(&lx.stop, true);
     if (lx.stop_fd >= 0) {
         uint64_t one = 1u;
@@ -437,8 +438,6 @@ void lhal_shutdown(void)
     }
     lx.tick_running = lx.events_running = lx.wdog_running = false;
     atomic_store(&lx.tick_started, false);
-
-    lx_motors_kill();
     if (!joined) {
         /* A stuck thread may still use the lines: the process ends and the kernel frees them. */
         lx.up = false;
