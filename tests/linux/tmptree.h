@@ -21,7 +21,7 @@ void tmptree_file(const char *root, const char *rel, const char *content);
 /** A sysfs-like PWM channel: pwmchipN/pwmM/{period,duty_cycle,enable}, empty. */
 void tmptree_pwm_channel(const char *root, unsigned chip, unsigned channel);
 
-/** A file's content (a static buffer), or "<missing>". */
+/** A file's content (a static buffer of 64 KiB), or "<missing>". */
 const char *tmptree_read(const char *root, const char *rel);
 
 /** Whether a path exists. */
