@@ -17,7 +17,7 @@ usage() {
 pkgs_test="cmake make gcc pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils"
 pkgs_sim="cmake make gcc python3 python3-numpy python3-matplotlib"
 pkgs_firmware="gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
-pkgs_linux="libgpiod-dev pkg-config"
+pkgs_linux="cmake make gcc pkg-config libgpiod-dev libcmocka-dev"
 
 want=""
 [ $# -eq 0 ] && set -- all
