@@ -146,7 +146,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     int status = APP_EXIT_OK;
     char msg[256];
     lhal_fault_t fault = LHAL_FAULT_NONE;
-    uint32_t stuck_seen = 0u;
+    bool warned_stuck = false;
     while (!app_stop_signal) {
         robot_idle(&app_robot);
         fault = lhal_fault(msg, sizeof msg);
@@ -155,12 +155,10 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         }
         lhal_stats_t st;
         lhal_stats(&st);
-        if (st.sonar_stuck_high > stuck_seen) {
-            if (stuck_seen == 0u) {
-                fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
-                             "(stuck, or the sensor has no power); pings time out\n");
-            }
-            stuck_seen = st.sonar_stuck_high;
+        if (!warned_stuck && st.sonar_stuck_high > 0u) {
+            fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
+                         "(stuck, or the sensor has no power); pings time out\n");
+            warned_stuck = true;
         }
         const struct timespec pause = {0, APP_IDLE_NS};
         nanosleep(&pause, NULL);
