@@ -8,7 +8,6 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
-#include <time.h>
 
 #include <cmocka.h>
 
@@ -16,10 +15,12 @@
 #include "hal/hal.h"
 #include "lhal/lhal.h"
 #include "tmptree.h"
+#include "wait_until.h"
+#include "wiring.h"
 
 #define MS 1000000ull
 
-/* The fake's line offsets. */
+/* The fake's line offsets, in wiring.h's order. */
 enum { L_A = 1, L_B = 2, R_A = 3, R_B = 4, TRIG = 5, ECHO = 6, L_IN1 = 7, L_IN2 = 8,
        R_IN1 = 9, R_IN2 = 10, STBY = 11 };
 
@@ -39,61 +40,15 @@ static void advance_ns(uint64_t ns)
     atomic_fetch_add(&fake_now_ns, ns);
 }
 
-static void pause_ms(long ms)
-{
-    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&ts, NULL);
-}
-
-static uint64_t real_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
-}
-
-/* Waits (up to 60 s of real time) for a condition that another thread makes true. The
- * bound only keeps a broken build from hanging; passing never depends on timing. */
-#define WAIT_UNTIL(cond)                                                                     \
-    do {                                                                                     \
-        uint64_t wait_end_ = real_ns() + 60000u * MS;                                        \
-        while (!(cond) && real_ns() < wait_end_) {                                           \
-            pause_ms(1);                                                                     \
-        }                                                                                    \
-        assert_true(cond);                                                                   \
-    } while (0)
-
 static int setup(void **state)
 {
     (void)state;
     fake_gpio_reset();
     tmptree_make(root, "backend");
-    tmptree_pwm_channel(root, 0u, 0u);
-    tmptree_pwm_channel(root, 0u, 1u);
-    tmptree_pwm_channel(root, 1u, 0u);
-    lconf_default(&cfg);
-    snprintf(cfg.gpio_chip, sizeof cfg.gpio_chip, "fakechip0");
-    cfg.enc_a[0] = L_A;
-    cfg.enc_b[0] = L_B;
-    cfg.enc_a[1] = R_A;
-    cfg.enc_b[1] = R_B;
+    wiring_lconf(&cfg, "fakechip0", L_A, root);
     cfg.enc_invert[1] = true;
-    cfg.sonar_trigger = TRIG;
-    cfg.sonar_echo = ECHO;
-    cfg.motor_in1[0] = L_IN1;
-    cfg.motor_in2[0] = L_IN2;
-    cfg.motor_in1[1] = R_IN1;
-    cfg.motor_in2[1] = R_IN2;
     cfg.motor_invert[1] = true;
-    cfg.motor_standby = STBY;
-    cfg.motor_pwm[0] = (lconf_pwm_t){0, 0};
-    cfg.motor_pwm[1] = (lconf_pwm_t){0, 1};
-    cfg.servo_pwm = (lconf_pwm_t){1, 0};
-    snprintf(cfg.pwm_root, sizeof cfg.pwm_root, "%s", root);
-    snprintf(cfg.storage_dir, sizeof cfg.storage_dir, "%s/store", root);
     cfg.storage_bytes = 8192u;
-    cfg.tick_priority = 0u; /* a shared test machine gets no real-time threads */
-    cfg.watchdog_idle_ms = 0u;
     lhal_set_clock(fake_clock);
     return 0;
 }
@@ -178,7 +133,7 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
     for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
         st = hal_sonar_poll(w);
         if (st == HAL_SONAR_BUSY) {
-            pause_ms(1);
+            wait_ms(1);
         }
     }
     return st;
@@ -201,8 +156,8 @@ static void test_sonar_pulse_and_echo_width(void **state)
     assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
     lhal_stats_t st;
     lhal_stats(&st);
-    assert_int_equal(st.sonar_pings, 1);
-    assert_int_equal(st.sonar_echoes, 1);
+    assert_int_equal(st.sonar.pings, 1);
+    assert_int_equal(st.sonar.echoes, 1);
 }
 
 static void test_sonar_times_out_on_the_backend_clock(void **state)
@@ -216,7 +171,7 @@ static void test_sonar_times_out_on_the_backend_clock(void **state)
     assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
     lhal_stats_t st;
     lhal_stats(&st);
-    assert_int_equal(st.sonar_no_response, 1);
+    assert_int_equal(st.sonar.no_response, 1);
 }
 
 static void test_sonar_reports_a_stuck_echo_line(void **state)
@@ -224,12 +179,12 @@ static void test_sonar_reports_a_stuck_echo_line(void **state)
     (void)state;
     fake_gpio_edge(ECHO, 1000, true);
     lhal_stats_t st;
-    WAIT_UNTIL((lhal_stats(&st), st.sonar_stray == 1u));
+    WAIT_UNTIL((lhal_stats(&st), st.sonar.stray == 1u));
     uint32_t w;
     assert_int_equal(hal_sonar_trigger(), HAL_OK);
     assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
     lhal_stats(&st);
-    assert_int_equal(st.sonar_stuck_high, 1);
+    assert_int_equal(st.sonar.stuck_high, 1);
 }
 
 static void test_motor_direction_duty_and_standby(void **state)
@@ -340,7 +295,7 @@ static void tick_cb(void *ctx)
     atomic_fetch_add(&ticks, 1u);
     while (atomic_load(&block_tick)) {
         atomic_store(&tick_blocked, true);
-        pause_ms(1);
+        wait_ms(1);
     }
     atomic_store(&tick_blocked, false);
 }
@@ -358,7 +313,7 @@ static void test_tick_runs_outside_critical_sections(void **state)
     hal_irq_state_t s = hal_critical_enter();
     hal_irq_state_t s2 = hal_critical_enter(); /* nests */
     unsigned held = atomic_load(&ticks);
-    pause_ms(50);
+    wait_ms(50);
     assert_int_equal(atomic_load(&ticks), held); /* no tick ran inside */
     hal_critical_exit(s2);
     hal_critical_exit(s);
@@ -377,7 +332,7 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     WAIT_UNTIL(atomic_load(&tick_blocked));
     /* The tick is stuck; its last stamp is now. 100 ms later all is still well... */
     advance_ns(100 * MS);
-    pause_ms(30); /* give the watchdog a few looks */
+    wait_ms(30); /* give the watchdog a few looks */
     assert_int_equal(lhal_fault(NULL, 0), LHAL_FAULT_NONE);
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "45000\n");
     /* ...one more millisecond is too long. */
@@ -395,14 +350,20 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
 }
 
-static void test_watchdog_watches_the_background_loop(void **state)
+/* Starts the backend with the background loop watched, and the tick running. */
+static void start_watching_idle(uint32_t idle_ms)
 {
-    (void)state;
-    cfg.watchdog_idle_ms = 500u;
+    cfg.watchdog_idle_ms = idle_ms;
     lhal_configure(&cfg);
     assert_int_equal(hal_init(), HAL_OK);
     atomic_store(&ticks, 0u);
     assert_int_equal(hal_tick_start(tick_cb, &ticks), HAL_OK);
+}
+
+static void test_watchdog_watches_the_background_loop(void **state)
+{
+    (void)state;
+    start_watching_idle(500u);
     /* Ticks go on (each stamps the moved clock, so the tick is never 100 ms old), but
      * nobody kicks. */
     for (int step = 1; step <= 6 && lhal_fault(NULL, 0) == LHAL_FAULT_NONE; step++) {
@@ -424,11 +385,7 @@ static void test_watchdog_watches_the_background_loop(void **state)
 static void test_kicks_keep_the_background_watchdog_quiet(void **state)
 {
     (void)state;
-    cfg.watchdog_idle_ms = 500u;
-    lhal_configure(&cfg);
-    assert_int_equal(hal_init(), HAL_OK);
-    atomic_store(&ticks, 0u);
-    assert_int_equal(hal_tick_start(tick_cb, &ticks), HAL_OK);
+    start_watching_idle(500u);
     for (int step = 0; step < 12; step++) {
         advance_ns(90 * MS);
         hal_watchdog_kick();

@@ -54,15 +54,21 @@ static int teardown(void **state)
     return 0;
 }
 
-/* Loads minimal + extra; returns lconf_load's result with err. */
-static int load(const char *extra, slam_config_t *core, lconf_t *lc, char *err, size_t n)
+/* Writes robot.conf and loads it over the defaults; returns lconf_load's result. */
+static int load_text(const char *text, slam_config_t *core, lconf_t *lc, char *err, size_t n)
 {
-    char text[4096];
-    snprintf(text, sizeof text, "%s%s", minimal, extra);
     tmptree_file(root, "robot.conf", text);
     slam_config_default(core);
     lconf_default(lc);
     return lconf_load(path, core, lc, err, n);
+}
+
+/* Loads minimal + extra. */
+static int load(const char *extra, slam_config_t *core, lconf_t *lc, char *err, size_t n)
+{
+    char text[4096];
+    snprintf(text, sizeof text, "%s%s", minimal, extra);
+    return load_text(text, core, lc, err, n);
 }
 
 static void test_minimal_config_loads_with_defaults(void **state)
@@ -245,10 +251,7 @@ static int load_replacing(const char *line, const char *with, slam_config_t *cor
     const char *at = strstr(minimal, line);
     assert_non_null(at);
     snprintf(text, sizeof text, "%.*s%s%s", (int)(at - minimal), minimal, with, at + strlen(line));
-    tmptree_file(root, "robot.conf", text);
-    slam_config_default(core);
-    lconf_default(lc);
-    return lconf_load(path, core, lc, err, n);
+    return load_text(text, core, lc, err, n);
 }
 
 static void test_whole_file_checks(void **state)

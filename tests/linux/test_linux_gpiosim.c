@@ -10,7 +10,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -18,6 +17,8 @@
 #include "hal/hal.h"
 #include "lhal/lhal.h"
 #include "tmptree.h"
+#include "wait_until.h"
+#include "wiring.h"
 
 /* CTest's SKIP_RETURN_CODE for this test. */
 #define SKIP_CODE 77
@@ -26,6 +27,7 @@
 #define SIM_ROOT CONFIGFS "/gpio-sim"
 #define MS 1000000ull
 
+/* Our lines on the simulated chip, in wiring.h's order. */
 enum { L_A = 0, L_B = 1, R_A = 2, R_B = 3, TRIG = 4, ECHO = 5, L_IN1 = 6, L_IN2 = 7,
        R_IN1 = 8, R_IN2 = 9, STBY = 10, SIM_LINES = 16 };
 
@@ -153,21 +155,6 @@ static uint64_t frozen_clock(void)
     return 7000u * MS;
 }
 
-static void pause_ms(long ms)
-{
-    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&ts, NULL);
-}
-
-/* Waits for another thread; the bound only keeps a broken build from hanging. */
-#define WAIT_UNTIL(cond)                                                                     \
-    do {                                                                                     \
-        for (int wait_i_ = 0; wait_i_ < 20000 && !(cond); wait_i_++) {                       \
-            pause_ms(1);                                                                     \
-        }                                                                                    \
-        assert_true(cond);                                                                   \
-    } while (0)
-
 static int setup(void **state)
 {
     (void)state;
@@ -180,29 +167,8 @@ static int setup(void **state)
         sim_pull(i, false);
     }
     tmptree_make(root, "gpiosim");
-    tmptree_pwm_channel(root, 0u, 0u);
-    tmptree_pwm_channel(root, 0u, 1u);
-    tmptree_pwm_channel(root, 1u, 0u);
-    lconf_default(&cfg);
-    snprintf(cfg.gpio_chip, sizeof cfg.gpio_chip, "%s", chip_name);
-    cfg.enc_a[0] = L_A;
-    cfg.enc_b[0] = L_B;
-    cfg.enc_a[1] = R_A;
-    cfg.enc_b[1] = R_B;
-    cfg.sonar_trigger = TRIG;
-    cfg.sonar_echo = ECHO;
+    wiring_lconf(&cfg, chip_name, L_A, root);
     cfg.sonar_timeout_us = 100000u;
-    cfg.motor_in1[0] = L_IN1;
-    cfg.motor_in2[0] = L_IN2;
-    cfg.motor_in1[1] = R_IN1;
-    cfg.motor_in2[1] = R_IN2;
-    cfg.motor_standby = STBY;
-    cfg.motor_pwm[0] = (lconf_pwm_t){0, 0};
-    cfg.motor_pwm[1] = (lconf_pwm_t){0, 1};
-    cfg.servo_pwm = (lconf_pwm_t){1, 0};
-    snprintf(cfg.pwm_root, sizeof cfg.pwm_root, "%s", root);
-    snprintf(cfg.storage_dir, sizeof cfg.storage_dir, "%s/store", root);
-    cfg.tick_priority = 0u;
     lhal_set_clock(frozen_clock);
     return 0;
 }
@@ -256,13 +222,13 @@ static void test_lines_end_to_end(void **state)
     assert_int_equal(hal_sonar_trigger(), HAL_OK);
     assert_int_equal(sim_value(TRIG), 0); /* the pulse is over */
     sim_pull(ECHO, true);
-    pause_ms(2);
+    wait_ms(2);
     sim_pull(ECHO, false);
     uint32_t w = 0;
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 20000 && st == HAL_SONAR_BUSY; i++) {
         st = hal_sonar_poll(&w);
-        pause_ms(st == HAL_SONAR_BUSY ? 1 : 0);
+        wait_ms(st == HAL_SONAR_BUSY ? 1 : 0);
     }
     assert_int_equal(st, HAL_SONAR_ECHO);
     assert_true(w >= 2000u);

@@ -155,7 +155,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         }
         lhal_stats_t st;
         lhal_stats(&st);
-        if (!warned_stuck && st.sonar_stuck_high > 0u) {
+        if (!warned_stuck && st.sonar.stuck_high > 0u) {
             fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
                          "(stuck, or the sensor has no power); pings time out\n");
             warned_stuck = true;

@@ -472,12 +472,7 @@ void lhal_stats(lhal_stats_t *out)
 {
     *out = (lhal_stats_t){0};
     hal_irq_state_t s = hal_critical_enter();
-    out->ticks = lx.tickstat.ticks;
-    out->tick_late = lx.tickstat.late;
-    out->tick_overruns = lx.tickstat.overruns;
-    out->tick_missed = lx.tickstat.missed;
-    out->tick_max_latency_ns = lx.tickstat.max_latency_ns;
-    out->tick_max_run_ns = lx.tickstat.max_run_ns;
+    out->tick = lx.tickstat;
     out->uart_sent = lx.uart.sent;
     out->uart_dropped = lx.uart.dropped;
     hal_critical_exit(s);
@@ -488,13 +483,7 @@ void lhal_stats(lhal_stats_t *out)
         out->enc_illegal[w] = atomic_load(&lx.enc_illegal[w]);
     }
     pthread_mutex_lock(&lx_sonar_lock);
-    out->sonar_pings = lx.echo.pings;
-    out->sonar_echoes = lx.echo.echoes;
-    out->sonar_out_of_range = lx.echo.out_of_range;
-    out->sonar_no_response = lx.echo.no_response;
-    out->sonar_long_echo = lx.echo.long_echo;
-    out->sonar_stuck_high = lx.echo.stuck_high;
-    out->sonar_stray = lx.echo.stray;
+    out->sonar = lx.echo;
     pthread_mutex_unlock(&lx_sonar_lock);
     out->kernel_ts_realtime = atomic_load(&lx.ts_realtime);
 }
@@ -506,10 +495,10 @@ void lhal_report(FILE *f)
     fprintf(f,
             "ticks: %llu run (%s), %u late (> 2 ms), %u overran, %u missed; worst latency %llu us, "
             "longest tick %llu us\n",
-            (unsigned long long)s.ticks, s.sched_fifo ? "SCHED_FIFO" : "normal scheduling",
-            (unsigned)s.tick_late, (unsigned)s.tick_overruns, (unsigned)s.tick_missed,
-            (unsigned long long)(s.tick_max_latency_ns / LX_NS_PER_US),
-            (unsigned long long)(s.tick_max_run_ns / LX_NS_PER_US));
+            (unsigned long long)s.tick.ticks, s.sched_fifo ? "SCHED_FIFO" : "normal scheduling",
+            (unsigned)s.tick.late, (unsigned)s.tick.overruns, (unsigned)s.tick.missed,
+            (unsigned long long)(s.tick.max_latency_ns / LX_NS_PER_US),
+            (unsigned long long)(s.tick.max_run_ns / LX_NS_PER_US));
     for (unsigned w = 0u; w < 2u; w++) {
         fprintf(f, "encoder %s: count %u, %u edges, %u illegal or lost\n", lx_wheel_name[w],
                 (unsigned)s.enc_count[w], (unsigned)s.enc_edges[w], (unsigned)s.enc_illegal[w]);
@@ -517,9 +506,9 @@ void lhal_report(FILE *f)
     fprintf(f,
             "sonar: %u pings, %u echoes, %u out of range, %u unanswered, %u too long, "
             "%u with the echo stuck high, %u stray edges\n",
-            (unsigned)s.sonar_pings, (unsigned)s.sonar_echoes, (unsigned)s.sonar_out_of_range,
-            (unsigned)s.sonar_no_response, (unsigned)s.sonar_long_echo,
-            (unsigned)s.sonar_stuck_high, (unsigned)s.sonar_stray);
+            (unsigned)s.sonar.pings, (unsigned)s.sonar.echoes, (unsigned)s.sonar.out_of_range,
+            (unsigned)s.sonar.no_response, (unsigned)s.sonar.long_echo,
+            (unsigned)s.sonar.stuck_high, (unsigned)s.sonar.stray);
     fprintf(f, "telemetry: %llu bytes sent, %llu dropped\n", (unsigned long long)s.uart_sent,
             (unsigned long long)s.uart_dropped);
     if (s.kernel_ts_realtime) {

@@ -23,7 +23,9 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "lhal/echo.h"
 #include "lhal/lconf.h"
+#include "lhal/tickstat.h"
 
 /** Why the backend stopped the motors on its own. */
 typedef enum {
@@ -34,23 +36,12 @@ typedef enum {
 
 /** Counters of the backend, a consistent snapshot. */
 typedef struct {
-    uint64_t ticks;                /**< tick callbacks run */
-    uint32_t tick_late;            /**< started more than 2 ms after they were due */
-    uint32_t tick_overruns;        /**< finished after the next tick was due */
-    uint32_t tick_missed;          /**< periods that passed without a tick */
-    uint64_t tick_max_latency_ns;  /**< worst start latency */
-    uint64_t tick_max_run_ns;      /**< longest callback */
+    tickstat_t tick;               /**< the tick's accounting: ticks, late, overruns, missed */
     bool sched_fifo;               /**< the tick runs with SCHED_FIFO */
     uint16_t enc_count[2];         /**< the HAL's encoder counters */
     uint32_t enc_edges[2];         /**< edges decoded per wheel */
     uint32_t enc_illegal[2];       /**< impossible transitions and lost edges per wheel */
-    uint32_t sonar_pings;          /**< triggers sent */
-    uint32_t sonar_echoes;         /**< pings answered within range */
-    uint32_t sonar_out_of_range;   /**< echoes as long as sonar_timeout_us */
-    uint32_t sonar_no_response;    /**< echoes that never rose */
-    uint32_t sonar_long_echo;      /**< echoes still high at the ping's deadline */
-    uint32_t sonar_stuck_high;     /**< triggers with the echo line already high */
-    uint32_t sonar_stray;          /**< echo edges outside a ping */
+    echo_t sonar;                  /**< the sonar's counters: pings, echoes, timeouts by cause */
     uint64_t uart_sent;            /**< telemetry bytes written */
     uint64_t uart_dropped;         /**< telemetry bytes dropped (no room) */
     bool kernel_ts_realtime;       /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
