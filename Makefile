@@ -8,7 +8,7 @@ FIRMWARE_ELF := build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 
-.PHONY: help sim test bench report trace deps deps-sim deps-firmware firmware flash debug clean \
+.PHONY: help sim test bench report trace deps deps-sim deps-firmware firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
@@ -23,10 +23,11 @@ help:
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash)"
 	@echo "make debug     OpenOCD and gdb-multiarch on the board"
+	@echo "make linux     sonarslam-linux for a Linux robot (build/linux/hal/linux/)"
 	@echo "make clean     remove build/ and out/"
 
 deps:
-	@tools/install-deps.sh test sim firmware
+	@tools/install-deps.sh test sim firmware linux
 
 deps-sim:
 	@tools/install-deps.sh sim
@@ -59,6 +60,11 @@ $(addprefix test-,$(TEST_PRESETS)): test-%: build-%
 
 test: $(addprefix test-,$(TEST_PRESETS))
 	@echo "All tests passed in: $(TEST_PRESETS)."
+
+linux:
+	@tools/install-deps.sh linux
+	cmake --preset linux
+	cmake --build --preset linux -j $(JOBS)
 
 bench: build-host build-stm32f4
 	tools/bench.py build/host

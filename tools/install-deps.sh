@@ -18,7 +18,7 @@ pkgs_test="cmake make gcc pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i3
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib"
 pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
 pkgs_flash="openocd gdb-multiarch"
-pkgs_linux="libgpiod-dev pkg-config"
+pkgs_linux="cmake make gcc pkg-config libgpiod-dev libcmocka-dev"
 
 want=""
 [ $# -eq 0 ] && set -- all

@@ -1,0 +1,95 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * The Linux backend as its program sees it: what hal.h cannot say (configuration, errors,
+ * shutdown, safety, statistics).
+ *
+ * Threads: the tick thread runs the hal_tick_start() callback every 10 ms from a timerfd,
+ * with SCHED_FIFO when permitted, holding the critical-section mutex; the events thread
+ * reads encoder and echo edges; the watchdog thread checks every 10 ms that ticks (and
+ * the background loop's kicks) go on, and stops the motors if not. Everything else runs in
+ * the caller's (main) thread.
+ *
+ * Safety: the motors stop (PWM duty 0 and disabled) when lhal_shutdown() runs, when the
+ * watchdog trips, when a hardware write fails (a fault), and from lhal_emergency_stop()
+ * (async-signal-safe, for crash handlers). Once stopped for a fault they stay stopped
+ * until the next hal_init().
+ */
+#ifndef LHAL_LHAL_H
+#define LHAL_LHAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "lhal/echo.h"
+#include "lhal/lconf.h"
+#include "lhal/tickstat.h"
+
+/** Why the backend stopped the motors on its own. */
+typedef enum {
+    LHAL_FAULT_NONE = 0,
+    LHAL_FAULT_WATCHDOG, /**< the tick or the background loop stalled */
+    LHAL_FAULT_IO,       /**< a GPIO, PWM or timer operation failed */
+} lhal_fault_t;
+
+/** Counters of the backend, a consistent snapshot. */
+typedef struct {
+    tickstat_t tick;               /**< the tick's accounting: ticks, late, overruns, missed */
+    bool sched_fifo;               /**< the tick runs with SCHED_FIFO */
+    uint16_t enc_count[2];         /**< the HAL's encoder counters */
+    uint32_t enc_edges[2];         /**< edges decoded per wheel */
+    uint32_t enc_illegal[2];       /**< impossible transitions and lost edges per wheel */
+    echo_t sonar;                  /**< the sonar's counters: pings, echoes, timeouts by cause */
+    uint64_t uart_sent;            /**< telemetry bytes written */
+    uint64_t uart_dropped;         /**< telemetry bytes dropped (no room) */
+    bool kernel_ts_realtime;       /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
+} lhal_stats_t;
+
+/** Use this configuration at the next hal_init() (copied). */
+void lhal_configure(const lconf_t *cfg);
+
+/**
+ * Replace the monotonic clock of hal_time_us(), the echo deadlines and the watchdog
+ * (tests freeze and step it); NULL restores CLOCK_MONOTONIC. Call before hal_init().
+ * The tick's timer and its accounting always use the real clock.
+ */
+void lhal_set_clock(uint64_t (*now_ns)(void));
+
+/** Why hal_init() or hal_tick_start() failed: names the key and the reason. */
+const char *lhal_error(void);
+
+/** The telemetry stream's device, or the pseudo-terminal a viewer opens. */
+const char *lhal_telemetry_name(void);
+
+/**
+ * Stop the threads, stop the motors, disable the PWM outputs, drive the motor lines low,
+ * release everything. Safe to call more than once and after a failed hal_init().
+ */
+void lhal_shutdown(void);
+
+/** Stop the motors now and for good; async-signal-safe. */
+void lhal_emergency_stop(void);
+
+/**
+ * Whether the backend stopped the motors on its own.
+ * @param msg  out: what happened, when a fault is returned (may be NULL)
+ */
+lhal_fault_t lhal_fault(char *msg, size_t msglen);
+
+/** A snapshot of the counters. */
+void lhal_stats(lhal_stats_t *out);
+
+/** Write the counters as a short human-readable report. */
+void lhal_report(FILE *f);
+
+/**
+ * --check: open the chip, every configured line and PWM channel, the telemetry stream and
+ * the storage directory; report each on @p out; move nothing (outputs are requested low,
+ * PWM channels are exported at most, never written). Needs no hal_init().
+ * @return the number of items that failed
+ */
+unsigned lhal_check(const lconf_t *cfg, FILE *out);
+
+#endif /* LHAL_LHAL_H */

@@ -1,0 +1,257 @@
+/* SPDX-License-Identifier: MIT */
+/* The sonarslam-linux program: configuration, --check, the run loop, signals, maps on exit. */
+#define _GNU_SOURCE /* getopt_long */
+#include "lhal/app.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <signal.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "hal/hal.h"
+#include "lhal/lconf.h"
+#include "lhal/lhal.h"
+#include "lhal/mapfile.h"
+#include "slam/error.h"
+#include "slam/postprocess.h"
+#include "slam/robot.h"
+
+#define APP_NAME "sonarslam-linux"
+#define APP_IDLE_NS 5000000L /* the background loop's pause */
+
+static robot_t app_robot;
+static volatile sig_atomic_t app_stop_signal;
+
+static void app_on_stop(int sig)
+{
+    app_stop_signal = sig;
+}
+
+/* A crash stops the motors first, then takes its default course (core dump). */
+static void app_on_crash(int sig)
+{
+    lhal_emergency_stop();
+    raise(sig); /* SA_RESETHAND restored the default action */
+}
+
+static void app_usage(FILE *f)
+{
+    fprintf(f,
+            "usage: " APP_NAME " --config FILE [--check] [--ticks N]\n"
+            "       " APP_NAME " --help\n"
+            "\n"
+            "Runs the sonarslam firmware on a Linux robot: 10 ms control ticks, wheel encoders,\n"
+            "the swept sonar, the motors and telemetry, as robot.conf describes them.\n"
+            "\n"
+            "  -c, --config FILE  the robot's configuration (key = value; see robot-rpi.conf)\n"
+            "      --check        open every line and PWM channel, report what works, move nothing\n"
+            "      --ticks N      stop after N control ticks (N/100 s); default: run until\n"
+            "                     SIGINT (Ctrl-C) or SIGTERM\n"
+            "  -h, --help         this text\n"
+            "\n"
+            "On exit the motors stop and the maps are written to storage_dir: om.pgm, om_post.pgm,\n"
+            "tm.pgm, each with a ROS map_server .yaml. The motors also stop, and the program\n"
+            "exits with status 3, when the control tick stalls for more than 100 ms.\n"
+            "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
+            "3 stopped for safety.\n");
+}
+
+/* The tick callback: the firmware's 10 ms interrupt body. */
+static void app_tick(void *ctx)
+{
+    robot_tick(ctx);
+}
+
+static uint32_t app_ticks(void)
+{
+    hal_irq_state_t s = hal_critical_enter();
+    uint32_t t = app_robot.ticks;
+    hal_critical_exit(s);
+    return t;
+}
+
+static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
+{
+    const grid_t *g = &app_robot.grid;
+    const mapfile_geometry_t geo = {g->cell_um, g->origin_x_um, g->origin_y_um};
+    const post_params_t pp = {app_robot.cfg.post_threshold, g->om_max, app_robot.cfg.post_template_k};
+    static uint8_t post[SLAM_GRID_CELLS];
+    static uint8_t scratch[2u * SLAM_GRID_A];
+    int rc = mapfile_write(lc->storage_dir, "om", g->om, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    if (rc == 0) {
+        rc = mapfile_write(lc->storage_dir, "tm", g->tm, SLAM_GRID_A, SLAM_GRID_B, g->tm_max, &geo);
+    }
+    if (rc == 0 && post_run(g->om, post, SLAM_GRID_A, SLAM_GRID_B, &pp, scratch) == SLAM_OK) {
+        rc = mapfile_write(lc->storage_dir, "om_post", post, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    }
+    if (rc != 0) {
+        fprintf(err, APP_NAME ": cannot write the maps to %s: %s\n", lc->storage_dir, strerror(-rc));
+        return -1;
+    }
+    fprintf(out, "maps written to %s: om.pgm, om_post.pgm, tm.pgm (+ .yaml)\n", lc->storage_dir);
+    return 0;
+}
+
+static void app_signals(bool install, struct sigaction old[], const int *sigs, size_t n)
+{
+    for (size_t i = 0u; i < n; i++) {
+        if (!install) {
+            sigaction(sigs[i], &old[i], NULL);
+            continue;
+        }
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sigemptyset(&sa.sa_mask);
+        if (sigs[i] == SIGINT || sigs[i] == SIGTERM) {
+            sa.sa_handler = app_on_stop;
+        } else if (sigs[i] == SIGPIPE) {
+            sa.sa_handler = SIG_IGN;
+        } else {
+            sa.sa_handler = app_on_crash;
+            sa.sa_flags = (int)(SA_RESETHAND | SA_NODEFER);
+        }
+        sigaction(sigs[i], &sa, &old[i]);
+    }
+}
+
+/* Runs the robot until a signal, the tick limit, or a fault. Returns the exit status. */
+static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_limit, FILE *out,
+                   FILE *err)
+{
+    lhal_configure(lc);
+    if (hal_init() != HAL_OK) {
+        fprintf(err, APP_NAME ": %s\n", lhal_error());
+        return APP_EXIT_HARDWARE;
+    }
+    if (robot_init(&app_robot, core) != SLAM_OK) {
+        fprintf(err, APP_NAME ": the firmware refused the configuration\n");
+        lhal_shutdown();
+        return APP_EXIT_USAGE;
+    }
+    if (strcmp(lc->telemetry, "none") != 0) {
+        fprintf(out, "telemetry on %s\n", lhal_telemetry_name());
+    }
+    if (hal_tick_start(app_tick, &app_robot) != HAL_OK) {
+        fprintf(err, APP_NAME ": %s\n", lhal_error());
+        lhal_shutdown();
+        return APP_EXIT_HARDWARE;
+    }
+    fprintf(out, "running%s\n", tick_limit ? "" : "; Ctrl-C stops");
+    fflush(out);
+
+    int status = APP_EXIT_OK;
+    char msg[256];
+    lhal_fault_t fault = LHAL_FAULT_NONE;
+    bool warned_stuck = false;
+    while (!app_stop_signal) {
+        robot_idle(&app_robot);
+        fault = lhal_fault(msg, sizeof msg);
+        if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && app_ticks() >= tick_limit)) {
+            break;
+        }
+        lhal_stats_t st;
+        lhal_stats(&st);
+        if (!warned_stuck && st.sonar.stuck_high > 0u) {
+            fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
+                         "(stuck, or the sensor has no power); pings time out\n");
+            warned_stuck = true;
+        }
+        const struct timespec pause = {0, APP_IDLE_NS};
+        nanosleep(&pause, NULL);
+    }
+    lhal_shutdown();
+    if (fault != LHAL_FAULT_NONE) {
+        fprintf(err, APP_NAME ": %s\n", msg);
+        status = APP_EXIT_SAFETY;
+    } else if (app_stop_signal) {
+        fprintf(out, "stopped by signal %d\n", (int)app_stop_signal);
+    }
+    fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
+    lhal_report(out);
+    if (app_write_maps(lc, out, err) != 0 && status == APP_EXIT_OK) {
+        status = APP_EXIT_HARDWARE;
+    }
+    return status;
+}
+
+int app_main(int argc, char **argv, FILE *out, FILE *err)
+{
+    static const struct option opts[] = {
+        {"config", required_argument, NULL, 'c'},
+        {"check", no_argument, NULL, 'k'},
+        {"ticks", required_argument, NULL, 't'},
+        {"help", no_argument, NULL, 'h'},
+        {NULL, 0, NULL, 0},
+    };
+    const char *config = NULL;
+    bool check = false;
+    uint32_t tick_limit = 0u;
+    optind = 0; /* glibc: start over, so the function can run more than once */
+    opterr = 0;
+    int c;
+    while ((c = getopt_long(argc, argv, ":c:h", opts, NULL)) != -1) {
+        switch (c) {
+        case 'c':
+            config = optarg;
+            break;
+        case 'k':
+            check = true;
+            break;
+        case 't': {
+            char *end = NULL;
+            errno = 0;
+            unsigned long v = strtoul(optarg, &end, 10);
+            if (end == optarg || *end != '\0' || errno != 0 || v == 0u || v > UINT32_MAX ||
+                optarg[0] == '-') {
+                fprintf(err, APP_NAME ": --ticks '%s': expected a whole number of ticks >= 1\n", optarg);
+                return APP_EXIT_USAGE;
+            }
+            tick_limit = (uint32_t)v;
+            break;
+        }
+        case 'h':
+            app_usage(out);
+            return APP_EXIT_OK;
+        case ':':
+            fprintf(err, APP_NAME ": %s needs a value\n", argv[optind - 1]);
+            return APP_EXIT_USAGE;
+        default:
+            fprintf(err, APP_NAME ": unknown option '%s' (see --help)\n", argv[optind - 1]);
+            return APP_EXIT_USAGE;
+        }
+    }
+    if (optind < argc) {
+        fprintf(err, APP_NAME ": unexpected argument '%s' (see --help)\n", argv[optind]);
+        return APP_EXIT_USAGE;
+    }
+    if (config == NULL) {
+        fprintf(err, APP_NAME ": missing --config FILE (see --help)\n");
+        return APP_EXIT_USAGE;
+    }
+
+    slam_config_t core;
+    lconf_t lc;
+    slam_config_default(&core);
+    lconf_default(&lc);
+    char msg[512];
+    if (lconf_load(config, &core, &lc, msg, sizeof msg) != 0) {
+        fprintf(err, APP_NAME ": %s\n", msg);
+        return APP_EXIT_USAGE;
+    }
+    if (check) {
+        fprintf(out, "checking %s (nothing moves)\n", config);
+        return lhal_check(&lc, out) == 0u ? APP_EXIT_OK : APP_EXIT_HARDWARE;
+    }
+
+    static const int sigs[] = {SIGINT, SIGTERM, SIGPIPE, SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+    struct sigaction old[sizeof sigs / sizeof sigs[0]];
+    app_stop_signal = 0;
+    app_signals(true, old, sigs, sizeof sigs / sizeof sigs[0]);
+    int status = app_run(&core, &lc, tick_limit, out, err);
+    app_signals(false, old, sigs, sizeof sigs / sizeof sigs[0]);
+    return status;
+}

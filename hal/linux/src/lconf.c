@@ -1,0 +1,280 @@
+/* SPDX-License-Identifier: MIT */
+/* robot.conf's backend keys: one table of keys, value parsing, and the checks of the whole. */
+#include "lhal/lconf.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "hal_common/config_text.h"
+#include "lhal/serial.h"
+
+typedef enum { K_LINE, K_OPT_LINE, K_PWM, K_U32, K_BAUD, K_BOOL, K_STR, K_BIAS } key_type_t;
+
+typedef struct {
+    const char *name;
+    key_type_t type;
+    size_t offset;
+    size_t size;     /* K_STR: the buffer */
+    uint32_t lo, hi; /* K_U32 */
+    bool zero_ok;    /* K_U32: 0 is accepted besides lo..hi (it means "off") */
+    bool required;
+} lkey_t;
+
+#define KEY(n, t, field, req) \
+    {n, t, offsetof(lconf_t, field), sizeof(((lconf_t *)0)->field), 0u, 0u, false, req}
+#define KEY_U32(n, field, lo, hi, zero_ok) \
+    {n, K_U32, offsetof(lconf_t, field), sizeof(uint32_t), lo, hi, zero_ok, false}
+static const lkey_t keys[] = {
+    KEY("gpio_chip", K_STR, gpio_chip, false),
+    KEY("encoder_left_a", K_LINE, enc_a[0], true),
+    KEY("encoder_left_b", K_LINE, enc_b[0], true),
+    KEY("encoder_right_a", K_LINE, enc_a[1], true),
+    KEY("encoder_right_b", K_LINE, enc_b[1], true),
+    KEY("encoder_left_invert", K_BOOL, enc_invert[0], false),
+    KEY("encoder_right_invert", K_BOOL, enc_invert[1], false),
+    KEY("encoder_bias", K_BIAS, enc_bias, false),
+    KEY("sonar_trigger", K_LINE, sonar_trigger, true),
+    KEY("sonar_echo", K_LINE, sonar_echo, true),
+    KEY_U32("sonar_timeout_us", sonar_timeout_us, 1000u, 100000u, false),
+    KEY("pwm_root", K_STR, pwm_root, false),
+    KEY("servo_pwm_chip", K_PWM, servo_pwm.chip, true),
+    KEY("servo_pwm_channel", K_PWM, servo_pwm.channel, true),
+    KEY("motor_left_pwm_chip", K_PWM, motor_pwm[0].chip, true),
+    KEY("motor_left_pwm_channel", K_PWM, motor_pwm[0].channel, true),
+    KEY("motor_right_pwm_chip", K_PWM, motor_pwm[1].chip, true),
+    KEY("motor_right_pwm_channel", K_PWM, motor_pwm[1].channel, true),
+    KEY_U32("motor_pwm_period_ns", motor_period_ns, 10000u, 50000000u, false),
+    KEY("motor_left_in1", K_LINE, motor_in1[0], true),
+    KEY("motor_left_in2", K_OPT_LINE, motor_in2[0], true),
+    KEY("motor_right_in1", K_LINE, motor_in1[1], true),
+    KEY("motor_right_in2", K_OPT_LINE, motor_in2[1], true),
+    KEY("motor_left_invert", K_BOOL, motor_invert[0], false),
+    KEY("motor_right_invert", K_BOOL, motor_invert[1], false),
+    KEY("motor_standby", K_OPT_LINE, motor_standby, false),
+    KEY("telemetry", K_STR, telemetry, false),
+    KEY("telemetry_baud", K_BAUD, telemetry_baud, false),
+    KEY("storage_dir", K_STR, storage_dir, false),
+    KEY_U32("storage_bytes", storage_bytes, 4096u, 16777216u, false),
+    KEY_U32("tick_priority", tick_priority, 0u, 98u, false),
+    KEY_U32("watchdog_idle_ms", watchdog_idle_ms, 100u, 60000u, true),
+};
+#undef KEY
+#undef KEY_U32
+#define NKEYS (sizeof keys / sizeof keys[0])
+_Static_assert(NKEYS <= 64u, "lconf_t.seen has one bit per key");
+
+static const char *const bias_names[] = {"as-is", "disable", "pull-up", "pull-down"};
+
+void lconf_default(lconf_t *c)
+{
+    memset(c, 0, sizeof *c);
+    snprintf(c->gpio_chip, sizeof c->gpio_chip, "gpiochip0");
+    c->enc_a[0] = c->enc_a[1] = c->enc_b[0] = c->enc_b[1] = LCONF_NO_LINE;
+    c->sonar_trigger = c->sonar_echo = LCONF_NO_LINE;
+    c->sonar_timeout_us = 30000u;
+    snprintf(c->pwm_root, sizeof c->pwm_root, "/sys/class/pwm");
+    c->servo_pwm = (lconf_pwm_t){-1, -1};
+    c->motor_pwm[0] = c->motor_pwm[1] = (lconf_pwm_t){-1, -1};
+    c->motor_period_ns = 50000u;
+    c->motor_in1[0] = c->motor_in1[1] = LCONF_NO_LINE;
+    c->motor_in2[0] = c->motor_in2[1] = LCONF_NO_LINE;
+    c->motor_standby = LCONF_NO_LINE;
+    snprintf(c->telemetry, sizeof c->telemetry, "none");
+    c->telemetry_baud = 115200u;
+    snprintf(c->storage_dir, sizeof c->storage_dir, ".");
+    c->storage_bytes = 65536u;
+    c->tick_priority = 50u;
+    c->watchdog_idle_ms = 2000u;
+}
+
+static int bad(const char *key, const char *value, const char *why, char *err, size_t n)
+{
+    snprintf(err, n, "%s = '%s': %s", key, value, why);
+    return -2;
+}
+
+/* A whole decimal number in [lo, hi]. */
+static bool parse_int(const char *s, long long lo, long long hi, long long *out)
+{
+    char *end = NULL;
+    errno = 0;
+    long long v = strtoll(s, &end, 10);
+    if (end == s || *end != '\0' || errno != 0 || v < lo || v > hi) {
+        return false;
+    }
+    *out = v;
+    return true;
+}
+
+static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size_t n)
+{
+    void *dst = (char *)c + k->offset;
+    long long x = 0;
+    char why[96];
+    switch (k->type) {
+    case K_LINE:
+    case K_OPT_LINE: {
+        long long lo = k->type == K_OPT_LINE ? LCONF_NO_LINE : 0;
+        if (!parse_int(v, lo, LCONF_LINE_MAX, &x)) {
+            snprintf(why, sizeof why, "expected a line offset 0..%d%s", LCONF_LINE_MAX,
+                     k->type == K_OPT_LINE ? ", or -1 when not wired" : "");
+            return bad(k->name, v, why, err, n);
+        }
+        int32_t line = (int32_t)x;
+        memcpy(dst, &line, sizeof line);
+        return 0;
+    }
+    case K_PWM: {
+        if (!parse_int(v, 0, LCONF_PWM_MAX, &x)) {
+            snprintf(why, sizeof why, "expected a number 0..%d", LCONF_PWM_MAX);
+            return bad(k->name, v, why, err, n);
+        }
+        int32_t num = (int32_t)x;
+        memcpy(dst, &num, sizeof num);
+        return 0;
+    }
+    case K_U32: {
+        if (!(k->zero_ok && strcmp(v, "0") == 0) && !parse_int(v, k->lo, k->hi, &x)) {
+            snprintf(why, sizeof why, "expected a whole number %s%u..%u", k->zero_ok ? "0 (off) or " : "",
+                     (unsigned)k->lo, (unsigned)k->hi);
+            return bad(k->name, v, why, err, n);
+        }
+        uint32_t u = strcmp(v, "0") == 0 ? 0u : (uint32_t)x;
+        memcpy(dst, &u, sizeof u);
+        return 0;
+    }
+    case K_BAUD: {
+        if (!parse_int(v, 1, UINT32_MAX, &x) || !serial_baud_supported((uint32_t)x)) {
+            return bad(k->name, v,
+                       "expected 9600, 19200, 38400, 57600, 115200, 230400, 460800 or 921600", err, n);
+        }
+        uint32_t u = (uint32_t)x;
+        memcpy(dst, &u, sizeof u);
+        return 0;
+    }
+    case K_BOOL: {
+        bool b;
+        if (strcmp(v, "1") == 0 || strcmp(v, "yes") == 0 || strcmp(v, "true") == 0) {
+            b = true;
+        } else if (strcmp(v, "0") == 0 || strcmp(v, "no") == 0 || strcmp(v, "false") == 0) {
+            b = false;
+        } else {
+            return bad(k->name, v, "expected 0 or 1 (also no/yes, false/true)", err, n);
+        }
+        memcpy(dst, &b, sizeof b);
+        return 0;
+    }
+    case K_BIAS:
+        for (uint8_t i = 0u; i < sizeof bias_names / sizeof bias_names[0]; i++) {
+            if (strcmp(v, bias_names[i]) == 0) {
+                memcpy(dst, &i, sizeof i);
+                return 0;
+            }
+        }
+        return bad(k->name, v, "expected as-is, disable, pull-up or pull-down", err, n);
+    default: /* K_STR */
+        if (v[0] == '\0') {
+            return bad(k->name, v, "must not be empty", err, n);
+        }
+        if (strlen(v) >= k->size) {
+            snprintf(why, sizeof why, "longer than %u characters", (unsigned)(k->size - 1u));
+            return bad(k->name, v, why, err, n);
+        }
+        memcpy(dst, v, strlen(v) + 1u);
+        return 0;
+    }
+}
+
+int lconf_set(void *ctx, const char *key, const char *value, char *err, size_t errlen)
+{
+    lconf_t *c = ctx;
+    for (size_t i = 0u; i < NKEYS; i++) {
+        if (strcmp(keys[i].name, key) != 0) {
+            continue;
+        }
+        if (c->seen & (1ull << i)) {
+            snprintf(err, errlen, "%s is given twice", key);
+            return -2;
+        }
+        int rc = set_value(c, &keys[i], value, err, errlen);
+        if (rc == 0) {
+            c->seen |= 1ull << i;
+        }
+        return rc;
+    }
+    snprintf(err, errlen, "unknown key '%s'", key);
+    return -1;
+}
+
+void lconf_lines(const lconf_t *c, lconf_line_t out[LCONF_LINES])
+{
+    const int8_t enc = (int8_t)c->enc_bias;
+    const lconf_line_t lines[LCONF_LINES] = {
+        [LCONF_ENC_LEFT_A] = {"encoder_left_a", c->enc_a[0], enc},
+        [LCONF_ENC_LEFT_B] = {"encoder_left_b", c->enc_b[0], enc},
+        [LCONF_ENC_RIGHT_A] = {"encoder_right_a", c->enc_a[1], enc},
+        [LCONF_ENC_RIGHT_B] = {"encoder_right_b", c->enc_b[1], enc},
+        [LCONF_SONAR_TRIGGER] = {"sonar_trigger", c->sonar_trigger, LCONF_OUTPUT},
+        [LCONF_SONAR_ECHO] = {"sonar_echo", c->sonar_echo, LCONF_BIAS_AS_IS},
+        [LCONF_MOTOR_LEFT_IN1] = {"motor_left_in1", c->motor_in1[0], LCONF_OUTPUT},
+        [LCONF_MOTOR_LEFT_IN2] = {"motor_left_in2", c->motor_in2[0], LCONF_OUTPUT},
+        [LCONF_MOTOR_RIGHT_IN1] = {"motor_right_in1", c->motor_in1[1], LCONF_OUTPUT},
+        [LCONF_MOTOR_RIGHT_IN2] = {"motor_right_in2", c->motor_in2[1], LCONF_OUTPUT},
+        [LCONF_MOTOR_STANDBY] = {"motor_standby", c->motor_standby, LCONF_OUTPUT},
+    };
+    memcpy(out, lines, sizeof lines);
+}
+
+int lconf_check(const lconf_t *c, char *err, size_t errlen)
+{
+    for (size_t i = 0u; i < NKEYS; i++) {
+        if (keys[i].required && !(c->seen & (1ull << i))) {
+            snprintf(err, errlen, "missing key '%s'", keys[i].name);
+            return -1;
+        }
+    }
+    lconf_line_t lines[LCONF_LINES];
+    lconf_lines(c, lines);
+    for (size_t i = 0u; i < LCONF_LINES; i++) {
+        for (size_t j = i + 1u; j < LCONF_LINES; j++) {
+            if (lines[i].offset != LCONF_NO_LINE && lines[i].offset == lines[j].offset) {
+                snprintf(err, errlen, "%s and %s both use line %d", lines[i].name, lines[j].name,
+                         (int)lines[i].offset);
+                return -1;
+            }
+        }
+    }
+    const struct {
+        const char *name;
+        lconf_pwm_t pwm;
+    } pwms[] = {{"servo", c->servo_pwm}, {"motor_left", c->motor_pwm[0]}, {"motor_right", c->motor_pwm[1]}};
+    for (size_t i = 0u; i < 3u; i++) {
+        for (size_t j = i + 1u; j < 3u; j++) {
+            if (pwms[i].pwm.chip == pwms[j].pwm.chip && pwms[i].pwm.channel == pwms[j].pwm.channel) {
+                snprintf(err, errlen, "%s and %s both use PWM channel pwmchip%d/pwm%d", pwms[i].name,
+                         pwms[j].name, (int)pwms[i].pwm.chip, (int)pwms[i].pwm.channel);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+int lconf_load(const char *path, slam_config_t *core, lconf_t *lc, char *err, size_t errlen)
+{
+    slam_config_t core_work = *core;
+    lconf_t lc_work = *lc;
+    if (cfgtext_load(path, &core_work, lconf_set, &lc_work, err, errlen) != 0) {
+        return -1;
+    }
+    char msg[200];
+    if (lconf_check(&lc_work, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "%s: %s", path, msg);
+        return -1;
+    }
+    *core = core_work;
+    *lc = lc_work;
+    return 0;
+}
