@@ -53,4 +53,5 @@ def check(cond, msg):
 
 
 def mean(xs):
+    xs = list(xs)
     return sum(xs) / len(xs)
