@@ -18,6 +18,7 @@ static const double PI = 3.14159265358979323846;
 
 static slam_config_t cfg;
 static explore_t ex;
+static bool stalled; /* what motion_stalled() says in the next tick */
 static mapper_t mapper;
 static grid_t grid;
 
@@ -53,6 +54,7 @@ static void setup_mode(uint8_t mode)
     grid_init(&grid, &cfg);
     px = py = pth = 0.0;
     target[0] = target[1] = 0;
+    stalled = false;
 }
 
 /* One tick; a reading at a stop (servo 65 + 18·stop degrees) when range_mm >= 0, a
@@ -71,7 +73,7 @@ static void tick(int stop, double range_mm)
         mapper.ping_pose = p;
     }
     mapper_tick(&mapper, &grid, &p, &sw); /* places the reading's point, as in robot_tick() */
-    explore_step(&ex, &p, &sw, &mapper, &grid, target);
+    explore_step(&ex, &p, &sw, &mapper, &grid, stalled, target);
     move();
 }
 
@@ -147,6 +149,39 @@ static void test_obstacle_ahead_turns_away(void **state)
     full_clear_sweep();
     tick(0, -2.0);
     assert_int_equal(ex.state, EXPLORE_FORWARD);
+}
+
+/* Wheels that stall while driving (something the sonar missed): back off 0.1 m, then
+ * turn away; the square, an odometry experiment, ignores stalls. */
+static void test_stall_backs_off_then_turns(void **state)
+{
+    (void)state;
+    setup_mode(EXPLORE_RANDOM);
+    full_clear_sweep();
+    tick(0, -2.0);
+    tick(0, -2.0);
+    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    stalled = true;
+    tick(0, -2.0);
+    stalled = false;
+    assert_int_equal(ex.state, EXPLORE_BACK);
+    assert_int_equal(ex.stalls, 1u);
+    double x0 = px;
+    tick(0, -2.0);
+    assert_int_equal(target[0], -100);
+    assert_int_equal(target[1], -100);
+    int t = 0;
+    while (ex.state == EXPLORE_BACK && t++ < 500) {
+        tick(0, -2.0);
+    }
+    assert_int_equal(ex.state, EXPLORE_TURN);
+    assert_true(x0 - px >= 99000.0 && x0 - px < 102000.0); /* backed off 0.1 m */
+
+    setup_mode(EXPLORE_SQUARE);
+    stalled = true;
+    tick(0, -2.0);
+    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.stalls, 0u);
 }
 
 static void test_corridor_and_memory(void **state)
@@ -289,6 +324,7 @@ int main(void)
         cmocka_unit_test(test_off_stands_still),
         cmocka_unit_test(test_look_then_forward),
         cmocka_unit_test(test_obstacle_ahead_turns_away),
+        cmocka_unit_test(test_stall_backs_off_then_turns),
         cmocka_unit_test(test_corridor_and_memory),
         cmocka_unit_test(test_tm_mode_heads_for_the_least_visited),
         cmocka_unit_test(test_square_returns_to_the_start),

@@ -132,11 +132,19 @@ static void test_clamps_and_a_stalled_wheel(void **state)
     for (int t = 0; t < 5000; t++) { /* the wheels never move */
         motion_step(&m, &odom, duty);
         assert_true(abs(duty[0]) <= 1000 && abs(duty[1]) <= 1000);
+        /* A stall is seen a quarter second after the set speed reaches 30 mm/s (in the
+         * sixth tick of the ramp at 500 mm/s², t = 5): 25 slow ticks end at t = 29. */
+        assert_int_equal(motion_stalled(&m), t >= 4 + (int)MOTION_STALL_TICKS);
     }
     assert_int_equal(duty[0], 1000);
     assert_int_equal(duty[1], -1000);
     /* The integral is bounded, so when the wheel frees itself the windup is short. */
     assert_true(abs(m.integral_um[0]) <= 1000 * 256 / (int32_t)cfg.motion_ki_q8);
+    /* Once the wheels turn again the stall is over. */
+    odom.step_um[0] = 2900;
+    odom.step_um[1] = -2900;
+    motion_step(&m, &odom, duty);
+    assert_false(motion_stalled(&m));
     /* A huge measured speed (an encoder glitch) saturates, never overflows. */
     odom.step_um[0] = INT32_MAX;
     odom.step_um[1] = INT32_MIN;

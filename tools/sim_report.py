@@ -97,7 +97,7 @@ def report(args):
     cover = 600 if args.quick else 3600
     for mode in ("random", "tm"):
         for s in seeds:
-            jobs["cover-%s-%d" % (mode, s)] = ["--explore", mode, "--seed", s,
+            jobs["cover-%s-%d" % (mode, s)] = ["--explore", mode, "--seed", s, "--cell", 100,
                                                "--duration", cover]
     res = run_all(args.host_sim, base, jobs, args.jobs)
 
@@ -146,7 +146,7 @@ def report(args):
             ram["grid_a"], ram["grid_b"], ram["maps_bytes"]))
     print()
 
-    print("### Exploration (default room, 50 mm cells, %d s, %d seeds)\n" % (cover, len(seeds)))
+    print("### Exploration (default room, 100 mm cells, %d s, %d seeds)\n" % (cover, len(seeds)))
     print("| mode | time to 50 % (s) | time to 80 % (s) | coverage at the end |\n|---|---|---|---|")
     for mode in ("random", "tm"):
         ms = group("cover-" + mode)

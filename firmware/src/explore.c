@@ -93,8 +93,11 @@ static bool nearest_ahead(const explore_t *e, const odom_pose_t *pose, int32_t *
     q1_30_t c = fix_cos(pose->heading);
     q1_30_t s = fix_sin(pose->heading);
     int64_t best = INT64_MAX;
-    for (uint8_t i = 0; i < e->stops; i++) {
-        if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > EXPLORE_MEMORY_TICKS) {
+    for (uint8_t n = 0; n <= e->stops; n++) {
+        /* The sweep's stops, then the point of the last stall. */
+        uint8_t i = n < e->stops ? n : (uint8_t)EXPLORE_BUMP;
+        uint32_t life = n < e->stops ? EXPLORE_MEMORY_TICKS : EXPLORE_BUMP_TICKS;
+        if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > life) {
             continue;
         }
         /* The point in the robot frame. A remembered point lies within a few metres of the
@@ -303,13 +306,51 @@ static void forward_step(explore_t *e, const odom_pose_t *pose, bool reading,
     }
 }
 
+/* Wheels that stall while driving: back off first, from where the stall happened. */
+static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
+{
+    if (!stalled || e->mode == EXPLORE_SQUARE ||
+        (e->state != EXPLORE_FORWARD && e->state != EXPLORE_TURN)) {
+        return false;
+    }
+    e->stalls++;
+    e->leg_x_um = pose->x_um;
+    e->leg_y_um = pose->y_um;
+    /* Whatever stopped the robot is just ahead of its body: remember it there. */
+    e->obst_x_um[EXPLORE_BUMP] = pose->x_um + fix_mul_q30(e->clearance_um, fix_cos(pose->heading));
+    e->obst_y_um[EXPLORE_BUMP] = pose->y_um + fix_mul_q30(e->clearance_um, fix_sin(pose->heading));
+    e->obst_seen[EXPLORE_BUMP] = e->now;
+    enter(e, EXPLORE_BACK);
+    return true;
+}
+
+static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
+{
+    int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
+    int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
+    int64_t back = EXPLORE_BACK_UM;
+    if (dx * dx + dy * dy >= back * back || e->ticks > EXPLORE_TURN_MAX_TICKS) {
+        e->decide = true; /* TM mode weighs the ways again */
+        if (e->mode == EXPLORE_TM) {
+            enter(e, EXPLORE_LOOK);
+        } else {
+            random_turn(e, pose, DEG(90), 0);
+        }
+        return;
+    }
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = -e->cruise_mm_s / 2;
+}
+
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, int32_t target_mm_s[2])
+                  const mapper_t *m, const grid_t *g, bool stalled, int32_t target_mm_s[2])
 {
     e->now++;
     e->ticks++;
     remember(e, sw, m);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+    if (stall(e, pose, stalled)) {
+        return;
+    }
     switch (e->state) {
     case EXPLORE_LOOK:
         /* One full pass of the sweep since standing still, then decide (in a tick without
@@ -334,6 +375,9 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
         break;
     case EXPLORE_FORWARD:
         forward_step(e, pose, sw->reading_ready, target_mm_s);
+        break;
+    case EXPLORE_BACK:
+        back_step(e, pose, target_mm_s);
         break;
     default:
         break;

@@ -49,6 +49,14 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         /* An encoder glitch may claim any speed; the error is bounded so every product
          * below fits 32 bits. */
         int32_t err = clamp(fix_sat_sub_i32(set, odom->step_um[w]), -MOTION_ERR_MAX, MOTION_ERR_MAX);
+        /* Stall watch: a wheel asked to turn that hardly does. */
+        int32_t set_abs = set < 0 ? -set : set;
+        int32_t got = odom->step_um[w] < 0 ? -odom->step_um[w] : odom->step_um[w];
+        if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < set_abs / 4) {
+            m->slow_ticks[w] = (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
+        } else {
+            m->slow_ticks[w] = 0u;
+        }
         int32_t *slot = &m->err_um_tick[w][m->err_pos];
         m->err_sum[w] = m->err_sum[w] - *slot + err;
         *slot = err;
@@ -72,4 +80,9 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         m->duty[w] = d;
         duty[w] = d;
     }
+}
+
+bool motion_stalled(const motion_t *m)
+{
+    return m->slow_ticks[0] >= MOTION_STALL_TICKS || m->slow_ticks[1] >= MOTION_STALL_TICKS;
 }

@@ -90,7 +90,8 @@ void robot_tick(robot_t *r)
     int32_t target_mm_s[2] = {0, 0};
     bool hold = r->hold;
     if (!hold) {
-        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, target_mm_s);
+        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
+                     motion_stalled(&r->motion), target_mm_s);
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];

@@ -595,9 +595,10 @@ static bool body_fits(sim_t *s, double x, double y)
  * stops where the body meets it (bisection). Steps are cut to half the body radius, so
  * not even a thin wall can be jumped over.
  */
-static void sim_move(sim_t *s, double du, double dth)
+static double sim_move(sim_t *s, double du, double dth)
 {
     const double r = s->p.body_radius_m;
+    double done = 0.0; /* the share of the translation the body made */
     int n = 1;
     if (fabs(du) > 0.5 * r) {
         n = (int)ceil(fabs(du) / (0.5 * r));
@@ -638,6 +639,9 @@ static void sim_move(sim_t *s, double du, double dth)
             s->margin = 0.0;
             s->margin2 = 0.0;
             blocked = true;
+            done += lo;
+        } else {
+            done += 1.0;
         }
         s->x = nx;
         s->y = ny;
@@ -662,11 +666,13 @@ static void sim_move(sim_t *s, double du, double dth)
     } else if (s->contact && du != 0.0 && s->margin > SIM_CONTACT_RELEASE_M) {
         s->contact = false;
     }
+    return done / n;
 }
 
 void sim_step(sim_t *s)
 {
     double d[2];
+    double turns[2];
     for (int w = 0; w < 2; w++) {
         double om0 = s->omega[w];
         double omt = s->omega_cmd[w];
@@ -684,7 +690,7 @@ void sim_step(sim_t *s)
             accel = (om1 - om0) * s->r_act[w] / DT_S;
             s->omega[w] = om1;
         }
-        s->enc[w] += turn * s->counts_per_rad;
+        turns[w] = turn;
         double travel = turn * s->r_act[w];
         double hard = fabs(accel) - s->e.slip_free_mps2;
         if (hard > 0.0 && s->e.slip_per_mps2 > 0.0) {
@@ -695,8 +701,15 @@ void sim_step(sim_t *s)
         }
         d[w] = travel;
     }
+    double made = 1.0;
     if (d[0] != 0.0 || d[1] != 0.0) {
-        sim_move(s, 0.5 * (d[0] + d[1]), (d[1] - d[0]) / s->base_act);
+        made = sim_move(s, 0.5 * (d[0] + d[1]), (d[1] - d[0]) / s->base_act);
+    }
+    /* Against an obstacle the wheels stall: they turn only as far as the body moves (the
+     * common part of their rotation is cut to what was made; turning in place goes on). */
+    double common = 0.5 * (turns[0] + turns[1]) * (1.0 - made);
+    for (int w = 0; w < 2; w++) {
+        s->enc[w] += (turns[w] - common) * s->counts_per_rad;
     }
 
     double diff = s->servo_cmd_deg - s->servo_deg;

@@ -23,6 +23,12 @@
  *   (UMBmark's path), turning in place at the corners, then stop.
  * - EXPLORE_OFF: stand still.
  *
+ * In every mode but the square, wheels that stall while driving (the robot pushes
+ * against something the sonar did not see: a wall at grazing incidence, or on the left
+ * beyond the sweep) make the robot back off EXPLORE_BACK_UM and turn away; the point it
+ * pushed against joins the obstacle memory for EXPLORE_BUMP_TICKS, so neither mode heads
+ * straight back into it.
+ *
  * The output is a target speed for each wheel; motion.h follows it.
  */
 #ifndef SLAM_EXPLORE_H
@@ -39,8 +45,11 @@
 
 #define EXPLORE_CANDIDATES 12u          /**< headings weighed in TM mode, 30° apart */
 #define EXPLORE_MEMORY_TICKS 300u       /**< obstacle points are forgotten after 3 s */
+#define EXPLORE_BUMP_TICKS 1000u        /**< a stall's point is remembered for 10 s */
+#define EXPLORE_BUMP SLAM_SWEEP_STOPS_MAX /**< the memory slot of the last stall */
 #define EXPLORE_FORWARD_MAX_TICKS 2000u /**< turn anyway after 20 s straight */
 #define EXPLORE_RAY_CELLS 8u            /**< TM cells a DECIDE tick walks at most */
+#define EXPLORE_BACK_UM 100000          /**< how far to back off after a stall */
 
 /** States of the exploration. */
 typedef enum {
@@ -49,6 +58,7 @@ typedef enum {
     EXPLORE_DECIDE,   /**< TM mode: weigh candidate headings, one a tick */
     EXPLORE_TURN,     /**< turn in place to target_heading */
     EXPLORE_FORWARD,  /**< drive straight */
+    EXPLORE_BACK,     /**< back away from what the wheels stalled against */
 } explore_state_t;
 
 /** Exploration state. */
@@ -72,9 +82,10 @@ typedef struct {
     uint32_t now;        /**< ticks since init */
     bam32_t target_heading;    /**< TURN: where to */
     int32_t leg_x_um, leg_y_um; /**< SQUARE: where the current leg began */
-    int32_t obst_x_um[SLAM_SWEEP_STOPS_MAX]; /**< obstacle memory, world µm */
-    int32_t obst_y_um[SLAM_SWEEP_STOPS_MAX];
-    uint32_t obst_seen[SLAM_SWEEP_STOPS_MAX]; /**< `now` when seen; 0 = nothing */
+    int32_t obst_x_um[SLAM_SWEEP_STOPS_MAX + 1]; /**< obstacle memory, world µm: a slot a
+                                                       stop, then EXPLORE_BUMP */
+    int32_t obst_y_um[SLAM_SWEEP_STOPS_MAX + 1];
+    uint32_t obst_seen[SLAM_SWEEP_STOPS_MAX + 1]; /**< `now` when seen; 0 = nothing */
     uint32_t look_readings;    /**< LOOK: readings since it began */
     bool decide;               /**< TM: the next LOOK decides a new heading */
     /* From the configuration. */
@@ -91,6 +102,7 @@ typedef struct {
     /* Counters. */
     uint32_t turns;            /**< turns begun */
     uint32_t avoidances;       /**< of which because something was ahead */
+    uint32_t stalls;           /**< times the wheels stalled against something */
 } explore_t;
 
 /** Start exploring with a checked configuration; the first act is to look. */
@@ -102,10 +114,11 @@ void explore_init(explore_t *e, const slam_config_t *cfg);
  * @param sw      what the sweep did this tick (a completed reading feeds the memory)
  * @param m       the mapper, for the sensor geometry and the pose of the reading's ping
  * @param g       the maps (TM mode reads them, at most EXPLORE_RAY_CELLS cells a tick)
+ * @param stalled the wheels have stalled (motion_stalled())
  * @param target_mm_s  out: target speed of each wheel (ODOM_LEFT, ODOM_RIGHT), mm/s
  */
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, int32_t target_mm_s[2]);
+                  const mapper_t *m, const grid_t *g, bool stalled, int32_t target_mm_s[2]);
 
 /** Whether a remembered obstacle lies in the corridor ahead of a pose. */
 bool explore_blocked(const explore_t *e, const odom_pose_t *pose);

@@ -19,6 +19,7 @@
 #ifndef SLAM_MOTION_H
 #define SLAM_MOTION_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "slam/config.h"
@@ -26,6 +27,11 @@
 
 /** Full-scale duty (the HAL's HAL_DUTY_MAX). */
 #define MOTION_DUTY_MAX 1000
+
+/** A wheel stalls when it turns at under a quarter of its set speed, set at least this
+ *  fast (µm/tick), for MOTION_STALL_TICKS ticks in a row: pushing against something. */
+#define MOTION_STALL_MIN_UM_TICK 300
+#define MOTION_STALL_TICKS 25u
 
 /** Ticks the proportional part averages the speed error over (a power of two). */
 #define MOTION_SPEED_TICKS 4u
@@ -44,6 +50,7 @@ typedef struct {
     int32_t kp_q8;             /**< duty per µm/tick of error, Q8 */
     int32_t ki_q8;             /**< duty per µm of accumulated error, Q8 */
     int32_t integral_max_um;   /**< |Σe| limit: the integral term alone stays in range */
+    uint16_t slow_ticks[2];    /**< ticks in a row below a quarter of the set speed */
 } motion_t;
 
 /** Start at rest with the gains and limits of a checked configuration. */
@@ -62,5 +69,8 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s);
  * @param duty  out: the duty for each motor, -1000 .. 1000
  */
 void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2]);
+
+/** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
+bool motion_stalled(const motion_t *m);
 
 #endif /* SLAM_MOTION_H */
