@@ -2,13 +2,14 @@
 # SPDX-License-Identifier: MIT
 """Reproduces the simulator's figures: the paper's claims, measured over several seeds.
 
-usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick]
+usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
 threshold/template that maximise F1; odometry error under high and moderate
 acceleration; the map with perfect odometry; and, per cell size, F1, odometry error, RAM,
 and the time random and TM-guided exploration take to cover 80 % of the free cells.
+With --figure, also draws those results (host_sim/figures/report.png in the README).
 """
 import argparse
 import json
@@ -110,7 +111,7 @@ def report(args):
         pm = post_means(ms)
         th, k, f1, p, r = tuned(ms)
         post = ms[0]["scenario"]["post"]
-        print("`%s.room` — paper defaults TH = %d, K = %d; tuned TH = %d, K = %d\n"
+        print("`%s.room` — defaults TH = %d (the paper's), K = %d; tuned TH = %d, K = %d\n"
               % (room, post["threshold"], post["k"], th, k))
         print("| map | precision | recall | F1 |\n|---|---|---|---|")
         for s, label in zip(STEPS, ("raw OM (OM ≥ 1)", "after threshold", "after template",
@@ -160,6 +161,69 @@ def report(args):
             return "%.0f" % mean(got)
         print("| %s | %s | %s | %.1f %% |" % (mode, t("time_to_50_s"), t("time_to_80_s"),
                                               100 * mean(m["exploration"]["coverage"] for m in ms)))
+    if args.figure:
+        figure(args, res, group, base)
+
+
+def figure(args, res, group, base):
+    """Post-processing per room, odometry error over the squares, coverage over time."""
+    import csv
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError as e:
+        sys.exit("sim_report: %s (tools/install-deps.sh sim)" % e)
+    fig, axes = plt.subplots(1, 3, figsize=(17, 4.6))
+    ax = axes[0]
+    labels = ("raw", "threshold", "template", "insert", "tuned")
+    for i, room in enumerate(("default", "obstacles")):
+        ms = group("post-" + room)
+        pm = post_means(ms)
+        th, k, f1, p, r = tuned(ms)
+        vals = [pm[s][2] for s in STEPS] + [f1]
+        prec = [pm[s][0] for s in STEPS] + [p]
+        xs = [j + 0.38 * i for j in range(len(labels))]
+        ax.bar(xs, vals, width=0.38, label="%s.room F1" % room)
+        ax.plot(xs, prec, "k.", ms=8, label="precision" if i == 0 else None)
+    ax.set_xticks([j + 0.19 for j in range(len(labels))])
+    ax.set_xticklabels(["raw OM", "+threshold", "+template", "+insert", "tuned\nTH/K"])
+    ax.set_ylim(0, 1)
+    ax.set_title("post-processing at TH = 3 (mean of %d seeds)" % len(group("post-default")))
+    ax.legend(fontsize=8, loc="lower left")
+
+    ax = axes[1]
+    for acc, color in zip(ACCELS, ("tab:blue", "tab:red")):
+        for n in sorted(res):
+            if not n.startswith("accel-%d-" % acc):
+                continue
+            t, e = [], []
+            with open(os.path.join(base, n, "trajectory.csv")) as f:
+                for row in csv.DictReader(f):
+                    t.append(float(row["t"]))
+                    e.append(((float(row["odom_x"]) - float(row["true_x"])) ** 2 +
+                              (float(row["odom_y"]) - float(row["true_y"])) ** 2) ** 0.5)
+            ax.plot(t, e, color=color, lw=0.8,
+                    label="%g m/s²" % (acc / 1000.0) if n.endswith("-1") else None)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("odometry position error [m]")
+    ax.set_title("ten 1 m squares: moderate vs great acceleration")
+    ax.legend(fontsize=8)
+
+    ax = axes[2]
+    for mode, color in (("random", "tab:gray"), ("tm", "tab:green")):
+        for i, m in enumerate(group("cover-" + mode)):
+            ser = m["exploration"]["series"]
+            ax.plot([p[0] for p in ser], [100 * p[1] for p in ser], color=color, lw=0.8,
+                    label=mode if i == 0 else None)
+    ax.axhline(80, color="k", lw=0.5, ls="--")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("reachable cells visited [%]")
+    ax.set_title("exploration: random vs TM-guided (100 mm cells)")
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(args.figure, dpi=80, metadata={"Software": None})
+    print("\n(figure: %s)" % args.figure)
 
 
 def main():
@@ -169,6 +233,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(SRC, "out", "report"))
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
+    ap.add_argument("--figure", help="also draw the results into this PNG")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
         sys.exit("sim_report: %s not found: build it first (make sim)" % args.host_sim)

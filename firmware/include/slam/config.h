@@ -76,7 +76,9 @@ typedef struct {
 
     /* Post-processing (§II.D). */
     uint8_t post_threshold;  /**< TH: OM <= TH is free; 3 */
-    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed */
+    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed;
+                                  1 (isolated cells go): the best F1 of the templates that
+                                  remove anything, measured in the simulator */
 
     /* Motion (§III.B). */
     uint16_t top_speed_mm_s; /**< wheel speed at full duty (feed-forward); 300 */
