@@ -983,6 +983,22 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     build_params(&cfg, &params);
+    /* The world starts the robot at the room's start pose: the one chosen above. */
+    room.start_x = sx;
+    room.start_y = sy;
+    room.start_th = sth;
+    const char *bad_param = NULL;
+    if (sim_params_check(&params, &errors, &bad_param) != 0) {
+        fprintf(stderr, "host_sim: the simulated robot refuses %s\n", bad_param);
+        room_free(&room);
+        return EXIT_USAGE;
+    }
+    sim_t *sim = sim_create(&room, &params, &errors, o.seed);
+    if (sim == NULL) {
+        fprintf(stderr, "host_sim: the robot does not fit at the start pose (%.3f, %.3f)\n", sx, sy);
+        room_free(&room);
+        return EXIT_USAGE;
+    }
 
     if (make_dirs(o.out) != 0) {
         room_free(&room);
@@ -1015,15 +1031,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "host_sim: cannot write %s: %s\n", o.telemetry, strerror(errno));
         }
     }
-    sim_t *sim = sim_create(&room, &params, &errors, o.seed);
     run_t *r = calloc(1, sizeof *r);
     size_t ncells = (size_t)SLAM_GRID_CELLS;
     uint8_t *bufs = calloc(7u, ncells);
     uint8_t *scratch = calloc(2u, SLAM_GRID_A);
     if (readings == NULL || trajectory == NULL || (o.trace != NULL && trace == NULL) ||
-        (o.telemetry != NULL && telemetry == NULL) ||
-        sim == NULL || r == NULL || bufs == NULL || scratch == NULL) {
-        fprintf(stderr, "host_sim: cannot start the run\n");
+        (o.telemetry != NULL && telemetry == NULL) || r == NULL || bufs == NULL ||
+        scratch == NULL) {
+        fprintf(stderr, "host_sim: cannot start the run (out of memory, or an output file)\n");
         return 1;
     }
     fprintf(readings, "t,servo_deg,range_m,status,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");

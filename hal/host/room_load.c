@@ -766,8 +766,12 @@ static int load_ros_map(room_t *out, const char *path, const room_crop_t *crop, 
             double pr = y.negate ? v / (double)img.maxval
                                  : ((double)img.maxval - v) / (double)img.maxval;
             uint8_t o = pr > y.occupied_thresh ? 1u : 0u;
+            /* A crop's edges are walls: the part taken out of the building keeps the
+             * robot in, whatever doors it has. */
+            bool edge = crop != NULL && (row == 0u || col == 0u || row + 1u == h || col + 1u == w);
+            o = edge ? 1u : o;
             occ[(size_t)row * w + col] = o;
-            fre[(size_t)row * w + col] = pr < y.free_thresh ? 1u : 0u;
+            fre[(size_t)row * w + col] = !edge && pr < y.free_thresh ? 1u : 0u;
             occupied += o;
         }
     }

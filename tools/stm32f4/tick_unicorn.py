@@ -6,7 +6,8 @@ usage: tools/stm32f4/tick_unicorn.py SELFTEST_ELF [ROBOT_ELF] [--json FILE]
 
 The self-test image is loaded into python3-unicorn (Debian's; the QEMU CPU core without
 the machine) and its functions are called directly: selftest_begin(), then selftest_step()
-for every tick of the compiled-in scenario. A code hook counts every instruction executed
+and robot_idle() for every tick of the compiled-in scenario, as the image's main loop
+does. A code hook counts every instruction executed
 between robot_tick()'s entry and its return, and separately those inside hal_* functions
 (the replay HAL), and a memory hook records the deepest stack write. This is the second,
 independent measurement of the figure QEMU's TIM2 gives under -icount.
@@ -174,6 +175,9 @@ def measure_selftest(path):
     for _ in range(ticks):
         m.call("selftest_step", st_obj)
         per_tick.append(c.take())
+        # The background loop between ticks, as in the image and in replay_host: it drains
+        # the telemetry ring, which changes what the next tick's posts cost.
+        m.call("robot_idle", robot)
     c.close()
     return per_tick
 

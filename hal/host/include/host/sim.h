@@ -86,7 +86,8 @@ typedef struct {
  * rules: p = (maxval − v)/maxval (v/maxval with `negate: 1`), occupied when
  * p > occupied_thresh, known free when p < free_thresh; it has no start pose.
  *
- * @param crop  for a ROS map, the part to keep (NULL: all of it); ignored for .room files
+ * @param crop  for a ROS map, the part to keep (NULL: all of it), whose edge pixels become
+ *              occupied so the robot stays in it; ignored for .room files
  * @param err   out: on failure "FILE:LINE: what is wrong" (or "FILE: ...")
  * @return 0, or -1 with err set and @p r untouched
  */
