@@ -9,6 +9,7 @@ fake_hal_t fake_hal;
 void fake_hal_reset(void)
 {
     memset(&fake_hal, 0, sizeof fake_hal);
+    memset(fake_hal.storage, 0xFF, sizeof fake_hal.storage); /* never written: erased */
     fake_hal.sonar_next = HAL_SONAR_BUSY;
     fake_hal.storage_size = FAKE_HAL_STORAGE_SIZE;
 }

@@ -53,6 +53,7 @@ typedef void (*hal_tick_fn)(void *ctx);
  * @retval HAL_OK      started
  * @retval HAL_EINVAL  fn is NULL
  * @retval HAL_EBUSY   already started
+ * @retval HAL_EIO     the timer could not be started (Linux: timerfd or the thread)
  */
 int hal_tick_start(hal_tick_fn fn, void *ctx);
 
@@ -93,6 +94,7 @@ typedef enum {
  * Start one measurement (HC-SR04: a 10 µs trigger pulse). ISR-safe.
  * @retval HAL_OK     the ping is out
  * @retval HAL_EBUSY  a measurement is still under way
+ * @retval HAL_EIO    the trigger could not be sent (Linux: the line write failed)
  */
 int hal_sonar_trigger(void);
 
@@ -137,7 +139,7 @@ int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t le
 int hal_storage_commit(uint8_t slot);
 
 /**
- * Read bytes from a slot. Not ISR-safe.
+ * Read bytes from a slot; bytes never written read as 0xFF, like erased flash. Not ISR-safe.
  * @retval HAL_OK / HAL_EINVAL (slot, or range beyond the slot) / HAL_EIO / HAL_ENOSYS
  */
 int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len);
