@@ -51,7 +51,8 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         int32_t err = clamp(fix_sat_sub_i32(set, odom->step_um[w]), -MOTION_ERR_MAX, MOTION_ERR_MAX);
         /* Stall watch: a wheel asked to turn that hardly does. */
         int32_t set_abs = set < 0 ? -set : set;
-        int32_t got = odom->step_um[w] < 0 ? -odom->step_um[w] : odom->step_um[w];
+        int32_t rolled = odom->step_um[w];
+        int32_t got = rolled >= 0 ? rolled : (rolled == INT32_MIN ? INT32_MAX : -rolled);
         if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < set_abs / 4) {
             m->slow_ticks[w] = (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
         } else {
