@@ -180,19 +180,6 @@ void cfgtext_write(FILE *f, const slam_config_t *cfg)
     }
 }
 
-/* Trims white space at both ends, in place. */
-static char *trim(char *s)
-{
-    while (isspace((unsigned char)*s)) {
-        s++;
-    }
-    size_t n = strlen(s);
-    while (n > 0u && isspace((unsigned char)s[n - 1u])) {
-        s[--n] = '\0';
-    }
-    return s;
-}
-
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
                  char *err, size_t errlen)
 {
@@ -216,7 +203,7 @@ int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, v
         if (hash != NULL) {
             *hash = '\0';
         }
-        char *s = trim(line);
+        char *s = cfgtext_trim(line);
         if (*s == '\0') {
             continue;
         }
@@ -227,8 +214,8 @@ int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, v
             break;
         }
         *eq = '\0';
-        char *key = trim(s);
-        char *value = trim(eq + 1);
+        char *key = cfgtext_trim(s);
+        char *value = cfgtext_trim(eq + 1);
         char msg[256];
         int r = cfgtext_set(&work, key, value, msg, sizeof msg);
         if (r == -1 && other != NULL) {

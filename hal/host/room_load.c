@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "host/sim.h"
+#include "hal_common/config_text.h"
 #include "room_internal.h"
 
 /* Images larger than this many pixels are refused (a 16k x 16k building). */
@@ -506,18 +507,6 @@ typedef struct {
 
 enum { YK_IMAGE, YK_RESOLUTION, YK_ORIGIN, YK_NEGATE, YK_OCC, YK_FREE };
 
-static char *trim(char *s)
-{
-    while (isspace((unsigned char)*s)) {
-        s++;
-    }
-    size_t n = strlen(s);
-    while (n > 0u && isspace((unsigned char)s[n - 1u])) {
-        s[--n] = '\0';
-    }
-    return s;
-}
-
 /* Strip matching quotes from a YAML scalar. */
 static char *unquote(char *s)
 {
@@ -583,7 +572,7 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
             if (comma != NULL) {
                 *comma = '\0';
             }
-            if (parse_number(trim(p), &y->origin[i]) != 0) {
+            if (parse_number(cfgtext_trim(p), &y->origin[i]) != 0) {
                 fail(err, errlen, path, lineno, "origin must be [x, y, yaw] with finite numbers");
                 return -1;
             }
@@ -654,7 +643,7 @@ static int read_ros_yaml(const char *path, ros_yaml_t *y, char *err, size_t errl
                 break;
             }
         }
-        line = trim(line);
+        line = cfgtext_trim(line);
         if (*line == '\0') {
             continue;
         }
@@ -665,8 +654,8 @@ static int read_ros_yaml(const char *path, ros_yaml_t *y, char *err, size_t errl
             break;
         }
         *colon = '\0';
-        char *key = trim(line);
-        rc = yaml_value(y, key, trim(colon + 1), path, lineno, err, errlen);
+        char *key = cfgtext_trim(line);
+        rc = yaml_value(y, key, cfgtext_trim(colon + 1), path, lineno, err, errlen);
     }
     free(text);
     if (rc != 0) {

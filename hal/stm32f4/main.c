@@ -68,22 +68,8 @@ void stm32_fault_hook(const stm32_fault_t *f)
 {
     text_line_t l;
     text_clear(&l);
-    text_str(&l, "\r\nFAULT exception ");
-    text_u32(&l, f->exception);
-    if (f->why != NULL) {
-        text_str(&l, ": ");
-        text_str(&l, f->why);
-    }
-    text_str(&l, " pc 0x");
-    text_hex(&l, f->pc, 8u);
-    text_str(&l, " lr 0x");
-    text_hex(&l, f->lr, 8u);
-    text_str(&l, " cfsr 0x");
-    text_hex(&l, f->cfsr, 8u);
-    text_str(&l, " hfsr 0x");
-    text_hex(&l, f->hfsr, 8u);
-    text_str(&l, " bfar 0x");
-    text_hex(&l, f->bfar, 8u);
+    text_str(&l, "\r\n");
+    text_fault(&l, f);
     text_str(&l, "; motors off, waiting for the watchdog\r\n");
     stm32_uart_write_blocking(l.buf);
 }

@@ -2,6 +2,7 @@
 /* Start-up of the STM32F405: vector table with weak default handlers, RAM init, faults. */
 #include "cortex_m.h"
 #include "stm32f4_port.h"
+#include "text.h"
 
 /* From the linker script (stm32f405rg.ld). */
 extern uint32_t _sidata[]; /* .data's image in flash */
@@ -116,4 +117,24 @@ _Noreturn void stm32_panic(const char *why)
 {
     stm32_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .why = why};
     fault_stop(&f);
+}
+
+void text_fault(text_line_t *l, const struct stm32_fault *f)
+{
+    text_str(l, "FAULT exception ");
+    text_u32(l, f->exception);
+    if (f->why != NULL) {
+        text_str(l, ": ");
+        text_str(l, f->why);
+    }
+    text_str(l, " pc 0x");
+    text_hex(l, f->pc, 8u);
+    text_str(l, " lr 0x");
+    text_hex(l, f->lr, 8u);
+    text_str(l, " cfsr 0x");
+    text_hex(l, f->cfsr, 8u);
+    text_str(l, " hfsr 0x");
+    text_hex(l, f->hfsr, 8u);
+    text_str(l, " bfar 0x");
+    text_hex(l, f->bfar, 8u);
 }

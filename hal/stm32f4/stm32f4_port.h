@@ -138,7 +138,7 @@ void stm32_safe_outputs(void);
 /* ---- faults (startup.c) ------------------------------------------------------------------ */
 
 /** What a fault left behind, for a report. */
-typedef struct {
+typedef struct stm32_fault {
     uint32_t exception; /**< IPSR: 3 HardFault, 4 MemManage, 5 BusFault, 6 UsageFault, 16+n IRQ n */
     uint32_t pc;        /**< stacked PC: the faulting instruction (0 for a panic) */
     uint32_t lr;        /**< stacked LR */

@@ -31,16 +31,8 @@ void stm32_fault_hook(const stm32_fault_t *f)
 {
     text_line_t l;
     text_clear(&l);
-    text_str(&l, "selftest: FAULT exception ");
-    text_u32(&l, f->exception);
-    if (f->why != NULL) {
-        text_str(&l, ": ");
-        text_str(&l, f->why);
-    }
-    text_str(&l, " pc 0x");
-    text_hex(&l, f->pc, 8u);
-    text_str(&l, " cfsr 0x");
-    text_hex(&l, f->cfsr, 8u);
+    text_str(&l, "selftest: ");
+    text_fault(&l, f);
     text_str(&l, "\n");
     semihost_write0(l.buf);
     semihost_exit(3u);

@@ -61,4 +61,7 @@ typedef int (*cfgtext_other_fn)(void *ctx, const char *key, const char *value, c
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
                  char *err, size_t errlen);
 
+/** Trim white space at both ends of @p s, in place; returns the new start. */
+char *cfgtext_trim(char *s);
+
 #endif /* HAL_COMMON_CONFIG_TEXT_H */
