@@ -9,10 +9,18 @@
 #ifndef HOST_SIM_HOST_SIM_H
 #define HOST_SIM_HOST_SIM_H
 
+#include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+
+#include "host/sim.h"
+#include "slam/robot.h"
+
+#define HOST_SIM_PI 3.14159265358979323846
+#define TICK_S (HAL_TICK_PERIOD_US * 1e-6) /* the control period, s */
+#define EXIT_USAGE 2                        /* bad options or input */
 
 /** The geometry shared by every map of a run. */
 typedef struct {
@@ -69,5 +77,116 @@ int close_out(FILE *f, const char *dir, const char *name);
 
 /** Create a directory and its parents; -1 with a message on stderr. */
 int make_dirs(const char *path);
+
+/* ---- options (options.c) --------------------------------------------------------------- */
+
+#define HOST_SIM_MAX_SETS 64 /* --error and --set options at most */
+
+typedef struct {
+    const char *room;
+    bool has_crop;
+    room_crop_t crop;
+    bool has_start;
+    double start_x, start_y, start_deg;
+    double duration_s;
+    uint64_t seed;
+    double cell_mm;
+    int explore;
+    const char *out;
+    bool ideal;
+    const char *errors[HOST_SIM_MAX_SETS];
+    size_t nerrors;
+    const char *config;
+    const char *sets[HOST_SIM_MAX_SETS];
+    size_t nsets;
+    const char *trace;
+    const char *telemetry;
+    bool realtime;
+    const char *replay;
+    bool plot;
+    bool quiet;
+} options_t;
+
+extern const char *const explore_names[EXPLORE_MODES];
+
+/** Parse the command line (--help prints and exits); 0, or EXIT_USAGE with a message. */
+int parse_options(int argc, char **argv, options_t *o);
+
+/** One --error NAME=VALUE onto the error levels; 0, or -1 with a message. */
+int apply_error(sim_errors_t *e, const char *nv);
+
+/* Units: the firmware's µm and binary angles from metres and radians, and back. */
+static inline int32_t to_um(double m)
+{
+    return (int32_t)lround(m * 1e6);
+}
+
+static inline bam32_t to_bam(double rad)
+{
+    double turns = rad / (2.0 * HOST_SIM_PI);
+    turns -= floor(turns);
+    return (bam32_t)(uint64_t)llround(turns * 4294967296.0);
+}
+
+static inline double bam_rad(bam32_t b)
+{
+    return (double)b * (2.0 * HOST_SIM_PI / 4294967296.0);
+}
+
+/* ---- what a run measures (main.c) and reports (report.c) -------------------------------- */
+
+/* Everything measured while the robot runs. */
+typedef struct {
+    map_geom_t geom;
+    uint8_t *truth;
+    uint8_t *observable;
+    uint8_t *reachable;
+    uint8_t *seen;
+    uint32_t reachable_cells;
+    uint32_t visited_cells;
+    double time_to[3];        /* to 50, 80, 90 % of the reachable cells; < 0: not reached */
+    double series[4096][2];   /* (t, coverage) */
+    size_t nseries;
+    double max_pos_err, max_th_err, final_pos_err, final_th_err, path_m;
+    double last_x, last_y;
+    double marked_x, marked_y;  /* the sonar position last marked observable around */
+} run_t;
+
+typedef struct {
+    score_t raw, threshold, templ, insert;
+} chain_scores_t;
+
+/* The post-processing parameters over their whole range: F1 for every TH and K. */
+#define SWEEP_K 9u
+typedef struct {
+    uint8_t th_count;
+    score_t s[256][SWEEP_K];
+    uint8_t best_th, best_k;
+} post_sweep_t;
+
+/** Score a map after each post-processing step; the final map is left in @p out. */
+void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
+                 uint8_t *scratch, chain_scores_t *s);
+
+/** Score the chain at every threshold and template K. */
+void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
+                uint8_t *scratch, post_sweep_t *ps);
+
+/** Write metrics.json (DESIGN.md §5, and the scenario that produced it). */
+int write_metrics(const options_t *o, const room_t *room, const run_t *r,
+                  const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
+                  const robot_t *robot, const chain_scores_t *odo,
+                  const chain_scores_t *ideal, const post_sweep_t *ps);
+
+/** The summary table on stdout. */
+void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
+                   const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
+                   uint64_t ticks, const sim_t *sim);
+
+/** figure.png through tools/plot_run.py; a missing Python or matplotlib is a warning. */
+void plot_figure(const char *out, bool quiet);
+
+/** --replay: rebuild OM from a readings.csv through the same mapper (replay.c). */
+int replay(const options_t *o);
 
 #endif /* HOST_SIM_HOST_SIM_H */

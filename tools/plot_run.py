@@ -59,7 +59,7 @@ def main():
     x0, y0, x1, y1 = sc["room_bounds"]
     margin = 0.3
 
-    t, ox_, oy_, tx, ty = [], [], [], [], []
+    ox_, oy_, tx, ty = [], [], [], []
     with open(os.path.join(out, "trajectory.csv")) as f:
         for row in csv.DictReader(f):
             ox_.append(float(row["odom_x"]))

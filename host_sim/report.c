@@ -1,0 +1,245 @@
+/* SPDX-License-Identifier: MIT */
+/* After a run: scores of every post-processing step, metrics.json, the summary, the figure. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <spawn.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "host_sim.h"
+#include "slam/postprocess.h"
+
+#ifndef SLAM_SOURCE_DIR
+#define SLAM_SOURCE_DIR "."
+#endif
+
+static const double PI = HOST_SIM_PI;
+
+/* Scores a map after each post-processing step; leaves the final map in out. */
+void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
+                 uint8_t *scratch, chain_scores_t *s)
+{
+    const map_geom_t *g = &r->geom;
+    size_t n = (size_t)g->a * g->b;
+    score_map(g, om, r->truth, r->observable, &s->raw);
+    memcpy(out, om, n);
+    post_threshold(out, g->a, g->b, cfg->post_threshold, cfg->om_max);
+    score_map(g, out, r->truth, r->observable, &s->threshold);
+    post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+    score_map(g, out, r->truth, r->observable, &s->templ);
+    post_insert(out, g->a, g->b, cfg->om_max, scratch);
+    score_map(g, out, r->truth, r->observable, &s->insert);
+}
+
+static void json_score(FILE *f, const char *name, const score_t *s, bool comma)
+{
+    fprintf(f,
+            "      \"%s\": {\"precision\": %.4f, \"recall\": %.4f, \"f1\": %.4f, "
+            "\"mapped\": %u, \"true_positive\": %u, \"observable\": %u, \"matched\": %u}%s\n",
+            name, s->precision, s->recall, s->f1, s->mapped, s->true_pos, s->observable,
+            s->matched, comma ? "," : "");
+}
+
+static void json_chain(FILE *f, const char *name, const chain_scores_t *c, bool comma)
+{
+    fprintf(f, "    \"%s\": {\n", name);
+    json_score(f, "raw", &c->raw, true);
+    json_score(f, "threshold", &c->threshold, true);
+    json_score(f, "template", &c->templ, true);
+    json_score(f, "insert", &c->insert, false);
+    fprintf(f, "    }%s\n", comma ? "," : "");
+}
+
+static void json_time(FILE *f, const char *name, double t, bool comma)
+{
+    if (t < 0.0) {
+        fprintf(f, "    \"%s\": null%s\n", name, comma ? "," : "");
+    } else {
+        fprintf(f, "    \"%s\": %.2f%s\n", name, t, comma ? "," : "");
+    }
+}
+
+
+void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
+                uint8_t *scratch, post_sweep_t *ps)
+{
+    ps->th_count = cfg->om_max;
+    double best = -1.0;
+    for (uint8_t th = 0; th < cfg->om_max; th++) {
+        for (uint8_t k = 0; k < SWEEP_K; k++) {
+            post_params_t pp = {.threshold = th, .om_max = cfg->om_max, .k = k};
+            (void)post_run(om, out, r->geom.a, r->geom.b, &pp, scratch);
+            score_map(&r->geom, out, r->truth, r->observable, &ps->s[th][k]);
+            if (ps->s[th][k].f1 > best) {
+                best = ps->s[th][k].f1;
+                ps->best_th = th;
+                ps->best_k = k;
+            }
+        }
+    }
+}
+
+static void json_sweep(FILE *f, const post_sweep_t *ps)
+{
+    const char *what[3] = {"precision", "recall", "f1"};
+    fprintf(f, "  \"post_sweep\": {\n    \"threshold\": [0");
+    for (unsigned th = 1; th < ps->th_count; th++) {
+        fprintf(f, ", %u", th);
+    }
+    fprintf(f, "],\n    \"k\": [0, 1, 2, 3, 4, 5, 6, 7, 8],\n");
+    for (int w = 0; w < 3; w++) {
+        fprintf(f, "    \"%s\": [", what[w]);
+        for (unsigned th = 0; th < ps->th_count; th++) {
+            fprintf(f, "%s[", th ? ", " : "");
+            for (unsigned k = 0; k < SWEEP_K; k++) {
+                const score_t *s = &ps->s[th][k];
+                double v = w == 0 ? s->precision : w == 1 ? s->recall : s->f1;
+                fprintf(f, "%s%.4f", k ? ", " : "", v);
+            }
+            fprintf(f, "]");
+        }
+        fprintf(f, "],\n");
+    }
+    const score_t *b = &ps->s[ps->best_th][ps->best_k];
+    fprintf(f, "    \"best\": {\"threshold\": %u, \"k\": %u, \"precision\": %.4f, "
+               "\"recall\": %.4f, \"f1\": %.4f}\n  },\n",
+            ps->best_th, ps->best_k, b->precision, b->recall, b->f1);
+}
+
+/* Grid cells an MCU would need to hold this room, plus a cell of margin each side. */
+static uint32_t cells_needed(double span_m, double cell_m)
+{
+    return (uint32_t)ceil(span_m / cell_m) + 2u;
+}
+
+int write_metrics(const options_t *o, const room_t *room, const run_t *r,
+                  const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
+                  const robot_t *robot, const chain_scores_t *odo,
+                  const chain_scores_t *ideal, const post_sweep_t *ps)
+{
+    FILE *f = open_out(o->out, "metrics.json");
+    if (f == NULL) {
+        return -1;
+    }
+    sim_truth_t tr = sim_truth(sim);
+    fprintf(f, "{\n  \"scenario\": {\n");
+    fprintf(f, "    \"room\": \"%s\",\n", o->room);
+    if (o->has_crop) {
+        fprintf(f, "    \"crop\": [%.3f, %.3f, %.3f, %.3f],\n", o->crop.x, o->crop.y, o->crop.w, o->crop.h);
+    } else {
+        fprintf(f, "    \"crop\": null,\n");
+    }
+    fprintf(f, "    \"room_bounds\": [%.3f, %.3f, %.3f, %.3f],\n", room->min_x, room->min_y,
+            room->max_x, room->max_y);
+    fprintf(f, "    \"start\": [%.3f, %.3f, %.2f],\n", cfg->start_x_um * 1e-6,
+            cfg->start_y_um * 1e-6, cfg->start_heading_mdeg / 1000.0);
+    fprintf(f, "    \"duration_s\": %.2f,\n    \"seed\": %llu,\n    \"cell_mm\": %.0f,\n",
+            o->duration_s, (unsigned long long)o->seed, o->cell_mm);
+    fprintf(f, "    \"explore\": \"%s\",\n    \"ideal\": %s,\n", explore_names[o->explore],
+            o->ideal ? "true" : "false");
+    fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
+    fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"om_max\": %u},\n",
+            cfg->post_threshold, cfg->post_template_k, cfg->om_max);
+    fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
+               "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
+               "\"grazing\": %.6g},\n",
+            e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->slip_free_mps2, e->wheel_noise,
+            e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost, e->grazing_deg);
+    fprintf(f, "    \"grid\": {\"a\": %u, \"b\": %u, \"origin\": [%.6f, %.6f]}\n  },\n",
+            r->geom.a, r->geom.b, r->geom.origin_x, r->geom.origin_y);
+
+    fprintf(f, "  \"maps\": {\n");
+    json_chain(f, "odometry", odo, true);
+    json_chain(f, "perfect_odometry", ideal, false);
+    fprintf(f, "  },\n");
+    json_sweep(f, ps);
+
+    fprintf(f, "  \"odometry\": {\n    \"final_position_m\": %.4f,\n    \"max_position_m\": %.4f,\n"
+               "    \"final_heading_deg\": %.3f,\n    \"max_heading_deg\": %.3f,\n"
+               "    \"path_m\": %.3f\n  },\n",
+            r->final_pos_err, r->max_pos_err, r->final_th_err * 180.0 / PI,
+            r->max_th_err * 180.0 / PI, r->path_m);
+
+    fprintf(f, "  \"exploration\": {\n    \"reachable_cells\": %u,\n    \"visited_cells\": %u,\n"
+               "    \"coverage\": %.4f,\n", r->reachable_cells, r->visited_cells,
+            r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0);
+    json_time(f, "time_to_50_s", r->time_to[0], true);
+    json_time(f, "time_to_80_s", r->time_to[1], true);
+    json_time(f, "time_to_90_s", r->time_to[2], true);
+    fprintf(f, "    \"series\": [");
+    for (size_t i = 0; i < r->nseries; i++) {
+        fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][1]);
+    }
+    fprintf(f, "]\n  },\n");
+
+    const sweep_t *sw = &robot->sweep;
+    const mapper_t *m = &robot->mapper;
+    fprintf(f, "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
+               "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
+               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u},\n",
+            robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
+            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances);
+
+    double span_x = room->max_x - room->min_x;
+    double span_y = room->max_y - room->min_y;
+    uint32_t na = cells_needed(span_x, r->geom.cell_m);
+    uint32_t nb = cells_needed(span_y, r->geom.cell_m);
+    size_t state = sizeof(robot_t) - 2u * (size_t)SLAM_GRID_CELLS;
+    fprintf(f, "  \"ram\": {\"grid_a\": %u, \"grid_b\": %u, \"maps_bytes\": %lu, "
+               "\"state_bytes\": %zu, \"total_bytes\": %lu}\n}\n",
+            na, nb, 2ul * na * nb, state, 2ul * na * nb + state);
+    return close_out(f, o->out, "metrics.json");
+}
+
+/* Draws figure.png with tools/plot_run.py; a missing Python or matplotlib is a warning. */
+void plot_figure(const char *out, bool quiet)
+{
+    const char *script = SLAM_SOURCE_DIR "/tools/plot_run.py";
+    char *argv[] = {"/usr/bin/python3", (char *)script, (char *)out, NULL};
+    pid_t pid;
+    extern char **environ;
+    if (access(argv[0], X_OK) != 0 || access(script, R_OK) != 0 ||
+        posix_spawn(&pid, argv[0], NULL, NULL, argv, environ) != 0) {
+        fprintf(stderr, "host_sim: cannot run %s; no figure (tools/install-deps.sh sim)\n", script);
+        return;
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        fprintf(stderr, "host_sim: %s failed; no figure\n", script);
+    } else if (!quiet) {
+        printf("  figure          %s/figure.png\n", out);
+    }
+}
+
+void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
+                   const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
+                   uint64_t ticks, const sim_t *sim)
+{
+    sim_truth_t tr = sim_truth(sim);
+    printf("\nsonarslam host_sim: %s, %.0f s, seed %llu, %.0f mm cells, %s exploration%s\n",
+           o->room, o->duration_s, (unsigned long long)o->seed, o->cell_mm,
+           explore_names[o->explore], o->ideal ? ", ideal" : "");
+    printf("  simulated %llu ticks in %.2f s of wall time: %.0fx real time\n",
+           (unsigned long long)ticks, wall_s, wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
+    printf("\n  map (vs truth)        precision  recall     F1   | perfect odometry F1\n");
+    const char *names[4] = {"raw OM", "+ threshold", "+ template", "+ insert (final)"};
+    const score_t *a[4] = {&odo->raw, &odo->threshold, &odo->templ, &odo->insert};
+    const score_t *b[4] = {&ideal->raw, &ideal->threshold, &ideal->templ, &ideal->insert};
+    for (int i = 0; i < 4; i++) {
+        printf("  %-20s    %6.3f  %6.3f  %6.3f   |  %6.3f\n", names[i], a[i]->precision,
+               a[i]->recall, a[i]->f1, b[i]->f1);
+    }
+    const score_t *best = &ps->s[ps->best_th][ps->best_k];
+    printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
+           best->precision, best->recall, best->f1);
+    printf("\n  odometry error  final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
+           r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
+           r->max_th_err * 180.0 / PI, r->path_m);
+    printf("  coverage        %.1f %% of %u reachable cells visited; collisions %u\n",
+           r->reachable_cells ? 100.0 * r->visited_cells / r->reachable_cells : 0.0,
+           r->reachable_cells, tr.collisions);
+    printf("  outputs         %s/\n", o->out);
+}
