@@ -26,7 +26,8 @@ static void usage(FILE *f)
         "scenario:\n"
         "  --room FILE          a .room file or a ROS map .yaml (default: the shipped\n"
         "                       host_sim/rooms/default.room)\n"
-        "  --crop X Y W H       take this part of a ROS map (metres, map frame)\n"
+        "  --crop X Y W H       take this part of a ROS map (metres, map frame); its edges\n"
+        "                       become walls\n"
         "  --start X Y DEG      start pose (default: the room's, or a free spot)\n"
         "  --duration S         simulated seconds (default 600)\n"
         "  --seed N             seed of every random error and of the exploration (default 1)\n"
@@ -48,7 +49,7 @@ static void usage(FILE *f)
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
         "\n"
-        "Files written: om.pgm om_post.pgm tm.pgm truth.pgm (+ ROS .yaml each),\n"
+        "Files written: om.pgm om_post.pgm om_ideal.pgm tm.pgm truth.pgm (+ ROS .yaml each),\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png\n"
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
