@@ -20,8 +20,7 @@ static struct replay_state {
     const replay_scenario_t *sc;
     size_t pos;            /* next byte of the stream */
     bool in_tick;          /* a tick is decoded and robot_tick() may call */
-    replay_tick_t rec;     /* the record of the current tick */
-    uint16_t enc[2];       /* what the encoders read: 0 before the first tick */
+    trace_tick_t rec;      /* the record of the current tick; all 0 before the first */
     uint8_t polls;         /* hal_sonar_poll() calls in this tick */
     uint8_t triggers;      /* hal_sonar_trigger() calls in this tick */
     int16_t duty[2];       /* outputs as the firmware set them */
@@ -33,7 +32,6 @@ void replay_start(const replay_scenario_t *sc)
 {
     rp = (struct replay_state){0};
     rp.sc = sc;
-    rp.st.uart_crc32 = 0u;
 }
 
 static bool get_byte(uint8_t *b)
@@ -84,7 +82,7 @@ static int corrupt(void)
     return -2;
 }
 
-int replay_next(replay_tick_t *out)
+int replay_next(trace_tick_t *out)
 {
     rp.in_tick = false;
     if (rp.sc == NULL || rp.st.corrupt) {
@@ -100,7 +98,7 @@ int replay_next(replay_tick_t *out)
         !get_i16(&d[1])) {
         return corrupt();
     }
-    replay_tick_t *t = &rp.rec;
+    trace_tick_t *t = &rp.rec;
     t->poll = poll_codes[hdr & HDR_POLL_MASK];
     t->trig = trig_codes[(hdr >> HDR_TRIG_SHIFT) & HDR_TRIG_MASK];
     t->enc[0] = (uint16_t)(t->enc[0] + (uint16_t)d[0]);
@@ -135,8 +133,6 @@ int replay_next(replay_tick_t *out)
             t->servo_us = (uint16_t)u;
         }
     }
-    rp.enc[0] = t->enc[0];
-    rp.enc[1] = t->enc[1];
     rp.polls = 0u;
     rp.triggers = 0u;
     rp.in_tick = true;
@@ -165,7 +161,7 @@ void replay_check(void)
     if (!rp.in_tick) {
         return;
     }
-    const replay_tick_t *t = &rp.rec;
+    const trace_tick_t *t = &rp.rec;
     if (rp.polls != (t->poll != '-' ? 1u : 0u)) {
         mismatch(REPLAY_MISMATCH_POLL, t->poll != '-', rp.polls);
     }
@@ -193,7 +189,7 @@ replay_status_t replay_status(void)
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
 {
-    return rp.enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
+    return rp.rec.enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
 }
 
 void hal_motor_set(hal_wheel_t wheel, int16_t duty)

@@ -32,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "hal_common/trace_tick.h"
 #include "slam/config.h"
 
 /** A recorded scenario, as trace2c.py generates it. */
@@ -45,16 +46,6 @@ typedef struct {
 
 /** The scenario compiled into this program (the generated file defines it). */
 extern const replay_scenario_t replay_scenario;
-
-/** One tick of a scenario, decoded; the fields mean what trace_tick_t's do. */
-typedef struct {
-    uint16_t enc[2];
-    char poll;        /**< '-', 'i', 'b', 'e' or 't' */
-    uint32_t echo_us;
-    char trig;        /**< '-', 'o' or 'b' */
-    int16_t duty[2];
-    uint16_t servo_us;
-} replay_tick_t;
 
 /** What went wrong first, for the report. */
 typedef enum {
@@ -89,7 +80,7 @@ void replay_start(const replay_scenario_t *sc);
  * @retval -1  the scenario has no more ticks (and its stream ended exactly there)
  * @retval -2  the stream is corrupt (status().corrupt is set)
  */
-int replay_next(replay_tick_t *out);
+int replay_next(trace_tick_t *out);
 
 /** After robot_tick(): compare the calls and outputs with the record, count mismatches. */
 void replay_check(void);

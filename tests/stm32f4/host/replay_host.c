@@ -96,7 +96,7 @@ static int check_trace(const char *path)
     }
     replay_start(&replay_scenario);
     for (size_t i = 0; rc == 0 && i < n; i++) {
-        replay_tick_t t;
+        trace_tick_t t;
         const trace_tick_t *w = &ticks[i];
         if (replay_next(&t) != 0) {
             fprintf(stderr, "replay_host: the compiled-in scenario does not decode at tick %zu\n", i);

@@ -28,17 +28,8 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "hal_common/trace_tick.h"
 #include "slam/config.h"
-
-/** One tick of a trace. */
-typedef struct {
-    uint16_t enc[2];
-    char poll;        /**< '-', 'i', 'b', 'e' or 't' */
-    uint32_t echo_us;
-    char trig;        /**< '-', 'o' or 'b' */
-    int16_t duty[2];
-    uint16_t servo_us;
-} trace_tick_t;
 
 /** Write the header: the version line and the configuration. */
 void trace_write_header(FILE *f, const slam_config_t *cfg);
