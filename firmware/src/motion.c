@@ -64,7 +64,6 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         if (set == 0 && m->target_um_tick[w] == 0) {
             /* At rest: no output, and nothing left over to push the wheel later. */
             m->integral_um[w] = 0;
-            m->duty[w] = 0;
             duty[w] = 0;
             continue;
         }
@@ -77,9 +76,7 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         int32_t acc = m->kp_q8 * m->err_sum[w] +
                       m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS;
         int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
-        int16_t d = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
-        m->duty[w] = d;
-        duty[w] = d;
+        duty[w] = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
     }
 }
 

@@ -81,7 +81,7 @@ typedef struct {
     uint32_t ticks;      /**< ticks in the current state */
     uint32_t now;        /**< ticks since init */
     bam32_t target_heading;    /**< TURN: where to */
-    int32_t leg_x_um, leg_y_um; /**< SQUARE: where the current leg began */
+    int32_t leg_x_um, leg_y_um; /**< SQUARE: where the current leg began; BACK: the stall */
     int32_t obst_x_um[SLAM_SWEEP_STOPS_MAX + 1]; /**< obstacle memory, world µm: a slot a
                                                        stop, then EXPLORE_BUMP */
     int32_t obst_y_um[SLAM_SWEEP_STOPS_MAX + 1];

@@ -44,7 +44,6 @@ typedef struct {
     int32_t err_um_tick[2][MOTION_SPEED_TICKS]; /**< the last speed errors */
     int32_t err_sum[2];        /**< their sum */
     uint8_t err_pos;           /**< where the next error goes */
-    int16_t duty[2];           /**< the last output */
     int32_t accel_um_tick2;    /**< the most the set speed changes in one tick */
     int32_t top_um_tick;       /**< wheel speed at full duty */
     int32_t kp_q8;             /**< duty per µm/tick of error, Q8 */
