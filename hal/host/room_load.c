@@ -74,6 +74,20 @@ static char *read_file(const char *path, size_t *len, char *err, size_t errlen)
     return buf;
 }
 
+/* The line at *p, cut at its newline; *p moves to the next one. */
+static char *cut_line(char **p)
+{
+    char *line = *p;
+    char *eol = strchr(line, '\n');
+    if (eol != NULL) {
+        *eol = '\0';
+        *p = eol + 1;
+    } else {
+        *p = line + strlen(line);
+    }
+    return line;
+}
+
 /* A growable array. */
 typedef struct {
     void *v;
@@ -325,12 +339,7 @@ static int load_room_text(room_t *out, const char *path, char *err, size_t errle
     char *p = text;
     while (rc == 0 && *p != '\0') {
         lineno++;
-        char *eol = strchr(p, '\n');
-        if (eol != NULL) {
-            *eol = '\0';
-        }
-        rc = room_statement(&b, &r, &start_line, p, path, lineno, err, errlen);
-        p = eol != NULL ? eol + 1 : p + strlen(p);
+        rc = room_statement(&b, &r, &start_line, cut_line(&p), path, lineno, err, errlen);
     }
     free(text);
     if (rc == 0 && b.segs.n == 0u && b.circles.n == 0u) {
@@ -630,12 +639,7 @@ static int read_ros_yaml(const char *path, ros_yaml_t *y, char *err, size_t errl
     char *p = text;
     while (rc == 0 && *p != '\0') {
         lineno++;
-        char *eol = strchr(p, '\n');
-        if (eol != NULL) {
-            *eol = '\0';
-        }
-        char *line = p;
-        p = eol != NULL ? eol + 1 : p + strlen(p);
+        char *line = cut_line(&p);
         /* A '#' at the start or after a blank begins a comment (YAML). */
         for (char *c = line; *c != '\0'; c++) {
             if (*c == '#' && (c == line || isspace((unsigned char)c[-1]))) {
