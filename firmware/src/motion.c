@@ -52,8 +52,8 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
         /* Stall watch: a wheel asked to turn that hardly does. */
         int32_t set_abs = set < 0 ? -set : set;
         int32_t rolled = odom->step_um[w];
-        int32_t got = rolled >= 0 ? rolled : (rolled == INT32_MIN ? INT32_MAX : -rolled);
-        if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < set_abs / 4) {
+        uint32_t got = rolled >= 0 ? (uint32_t)rolled : 0u - (uint32_t)rolled;
+        if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < (uint32_t)set_abs / 4u) {
             m->slow_ticks[w] = (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
         } else {
             m->slow_ticks[w] = 0u;
