@@ -245,6 +245,23 @@ static void test_random_point_soak(void **state)
     assert_guards_intact();
 }
 
+static void test_state_reads_om_then_tm(void **state)
+{
+    (void)state;
+    grid_t *g = &gg.g;
+    const int32_t l = (int32_t)L;
+    assert_int_equal(grid_tm_visit(g, 0, 0), SLAM_OK);           /* the start cell */
+    assert_int_equal(grid_om_hit(g, 3 * l, 0), SLAM_OK);          /* three cells east */
+    assert_int_equal(grid_tm_visit(g, 3 * l, 0), SLAM_OK);        /* driven through too */
+    grid_cell_t start, east, north;
+    assert_int_equal(grid_cell_of(g, 0, 0, &start), SLAM_OK);
+    assert_int_equal(grid_cell_of(g, 3 * l, 0, &east), SLAM_OK);
+    assert_int_equal(grid_cell_of(g, 0, 3 * l, &north), SLAM_OK);
+    assert_int_equal(grid_state(g, grid_index(start)), GRID_FREE);
+    assert_int_equal(grid_state(g, grid_index(east)), GRID_OCCUPIED); /* OM wins */
+    assert_int_equal(grid_state(g, grid_index(north)), GRID_UNKNOWN);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -253,6 +270,7 @@ int main(void)
         cmocka_unit_test_setup(test_saturation_table, setup),
         cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),
         cmocka_unit_test_setup(test_random_point_soak, setup),
+        cmocka_unit_test_setup(test_state_reads_om_then_tm, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

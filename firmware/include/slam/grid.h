@@ -89,4 +89,25 @@ static inline uint32_t grid_index(grid_cell_t c)
     return (uint32_t)c.b * SLAM_GRID_A + c.a;
 }
 
+/** What the maps say of a cell. */
+typedef enum {
+    GRID_UNKNOWN = 0, /**< nothing has been seen there */
+    GRID_FREE,        /**< known free: the robot has been there */
+    GRID_OCCUPIED,    /**< OM holds obstacle evidence */
+} grid_state_t;
+
+/**
+ * What OM and TM say of the cell at an array index: GRID_OCCUPIED when OM holds any
+ * obstacle evidence (OM >= 1, the raw map of Eq. 6), else GRID_FREE when the robot has
+ * been there (TM > 0), else GRID_UNKNOWN. Exploration, the map exports and the scoring all
+ * read cells through this one rule. ISR-safe, O(1).
+ */
+static inline grid_state_t grid_state(const grid_t *g, uint32_t index)
+{
+    if (g->om[index] != 0u) {
+        return GRID_OCCUPIED;
+    }
+    return g->tm[index] != 0u ? GRID_FREE : GRID_UNKNOWN;
+}
+
 #endif /* SLAM_GRID_H */
