@@ -29,7 +29,18 @@ typedef struct {
     double cell_m;    /**< cell side */
     double origin_x;  /**< world x of the lower-left corner of cell (0, 0), m */
     double origin_y;
+    uint32_t cell_um; /**< the same geometry as the firmware holds it */
+    int32_t origin_x_um;
+    int32_t origin_y_um;
 } map_geom_t;
+
+/** The geometry of a firmware grid. */
+static inline map_geom_t map_geom_of(const grid_t *g)
+{
+    return (map_geom_t){SLAM_GRID_A,       SLAM_GRID_B,       g->cell_um * 1e-6,
+                        g->origin_x_um * 1e-6, g->origin_y_um * 1e-6, g->cell_um,
+                        g->origin_x_um,    g->origin_y_um};
+}
 
 /** How a map is scored (DESIGN.md §5). */
 typedef struct {
@@ -54,13 +65,22 @@ void score_map(const map_geom_t *g, const uint8_t *map, const uint8_t *truth,
 void mark_disc(const map_geom_t *g, uint8_t *marks, double x, double y, double radius_m);
 
 /**
- * Write a map as a binary PGM (row 0 = the top = the largest y) and its ROS map_server
- * YAML next to it: DIR/NAME.pgm and DIR/NAME.yaml. A cell value v of full scale max is
- * drawn as grey 255 - v·255/max (0 = white, max = black).
+ * Write an image of a×b bytes (row 0 = the top = the largest y, as hal_common/mapexport.h
+ * makes them) as DIR/NAME.pgm and, when @p yaml, its ROS map_server DIR/NAME.yaml.
  * @return 0, or -1 with a message on stderr
  */
-int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *cells,
-              uint8_t max, double occupied_thresh, double free_thresh);
+int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img,
+              bool yaml);
+
+/**
+ * Ground truth for export: the scoring truth's boundary cells, the inside of solid
+ * obstacles filled (cells no 4-connected path of free cells joins to the start or to the
+ * grid's border), the outside of the room left unknown (reached from the border).
+ * @param truth  boundary cells (room_rasterize()), a·b
+ * @param out    the trinary image (mapexport.h), first row the grid's last
+ * @return 0, or -1 when out of memory
+ */
+int truth_image(const map_geom_t *g, const uint8_t *truth, uint32_t start, uint8_t *out);
 
 /**
  * Append v with exactly @p decimals digits after the point (rounded half away from zero)
@@ -94,6 +114,7 @@ typedef struct {
     int explore;
     const char *out;
     bool ideal;
+    bool paper;
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -158,6 +179,7 @@ typedef struct {
 
 /* The post-processing parameters over their whole range: F1 for every TH and K. */
 #define SWEEP_K 9u
+#define SWEEP_EVIDENCE_TH 16u
 typedef struct {
     uint8_t th_count;
     score_t s[256][SWEEP_K];

@@ -14,6 +14,7 @@
 
 #include "hal/hal.h"
 #include "hal_common/config_text.h"
+#include "hal_common/mapexport.h"
 #include "hal_common/trace.h"
 #include "host_sim.h"
 #include "slam/error.h"
@@ -30,6 +31,9 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
     if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return -1;
+    }
+    if (o->paper) {
+        slam_config_paper(cfg);
     }
     cfg->cell_um = (uint32_t)lround(o->cell_mm * 1000.0);
     cfg->explore_mode = (uint8_t)o->explore;
@@ -186,6 +190,9 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     r->last_x = tr.x;
     r->last_y = tr.y;
 
+    /* The perfect-odometry maps' TM, at the true pose. */
+    (void)grid_tm_visit(&ideal_grid, to_um(tr.x), to_um(tr.y));
+
     /* Coverage: TM > 0 on a reachable cell. */
     grid_cell_t c;
     if (grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &c) == SLAM_OK) {
@@ -238,16 +245,17 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     char line[256];
     char *e = fmt_fixed(line, t, 2, ',');
     e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, 3, ',');
+    odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
     if (sw->reading.echo) {
         uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
         e = fmt_fixed(e, d * 1e-6, 6, ',');
         memcpy(e, "ok,", 3);
         e += 3;
-        odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
         (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
     } else {
         memcpy(e, ",timeout,", 9);
         e += 9;
+        mapper_timeout(&ideal_mapper, &ideal_grid, &truth_pose);
     }
     /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
      * the replay recovers the exact heading. */
@@ -403,8 +411,7 @@ int main(int argc, char **argv)
         hal_host_uart_sink(telemetry);
     }
 
-    r->geom = (map_geom_t){SLAM_GRID_A, SLAM_GRID_B, cfg.cell_um * 1e-6,
-                           robot.grid.origin_x_um * 1e-6, robot.grid.origin_y_um * 1e-6};
+    r->geom = map_geom_of(&robot.grid);
     r->truth = bufs;
     r->observable = bufs + ncells;
     r->reachable = bufs + 2u * ncells;
@@ -477,13 +484,22 @@ int main(int argc, char **argv)
     }
     sweep_post(r, robot.grid.om, &cfg, work, scratch, ps);
 
-    double om_th = (cfg.post_threshold + 0.5) / cfg.om_max;
-    double om_free = 0.5 / cfg.om_max;
-    bad |= write_map(o.out, "om", &r->geom, robot.grid.om, cfg.om_max, om_th, om_free);
-    bad |= write_map(o.out, "om_post", &r->geom, post, cfg.om_max, 0.5, 0.25);
-    bad |= write_map(o.out, "om_ideal", &r->geom, ideal_grid.om, cfg.om_max, om_th, om_free);
-    bad |= write_map(o.out, "tm", &r->geom, robot.grid.tm, cfg.tm_max, 0.99, 0.01);
-    bad |= write_map(o.out, "truth", &r->geom, r->truth, 1u, 0.65, 0.196);
+    /* Every map in the one trinary meaning (hal_common/mapexport.h); TM as counts. */
+    const uint32_t A = r->geom.a;
+    const uint32_t B = r->geom.b;
+    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, NULL, A, B, work);
+    bad |= write_map(o.out, "om", &r->geom, work, true);
+    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, post, A, B, work);
+    bad |= write_map(o.out, "om_post", &r->geom, work, true);
+    mapx_trinary(cfg.om_mode, ideal_grid.om, ideal_grid.tm, NULL, A, B, work);
+    bad |= write_map(o.out, "om_ideal", &r->geom, work, true);
+    mapx_counts(robot.grid.tm, cfg.tm_max, A, B, work);
+    bad |= write_map(o.out, "tm", &r->geom, work, false);
+    if (truth_image(&r->geom, r->truth, grid_index(start), work) != 0) {
+        fprintf(stderr, "host_sim: out of memory\n");
+        return 1;
+    }
+    bad |= write_map(o.out, "truth", &r->geom, work, true);
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
     FILE *tf = open_out(o.out, "timing.json");
     if (tf != NULL) {

@@ -34,6 +34,8 @@ static void usage(FILE *f)
         "  --cell MM            grid cell size in mm (default 50)\n"
         "  --explore MODE       random | tm | square | off (default random)\n"
         "  --ideal              turn every error source off\n"
+        "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
+        "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
         "  --error NAME=VALUE   one error level (repeatable): ed, eb (wheel diameter ratio,\n"
         "                       wheel base ratio), slip (per m/s² beyond slip_free m/s²),\n"
         "                       noise, sonar_noise (m), dropout, ghost, grazing (deg)\n"
@@ -49,7 +51,7 @@ static void usage(FILE *f)
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
         "\n"
-        "Files written: om.pgm om_post.pgm om_ideal.pgm tm.pgm truth.pgm (+ ROS .yaml each),\n"
+        "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png\n"
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
@@ -186,6 +188,8 @@ int parse_options(int argc, char **argv, options_t *o)
             o->out = argv[i];
         } else if (strcmp(a, "--ideal") == 0) {
             o->ideal = true;
+        } else if (strcmp(a, "--paper") == 0) {
+            o->paper = true;
         } else if (strcmp(a, "--error") == 0 || strcmp(a, "--set") == 0) {
             bool err = a[2] == 'e';
             if (!take(argc, argv, &i, 1) || strchr(argv[i], '=') == NULL) {

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "hal_common/mapexport.h"
 #include "host_sim.h"
 
 static grid_t grid;
@@ -68,10 +69,11 @@ int replay(const options_t *o)
             break;
         }
         rows++;
+        odom_pose_t p = {to_um(x), to_um(y), to_bam(th)};
         if (strcmp(status, "ok") != 0) {
+            mapper_timeout(&mapper, &grid, &p);
             continue;
         }
-        odom_pose_t p = {to_um(x), to_um(y), to_bam(th)};
         bam32_t sv = fix_bam_from_mdeg((int32_t)lround(servo * 1000.0));
         (void)mapper_reading(&mapper, &grid, &p, sv, (uint32_t)lround(range * 1e6));
     }
@@ -82,10 +84,12 @@ int replay(const options_t *o)
     if (make_dirs(o->out) != 0) {
         return 1;
     }
-    map_geom_t g = {SLAM_GRID_A, SLAM_GRID_B, cfg.cell_um * 1e-6, grid.origin_x_um * 1e-6,
-                    grid.origin_y_um * 1e-6};
-    double th = (cfg.post_threshold + 0.5) / cfg.om_max;
-    if (write_map(o->out, "om", &g, grid.om, cfg.om_max, th, 0.5 / cfg.om_max) != 0) {
+    map_geom_t g = map_geom_of(&grid);
+    /* No TM in a log: in OM_MODE_COUNT the replayed map knows no free cell, while the
+     * run's knew those the robot drove through; OM_MODE_EVIDENCE keeps its own. */
+    static uint8_t img[SLAM_GRID_CELLS];
+    mapx_trinary(cfg.om_mode, grid.om, NULL, NULL, SLAM_GRID_A, SLAM_GRID_B, img);
+    if (write_map(o->out, "om", &g, img, true) != 0) {
         return 1;
     }
     if (!o->quiet) {

@@ -23,13 +23,21 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
 {
     const map_geom_t *g = &r->geom;
     size_t n = (size_t)g->a * g->b;
-    score_map(g, om, r->truth, r->observable, &s->raw);
+    /* The raw map: every cell the mode calls occupied. */
     memcpy(out, om, n);
-    post_threshold(out, g->a, g->b, cfg->post_threshold, cfg->om_max);
+    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, 0u), cfg->om_max);
+    score_map(g, out, r->truth, r->observable, &s->raw);
+    memcpy(out, om, n);
+    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
+                   cfg->om_max);
     score_map(g, out, r->truth, r->observable, &s->threshold);
-    post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+    if (cfg->post_template_k > 0u) {
+        post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+    }
     score_map(g, out, r->truth, r->observable, &s->templ);
-    post_insert(out, g->a, g->b, cfg->om_max, scratch);
+    if (cfg->post_insert != 0u) {
+        post_insert(out, g->a, g->b, cfg->om_max, scratch);
+    }
     score_map(g, out, r->truth, r->observable, &s->insert);
 }
 
@@ -65,11 +73,14 @@ static void json_time(FILE *f, const char *name, double t, bool comma)
 void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
                 uint8_t *scratch, post_sweep_t *ps)
 {
-    ps->th_count = cfg->om_max;
+    /* Every TH a count can take; the first log-odds thresholds of an evidence map (a hit
+     * is worth om_hit, so a few hits' worth). */
+    ps->th_count = cfg->om_mode == OM_MODE_COUNT ? cfg->om_max : SWEEP_EVIDENCE_TH;
     double best = -1.0;
-    for (uint8_t th = 0; th < cfg->om_max; th++) {
+    for (uint8_t th = 0; th < ps->th_count; th++) {
         for (uint8_t k = 0; k < SWEEP_K; k++) {
-            post_params_t pp = {.threshold = th, .om_max = cfg->om_max, .k = k};
+            post_params_t pp = {.threshold = grid_threshold_byte(cfg->om_mode, th),
+                                .om_max = cfg->om_max, .k = k, .insert = cfg->post_insert};
             (void)post_run(om, out, r->geom.a, r->geom.b, &pp, scratch);
             score_map(&r->geom, out, r->truth, r->observable, &ps->s[th][k]);
             if (ps->s[th][k].f1 > best) {
@@ -140,8 +151,12 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "    \"explore\": \"%s\",\n    \"ideal\": %s,\n", explore_names[o->explore],
             o->ideal ? "true" : "false");
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
-    fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"om_max\": %u},\n",
-            cfg->post_threshold, cfg->post_template_k, cfg->om_max);
+    fprintf(f, "    \"om\": {\"mode\": \"%s\", \"hit\": %u, \"miss\": %u, \"om_max\": %u},\n",
+            cfg->om_mode == OM_MODE_COUNT ? "count" : "evidence", cfg->om_hit, cfg->om_miss,
+            cfg->om_max);
+    fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"insert\": %s, \"om_max\": %u},\n",
+            cfg->post_threshold, cfg->post_template_k, cfg->post_insert ? "true" : "false",
+            cfg->om_max);
     fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
                "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
                "\"grazing\": %.6g},\n",

@@ -250,7 +250,7 @@ static void test_tm_mode_heads_for_the_least_visited(void **state)
     memset(grid.tm, 30, sizeof grid.tm);
     paint_ray(90.0, grid.tm, 0u, 0.03, 1.2);
     paint_ray(180.0, grid.tm, 5u, 0.03, 1.2);
-    paint_ray(90.0, grid.om, 9u, 0.28, 0.32);
+    paint_ray(90.0, grid.om, 200u, 0.28, 0.32); /* log-odds +72: occupied */
     full_clear_sweep();
     tick(0, -2.0);
     assert_int_equal(ex.state, EXPLORE_DECIDE);

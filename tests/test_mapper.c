@@ -37,6 +37,7 @@ static int setup(void **state)
 {
     (void)state;
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
     return 0;
@@ -159,12 +160,85 @@ static void test_outside_points_are_counted_not_written(void **state)
     }
 }
 
+static int setup_evidence(void **state)
+{
+    (void)state;
+    slam_config_default(&cfg);
+    assert_int_equal(cfg.om_mode, OM_MODE_EVIDENCE);
+    grid_init(&grid, &cfg);
+    mapper_init(&mapper, &cfg);
+    return 0;
+}
+
+/* The free-space evidence of one reading, cell by cell. From the start cell (80, 80) facing
+ * +x the beam starts 50 mm ahead (cell 81): a 299 954 µm echo hits cell 87 (+4) and clears
+ * cells 81..86 (up to 249 954 µm, one cell short) and the robot's cell 80 (-1 each). */
+static void test_evidence_reading_clears_its_beam(void **state)
+{
+    (void)state;
+    static const script_tick_t script[] = {
+        {0, 0, 0, PING, 90, 0},
+        {0, 0, 0, ECHO, 90, 1749},
+    };
+    play(script, sizeof script / sizeof script[0]);
+    static const cell_value_t om[] = {
+        {80, 80, 127}, {81, 80, 127}, {82, 80, 127}, {83, 80, 127}, {84, 80, 127},
+        {85, 80, 127}, {86, 80, 127}, {87, 80, 132},
+    };
+    expect_exactly(grid.om, om, sizeof om / sizeof om[0]);
+    assert_int_equal(mapper.cleared, 7u);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){87, 80})), GRID_OCCUPIED);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){84, 80})), GRID_FREE);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){88, 80})), GRID_UNKNOWN);
+}
+
+/* An echo beyond rc clears the beam up to rc and marks nothing occupied; a timeout clears
+ * only the robot's cell; a reading touches at most rc / L + 3 cells, whatever its angle. */
+static void test_evidence_far_and_timeout(void **state)
+{
+    (void)state;
+    odom_pose_t p = {0, 0, 0u};
+    assert_int_equal(mapper_reading(&mapper, &grid, &p, fix_bam_from_mdeg(90000), 2500000u),
+                     MAPPER_FAR);
+    /* From x = 50 mm to 1050 mm: cells 81..101, and the robot's cell 80. */
+    uint32_t lowered = 0;
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_true(grid.om[i] == 0u || grid.om[i] == 127u);
+        lowered += grid.om[i] != 0u;
+    }
+    assert_int_equal(lowered, 22u);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){101, 80})], 127);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){102, 80})], 0);
+
+    setup_evidence(NULL);
+    mapper_timeout(&mapper, &grid, &p);
+    assert_int_equal(mapper.timeouts, 1u);
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(grid.om[i], i == grid_index((grid_cell_t){80, 80}) ? 127u : 0u);
+    }
+
+    uint32_t bound = cfg.confidence_radius_um / cfg.cell_um + 3u;
+    for (int h = 0; h < 360; h += 7) {
+        for (int s = 65; s <= 155; s += 18) {
+            uint32_t before = mapper.cleared;
+            odom_pose_t q = {h * 1234, -h * 777, fix_bam_from_mdeg(h * 1000)};
+            (void)mapper_reading(&mapper, &grid, &q, fix_bam_from_mdeg(s * 1000), 999999u);
+            assert_true(mapper.cleared - before + 1u <= bound);
+            before = mapper.cleared;
+            (void)mapper_reading(&mapper, &grid, &q, fix_bam_from_mdeg(s * 1000), 3000000u);
+            assert_true(mapper.cleared - before <= bound);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_scripted_run_hits_exactly_the_expected_cells, setup),
         cmocka_unit_test_setup(test_tm_counts_one_per_tick, setup),
         cmocka_unit_test_setup(test_outside_points_are_counted_not_written, setup),
+        cmocka_unit_test_setup(test_evidence_reading_clears_its_beam, setup_evidence),
+        cmocka_unit_test_setup(test_evidence_far_and_timeout, setup_evidence),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,6 +20,7 @@ static int setup(void **state)
     (void)state;
     fake_hal_reset();
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     memset(&robot, 0, sizeof robot);
     return 0;
 }

@@ -31,7 +31,6 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     e->square_side_um = (int32_t)cfg->square_side_um;
     e->laps = cfg->square_laps;
     e->cell_um = cfg->cell_um;
-    e->om_occupied = cfg->post_threshold;
     e->tm_max = cfg->tm_max;
     e->leg_x_um = cfg->start_x_um;
     e->leg_y_um = cfg->start_y_um;
@@ -178,7 +177,7 @@ static void ray_walk(explore_t *e, const grid_t *g)
         uint32_t b = (uint32_t)(e->ray_fy >> 16);
         uint32_t k = b * SLAM_GRID_A + a;
         if (e->ray_fx < 0 || e->ray_fy < 0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B ||
-            g->om[k] > e->om_occupied) {
+            grid_state(g, k) == GRID_OCCUPIED) {
             e->ray_cost += e->ray_left * e->tm_max;
             e->ray_left = 0u;
             return;

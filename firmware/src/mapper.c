@@ -10,6 +10,7 @@ void mapper_init(mapper_t *m, const slam_config_t *cfg)
 {
     memset(m, 0, sizeof *m);
     sonar_init(&m->sonar, cfg);
+    m->cell_um = cfg->cell_um;
     m->last = MAPPER_TIMEOUT;
 }
 
@@ -20,17 +21,45 @@ static void count(uint32_t *counter)
     }
 }
 
+static void count_n(uint32_t *counter, uint32_t n)
+{
+    *counter = *counter > UINT32_MAX - n ? UINT32_MAX : *counter + n;
+}
+
+/* Free-space evidence along the beam up to a distance short of its echo. */
+static void clear_beam(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                       uint32_t reach_um)
+{
+    int32_t xs;
+    int32_t ys;
+    int32_t xe;
+    int32_t ye;
+    sonar_origin(&m->sonar, at_ping, &xs, &ys);
+    sonar_along(xs, ys, sonar_bearing(&m->sonar, at_ping->heading, servo), reach_um, &xe, &ye);
+    count_n(&m->cleared, grid_om_ray(g, xs, ys, xe, ye));
+}
+
 mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
                                 bam32_t servo, uint32_t range_um)
 {
     mapper_outcome_t out;
+    bool evidence = g->mode == OM_MODE_EVIDENCE;
+    if (evidence) {
+        count_n(&m->cleared, grid_om_free(g, at_ping->x_um, at_ping->y_um) == SLAM_OK ? 1u : 0u);
+    }
     if (range_um >= m->sonar.confidence_um) {
         out = MAPPER_FAR;
         count(&m->far);
+        if (evidence) {
+            clear_beam(m, g, at_ping, servo, m->sonar.confidence_um);
+        }
     } else if (range_um < m->sonar.range_min_um) {
         out = MAPPER_NEAR;
         count(&m->near);
     } else {
+        if (evidence && range_um > m->cell_um) {
+            clear_beam(m, g, at_ping, servo, range_um - m->cell_um);
+        }
         sonar_obstacle(&m->sonar, at_ping, servo, range_um, &m->last_x_um, &m->last_y_um);
         if (grid_om_hit(g, m->last_x_um, m->last_y_um) == SLAM_OK) {
             out = MAPPER_HIT;
@@ -42,6 +71,15 @@ mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_pi
     }
     m->last = out;
     return out;
+}
+
+void mapper_timeout(mapper_t *m, grid_t *g, const odom_pose_t *at_ping)
+{
+    m->last = MAPPER_TIMEOUT;
+    count(&m->timeouts);
+    if (g->mode == OM_MODE_EVIDENCE) {
+        count_n(&m->cleared, grid_om_free(g, at_ping->x_um, at_ping->y_um) == SLAM_OK ? 1u : 0u);
+    }
 }
 
 void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_out_t *sw)
@@ -57,8 +95,7 @@ void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_ou
             uint32_t d = sonar_range_um(&m->sonar, sw->reading.echo_us);
             (void)mapper_reading(m, g, &m->ping_pose, sw->reading.servo, d);
         } else {
-            m->last = MAPPER_TIMEOUT;
-            count(&m->timeouts);
+            mapper_timeout(m, g, &m->ping_pose);
         }
     }
     if (sw->trigger) {

@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "fake_gpio.h"
+#include "hal_common/mapexport.h"
 #include "lhal/app.h"
 #include "lhal/lhal.h"
 #include "slam/grid.h"
@@ -198,9 +199,12 @@ static void test_run_drives_the_firmware_and_stops_the_motors(void **state)
     unsigned b0 = SLAM_GRID_B / 2u;
     assert_int_equal(pgm_cell("maps/tm.pgm", a0, b0), 0);
     assert_int_equal(pgm_cell("maps/tm.pgm", a0 + 5u, b0), 255);
-    assert_int_equal(pgm_cell("maps/om.pgm", a0, b0), 255);
+    /* The robot's own cell is known free; far from it nothing was seen. */
+    assert_int_equal(pgm_cell("maps/om.pgm", a0, b0), MAPX_FREE);
+    assert_int_equal(pgm_cell("maps/om.pgm", a0 + 40u, b0 + 40u), MAPX_UNKNOWN);
     assert_true(tmptree_exists(root, "maps/om_post.pgm"));
-    assert_true(tmptree_exists(root, "maps/tm.yaml"));
+    assert_true(tmptree_exists(root, "maps/om.yaml"));
+    assert_false(tmptree_exists(root, "maps/tm.yaml"));
     assert_non_null(strstr(out_buf, "sonar: 1 pings"));
 }
 

@@ -25,6 +25,13 @@
 /** The most servo stops a sweep may have. */
 #define SLAM_SWEEP_STOPS_MAX 16u
 
+/** What an OM cell holds (grid.h). */
+typedef enum {
+    OM_MODE_COUNT = 0,    /**< the paper's Eq. 6: hits counted up to OMmax, nothing else */
+    OM_MODE_EVIDENCE = 1, /**< a log-odds byte: hits raise it, beams that pass lower it */
+    OM_MODES
+} om_mode_t;
+
 /** How the robot explores (explore.h). */
 typedef enum {
     EXPLORE_OFF = 0,    /**< stand still; the map still updates */
@@ -54,8 +61,11 @@ typedef struct {
     uint32_t cell_um;      /**< L, the side of a square cell; 50 mm */
     uint16_t start_cell_a; /**< the cell (a, b) whose centre is the start pose; */
     uint16_t start_cell_b; /**< the centre of the grid by default */
-    uint8_t om_max;        /**< OMmax, Eq. 6; 9 */
+    uint8_t om_max;        /**< OMmax, Eq. 6 (OM_MODE_COUNT); 9 */
     uint8_t tm_max;        /**< TMmax, Eq. 7; 30 */
+    uint8_t om_mode;       /**< an om_mode_t; OM_MODE_EVIDENCE (the best F1, measured) */
+    uint8_t om_hit;        /**< OM_MODE_EVIDENCE: log-odds added by a hit; 4 */
+    uint8_t om_miss;       /**< OM_MODE_EVIDENCE: log-odds taken by a beam passing; 1 */
 
     /* Sonar (Eq. 3-5). */
     uint32_t confidence_radius_um; /**< rc: readings with d >= rc never touch OM; 1 m */
@@ -74,11 +84,14 @@ typedef struct {
     uint16_t servo_pulse_0deg_us;   /**< servo pulse at 0°; 500 µs (SG90) */
     uint16_t servo_pulse_180deg_us; /**< servo pulse at 180°; 2500 µs (SG90) */
 
-    /* Post-processing (§II.D). */
-    uint8_t post_threshold;  /**< TH: OM <= TH is free; 3 */
-    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed;
-                                  1 (isolated cells go): the best F1 of the templates that
-                                  remove anything, measured in the simulator */
+    /* Post-processing (§II.D). The defaults are those of OM_MODE_EVIDENCE, where every
+     * step lowered the measured F1: TH 0, no template, no insert. The paper's are TH 3,
+     * K 1 (K 4 erases thin walls) and insert on. */
+    uint8_t post_threshold;  /**< TH: OM <= TH is free (OM_MODE_COUNT), log-odds <= TH is
+                                  free (OM_MODE_EVIDENCE); 0 */
+    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are
+                                  freed; 0 = off; 0 */
+    uint8_t post_insert;     /**< 1: free cells between two occupied ones are filled; 0 */
 
     /* Motion (§III.B). */
     uint16_t top_speed_mm_s; /**< wheel speed at full duty (feed-forward); 300 */
@@ -102,6 +115,13 @@ typedef struct {
 
 /** Fill @p cfg with the defaults above. */
 void slam_config_default(slam_config_t *cfg);
+
+/**
+ * Turn a configuration to the paper's method, leaving the robot's geometry alone: OM
+ * counts hits (Eq. 6, OM_MODE_COUNT) and post-processing is the paper's threshold TH 3,
+ * template (K 1: the paper's four neighbours erase one-cell walls) and insert.
+ */
+void slam_config_paper(slam_config_t *cfg);
 
 /**
  * Check every field of a configuration against its valid range.

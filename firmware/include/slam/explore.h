@@ -97,7 +97,6 @@ typedef struct {
     int32_t mount_y_um;
     int32_t square_side_um;
     uint32_t cell_um;
-    uint8_t om_occupied;       /**< OM above this blocks a TM ray (the threshold TH) */
     uint8_t tm_max;
     /* Counters. */
     uint32_t turns;            /**< turns begun */

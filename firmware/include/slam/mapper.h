@@ -10,6 +10,12 @@
  *
  * The paper reads six readings per call; here the sweep delivers at most one a tick, so
  * every reading is mapped in the tick it completes and the work per tick stays O(1).
+ *
+ * In OM_MODE_EVIDENCE a reading also gives free-space evidence (grid.h): the cell the
+ * robot stands on, and the cells the beam's axis crossed before its echo: up to one cell
+ * short of an echo inside the confidence sector, or up to rc for an echo beyond it. A
+ * timeout lowers only the robot's cell: most timeouts are walls met at grazing incidence,
+ * which the beam did cross. A reading touches at most rc / L + 3 cells.
  */
 #ifndef SLAM_MAPPER_H
 #define SLAM_MAPPER_H
@@ -26,7 +32,7 @@
 /** What became of one reading. */
 typedef enum {
     MAPPER_HIT = 0,   /**< OM of the obstacle cell was incremented */
-    MAPPER_FAR,       /**< d >= rc: outside the confidence sector, OM untouched */
+    MAPPER_FAR,       /**< d >= rc: outside the confidence sector, no hit */
     MAPPER_NEAR,      /**< d < range_min: not trusted, OM untouched */
     MAPPER_OUTSIDE,   /**< the obstacle point is outside the grid, OM untouched */
     MAPPER_TIMEOUT,   /**< no echo, OM untouched */
@@ -35,12 +41,14 @@ typedef enum {
 /** Mapper state and counters. */
 typedef struct {
     sonar_t sonar;          /**< sensor geometry */
+    uint32_t cell_um;       /**< L: a hit's beam is cleared up to one cell short of it */
     odom_pose_t ping_pose;  /**< the pose when the last ping was triggered */
     uint32_t hits;          /**< readings that incremented OM */
     uint32_t far;           /**< readings with d >= rc */
     uint32_t near;          /**< readings with d < range_min */
     uint32_t outside;       /**< obstacle points outside the grid */
     uint32_t timeouts;      /**< readings without an echo */
+    uint32_t cleared;       /**< OM_MODE_EVIDENCE: cells lowered by free-space evidence */
     mapper_outcome_t last;  /**< outcome of the most recent reading */
     int32_t last_x_um;      /**< its obstacle point, when it had one (MAPPER_HIT, */
     int32_t last_y_um;      /**< MAPPER_OUTSIDE) */
@@ -65,5 +73,12 @@ void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_ou
  */
 mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
                                 bam32_t servo, uint32_t range_um);
+
+/**
+ * A reading without an echo, seen from a pose: counted; in OM_MODE_EVIDENCE the robot's
+ * cell gets free-space evidence. mapper_tick() calls it; a log replay calls it directly.
+ * ISR-safe, O(1).
+ */
+void mapper_timeout(mapper_t *m, grid_t *g, const odom_pose_t *at_ping);
 
 #endif /* SLAM_MAPPER_H */

@@ -54,7 +54,21 @@ bool sonar_in_confidence(const sonar_t *s, uint32_t range_um);
 bam32_t sonar_bearing(const sonar_t *s, bam32_t heading, bam32_t servo);
 
 /**
- * The obstacle point of a reading (Eq. 4-5 with the mount offset). ISR-safe, O(1).
+ * The servo axis in the world: the pose plus the mount offset turned by Ψ. ISR-safe, O(1).
+ * @param x_um, y_um  out: where every beam of this pose starts, µm
+ */
+void sonar_origin(const sonar_t *s, const odom_pose_t *pose, int32_t *x_um, int32_t *y_um);
+
+/**
+ * The point at a distance along a bearing from a beam's origin (Eq. 4-5). ISR-safe, O(1).
+ * @param x_um, y_um  out: saturated at the int32_t limits
+ */
+void sonar_along(int32_t xs_um, int32_t ys_um, bam32_t bearing, uint32_t range_um,
+                 int32_t *x_um, int32_t *y_um);
+
+/**
+ * The obstacle point of a reading (Eq. 4-5 with the mount offset): sonar_along() from
+ * sonar_origin() at sonar_bearing(). ISR-safe, O(1).
  * @param pose      robot pose at the moment of the ping
  * @param servo     servo angle θo of the reading
  * @param range_um  d

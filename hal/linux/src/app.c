@@ -13,6 +13,7 @@
 #include <time.h>
 
 #include "hal/hal.h"
+#include "hal_common/mapexport.h"
 #include "lhal/lconf.h"
 #include "lhal/lhal.h"
 #include "lhal/mapfile.h"
@@ -78,21 +79,29 @@ static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
 {
     const grid_t *g = &app_robot.grid;
     const mapfile_geometry_t geo = {g->cell_um, g->origin_x_um, g->origin_y_um};
-    const post_params_t pp = {app_robot.cfg.post_threshold, g->om_max, app_robot.cfg.post_template_k};
+    const slam_config_t *c = &app_robot.cfg;
+    const post_params_t pp = {grid_threshold_byte(c->om_mode, c->post_threshold), g->om_max,
+                              c->post_template_k, c->post_insert};
     static uint8_t post[SLAM_GRID_CELLS];
+    static uint8_t img[SLAM_GRID_CELLS];
     static uint8_t scratch[2u * SLAM_GRID_A];
-    int rc = mapfile_write(lc->storage_dir, "om", g->om, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    const uint32_t A = SLAM_GRID_A;
+    const uint32_t B = SLAM_GRID_B;
+    mapx_trinary(c->om_mode, g->om, g->tm, NULL, A, B, img);
+    int rc = mapfile_write(lc->storage_dir, "om", img, A, B, true, &geo);
     if (rc == 0) {
-        rc = mapfile_write(lc->storage_dir, "tm", g->tm, SLAM_GRID_A, SLAM_GRID_B, g->tm_max, &geo);
+        mapx_counts(g->tm, g->tm_max, A, B, img);
+        rc = mapfile_write(lc->storage_dir, "tm", img, A, B, false, &geo);
     }
-    if (rc == 0 && post_run(g->om, post, SLAM_GRID_A, SLAM_GRID_B, &pp, scratch) == SLAM_OK) {
-        rc = mapfile_write(lc->storage_dir, "om_post", post, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    if (rc == 0 && post_run(g->om, post, A, B, &pp, scratch) == SLAM_OK) {
+        mapx_trinary(c->om_mode, g->om, g->tm, post, A, B, img);
+        rc = mapfile_write(lc->storage_dir, "om_post", img, A, B, true, &geo);
     }
     if (rc != 0) {
         fprintf(err, APP_NAME ": cannot write the maps to %s: %s\n", lc->storage_dir, strerror(-rc));
         return -1;
     }
-    fprintf(out, "maps written to %s: om.pgm, om_post.pgm, tm.pgm (+ .yaml)\n", lc->storage_dir);
+    fprintf(out, "maps written to %s: om.pgm, om_post.pgm (+ .yaml), tm.pgm\n", lc->storage_dir);
     return 0;
 }
 
