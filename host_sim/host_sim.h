@@ -69,6 +69,27 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
  */
 char *fmt_fixed(char *out, double v, int decimals, char sep);
 
+/*
+ * The logs' columns (host_sim/README.md describes them). Units are in the names; each kind
+ * of column has one precision, enough to carry the firmware's value exactly: times are
+ * whole 10 ms ticks, lengths whole µm, servo angles whole millidegrees, and ten decimals
+ * of a radian are finer than half a binary angle unit (7.3e-10 rad), so a replay recovers
+ * the firmware's exact heading.
+ */
+#define CSV_TIME_DECIMALS 2
+#define CSV_LENGTH_DECIMALS 6
+#define CSV_HEADING_DECIMALS 10
+#define CSV_SERVO_DECIMALS 3
+#define CSV_READINGS_HEADER "t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad"
+#define CSV_TRUTH_COLUMNS "true_x_m,true_y_m,true_th_rad"
+#define CSV_TRAJECTORY_HEADER "t_s,odom_x_m,odom_y_m,odom_th_rad," CSV_TRUTH_COLUMNS
+
+/**
+ * The status column of a reading: "ok" inside the confidence sector (range_min <= d < rc),
+ * "far" at or beyond rc, "near" below range_min, "timeout" without an echo.
+ */
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
+
 /** Open DIR/NAME for writing; NULL with a message on stderr when it fails. */
 FILE *open_out(const char *dir, const char *name);
 

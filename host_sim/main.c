@@ -208,14 +208,14 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
 
     if (tick % TRAJECTORY_EVERY == 0u || last) {
-        char line[160];
-        char *e = fmt_fixed(line, t, 2, ',');
-        e = fmt_fixed(e, ox, 6, ',');
-        e = fmt_fixed(e, oy, 6, ',');
-        e = fmt_fixed(e, wrap_pi(oth), 6, ',');
-        e = fmt_fixed(e, tr.x, 6, ',');
-        e = fmt_fixed(e, tr.y, 6, ',');
-        e = fmt_fixed(e, wrap_pi(tr.th), 6, '\n');
+        char line[192];
+        char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+        e = fmt_fixed(e, ox, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, oy, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(oth), CSV_HEADING_DECIMALS, ',');
+        e = fmt_fixed(e, tr.x, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, tr.y, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(tr.th), CSV_HEADING_DECIMALS, '\n');
         fwrite(line, 1, (size_t)(e - line), trajectory);
     }
 
@@ -236,27 +236,28 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
         r->marked_y = sy;
     }
     char line[256];
-    char *e = fmt_fixed(line, t, 2, ',');
-    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, 3, ',');
+    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
+    uint32_t d = 0u;
     if (sw->reading.echo) {
-        uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
-        e = fmt_fixed(e, d * 1e-6, 6, ',');
-        memcpy(e, "ok,", 3);
-        e += 3;
+        d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
+        e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
         odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
         (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
     } else {
-        memcpy(e, ",timeout,", 9);
-        e += 9;
+        *e++ = ',';
     }
-    /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
-     * the replay recovers the exact heading. */
-    e = fmt_fixed(e, op->x_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, op->y_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, bam_rad(op->heading), 10, ',');
-    e = fmt_fixed(e, ping.x, 6, ',');
-    e = fmt_fixed(e, ping.y, 6, ',');
-    e = fmt_fixed(e, wrap_pi(ping.th), 6, '\n');
+    const char *status = reading_status(&robot.mapper.sonar, sw->reading.echo, d);
+    size_t n = strlen(status);
+    memcpy(e, status, n);
+    e += n;
+    *e++ = ',';
+    e = fmt_fixed(e, op->x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, op->y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(bam_rad(op->heading)), CSV_HEADING_DECIMALS, ',');
+    e = fmt_fixed(e, ping.x, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
     fwrite(line, 1, (size_t)(e - line), readings);
 }
 
@@ -383,8 +384,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "host_sim: cannot start the run (out of memory, or an output file)\n");
         return 1;
     }
-    fprintf(readings, "t,servo_deg,range_m,status,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
-    fprintf(trajectory, "t,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
+    fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
+    fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
 
     hal_host_attach(sim);
     if (hal_init() != HAL_OK || robot_init(&robot, &cfg) != SLAM_OK ||

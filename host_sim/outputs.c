@@ -40,6 +40,17 @@ char *fmt_fixed(char *out, double v, int decimals, char sep)
     return out;
 }
 
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um)
+{
+    if (!echo) {
+        return "timeout";
+    }
+    if (range_um >= s->confidence_um) {
+        return "far";
+    }
+    return range_um < s->range_min_um ? "near" : "ok";
+}
+
 int make_dirs(const char *path)
 {
     char buf[4096];

@@ -200,9 +200,9 @@ def figure(args, res, group, base):
             t, e = [], []
             with open(os.path.join(base, n, "trajectory.csv")) as f:
                 for row in csv.DictReader(f):
-                    t.append(float(row["t"]))
-                    e.append(((float(row["odom_x"]) - float(row["true_x"])) ** 2 +
-                              (float(row["odom_y"]) - float(row["true_y"])) ** 2) ** 0.5)
+                    t.append(float(row["t_s"]))
+                    e.append(((float(row["odom_x_m"]) - float(row["true_x_m"])) ** 2 +
+                              (float(row["odom_y_m"]) - float(row["true_y_m"])) ** 2) ** 0.5)
             ax.plot(t, e, color=color, lw=0.8,
                     label="%g m/s²" % (acc / 1000.0) if n.endswith("-1") else None)
     ax.set_xlabel("time [s]")
