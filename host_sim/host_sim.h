@@ -122,7 +122,9 @@ typedef struct {
     size_t nsets;
     const char *trace;
     const char *telemetry;
+    const char *commands;
     bool realtime;
+    double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
     bool plot;
     bool quiet;
@@ -209,5 +211,35 @@ void plot_figure(const char *out, bool quiet);
 
 /** --replay: rebuild OM from a readings.csv through the same mapper (replay.c). */
 int replay(const options_t *o);
+
+/* ---- commands to the robot (commands.c) -------------------------------------------------- */
+
+typedef struct {
+    uint64_t tick;   /* the tick after which the bytes arrive */
+    size_t offset;   /* into bytes */
+    size_t len;
+} command_line_t;
+
+/** The --commands file: framed command bytes and when they arrive. */
+typedef struct {
+    command_line_t *lines;
+    size_t n;
+    uint8_t *bytes;
+    size_t nbytes;
+    size_t next;      /* the next line to feed */
+    size_t dropped;   /* bytes the UART had no room for */
+} commands_t;
+
+/**
+ * Read a --commands file: `TIME_S COMMAND` lines (start, stop, mode MODE, get KEY,
+ * set KEY VALUE, save, map, calibrate, or hex BYTES), times not going back; `#` comments.
+ * @return 0, or EXIT_USAGE with a message naming the file and line
+ */
+int commands_load(const char *path, commands_t *c);
+
+/** Hand the robot's UART every command due by @p tick (hal_host_uart_receive()). */
+void commands_feed(commands_t *c, uint64_t tick);
+
+void commands_free(commands_t *c);
 
 #endif /* HOST_SIM_HOST_SIM_H */

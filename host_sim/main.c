@@ -325,6 +325,11 @@ int main(int argc, char **argv)
         room_free(&room);
         return EXIT_USAGE;
     }
+    commands_t commands = {0};
+    if (o.commands != NULL && (rc = commands_load(o.commands, &commands)) != 0) {
+        room_free(&room);
+        return rc;
+    }
     build_params(&cfg, &params);
     /* The world starts the robot at the room's start pose: the one chosen above. */
     room.start_x = sx;
@@ -429,10 +434,11 @@ int main(int argc, char **argv)
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
+        commands_feed(&commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
         observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
         if (o.realtime) {
-            double ahead = (double)(k + 1u) * TICK_S - (wall_now() - t0);
+            double ahead = (double)(k + 1u) * TICK_S / o.realtime_factor - (wall_now() - t0);
             if (ahead > 0.0) {
                 struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
                 nanosleep(&ts, NULL);
@@ -500,6 +506,11 @@ int main(int argc, char **argv)
     if (o.plot && bad == 0) {
         plot_figure(o.out, o.quiet);
     }
+    if (commands.dropped != 0u) {
+        fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
+                o.commands, commands.dropped);
+    }
+    commands_free(&commands);
     free(ps);
     free(scratch);
     free(bufs);

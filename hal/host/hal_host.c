@@ -16,6 +16,8 @@ static struct {
     void *ctx;
     uint64_t t0_us;      /* world time at hal_init() */
     FILE *uart;
+    uint8_t rx[HAL_HOST_UART_RX_BYTES]; /* received, not yet read: rx_head - rx_tail bytes */
+    size_t rx_head, rx_tail;
     FILE *trace;
     uint64_t trace_ticks;
     bool in_tick;
@@ -48,11 +50,22 @@ void hal_host_attach(sim_t *s)
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
     hh.in_tick = false;
+    hh.rx_head = hh.rx_tail = 0u; /* nothing received survives a power-up */
 }
 
 void hal_host_uart_sink(FILE *f)
 {
     hh.uart = f;
+}
+
+size_t hal_host_uart_receive(const uint8_t *data, size_t len)
+{
+    size_t room = HAL_HOST_UART_RX_BYTES - (hh.rx_head - hh.rx_tail);
+    size_t n = len < room ? len : room;
+    for (size_t i = 0; i < n; i++) {
+        hh.rx[hh.rx_head++ % HAL_HOST_UART_RX_BYTES] = data[i];
+    }
+    return n;
 }
 
 void hal_host_trace(FILE *f)
@@ -192,9 +205,11 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
 
 size_t hal_uart_read(uint8_t *data, size_t len)
 {
-    (void)data;
-    (void)len;
-    return 0u;
+    size_t n = 0;
+    while (n < len && hh.rx_tail != hh.rx_head) {
+        data[n++] = hh.rx[hh.rx_tail++ % HAL_HOST_UART_RX_BYTES];
+    }
+    return n;
 }
 
 size_t hal_storage_size(void)

@@ -317,4 +317,14 @@ void hal_host_trace(FILE *f);
 /** Telemetry: bytes the firmware wrote to the UART go to this file (NULL: discarded). */
 void hal_host_uart_sink(FILE *f);
 
+/** Bytes the UART can hold for hal_uart_read() before it drops them. */
+#define HAL_HOST_UART_RX_BYTES 4096u
+
+/**
+ * Bytes arriving at the UART (commands to the robot): hal_uart_read() hands them out in
+ * order. Returns how many were taken; the rest are dropped, as a full receive buffer
+ * drops them.
+ */
+size_t hal_host_uart_receive(const uint8_t *data, size_t len);
+
 #endif /* HOST_SIM_H */
