@@ -99,6 +99,9 @@ int close_out(FILE *f, const char *dir, const char *name);
 /** Create a directory and its parents; -1 with a message on stderr. */
 int make_dirs(const char *path);
 
+/** The robot's map storage slots as DIR/slot0.bin, DIR/slot1.bin; -1 with a message. */
+int write_storage(const char *dir);
+
 /* ---- options (options.c) --------------------------------------------------------------- */
 
 #define HOST_SIM_MAX_SETS 64 /* --error and --set options at most */
@@ -123,6 +126,7 @@ typedef struct {
     const char *trace;
     const char *telemetry;
     const char *commands;
+    const char *storage;
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;

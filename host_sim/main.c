@@ -393,6 +393,11 @@ int main(int argc, char **argv)
     fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
 
     hal_host_attach(sim);
+    if (o.storage != NULL) {
+        /* Room for a record of this grid: the robot now saves its maps every
+         * save_period_s, and stands still while a save begins, as a real one does. */
+        hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
+    }
     if (hal_init() != HAL_OK || robot_init(&robot, &cfg) != SLAM_OK ||
         hal_tick_start(tick_callback, &robot) != HAL_OK) {
         fprintf(stderr, "host_sim: the firmware did not start\n");
@@ -492,6 +497,9 @@ int main(int argc, char **argv)
     bad |= write_map(o.out, "tm", &r->geom, robot.grid.tm, cfg.tm_max, 0.99, 0.01);
     bad |= write_map(o.out, "truth", &r->geom, r->truth, 1u, 0.65, 0.196);
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
+    if (o.storage != NULL) {
+        bad |= write_storage(o.storage);
+    }
     FILE *tf = open_out(o.out, "timing.json");
     if (tf != NULL) {
         fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "

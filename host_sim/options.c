@@ -48,6 +48,10 @@ static void usage(FILE *f)
         "                       COMMAND start, stop, mode MODE, get KEY, set KEY VALUE, save,\n"
         "                       map, calibrate, or hex BYTES (host_sim/README.md); the\n"
         "                       answers go to --telemetry\n"
+        "  --storage DIR        give the robot map storage (it saves every save_period_s,\n"
+        "                       standing still as a save begins) and write its two slots as\n"
+        "                       DIR/slot0.bin and slot1.bin, as the Linux robot keeps them\n"
+        "                       (tools/plot_run.py DIR draws them)\n"
         "  --realtime [FACTOR]  run at the speed of the real robot (FACTOR times it, 0.1 to\n"
         "                       1000; default 1), not as fast as possible\n"
         "  --no-plot            do not draw figure.png\n"
@@ -222,6 +226,11 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--commands needs a file");
             }
             o->commands = argv[i];
+        } else if (strcmp(a, "--storage") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--storage needs a folder");
+            }
+            o->storage = argv[i];
         } else if (strcmp(a, "--realtime") == 0) {
             o->realtime = true;
             /* An optional factor: the next word, when it is not an option. */

@@ -140,3 +140,22 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
             name, g->cell_m, g->origin_x, g->origin_y, occupied_thresh, free_thresh);
     return close_out(f, dir, file);
 }
+
+int write_storage(const char *dir)
+{
+    if (make_dirs(dir) != 0) {
+        return -1;
+    }
+    int bad = 0;
+    for (uint8_t slot = 0; slot < HAL_STORAGE_SLOTS; slot++) {
+        char name[32];
+        snprintf(name, sizeof name, "slot%u.bin", (unsigned)slot);
+        FILE *f = open_out(dir, name);
+        if (f == NULL) {
+            return -1;
+        }
+        fwrite(hal_host_storage_slot(slot), 1u, hal_storage_size(), f);
+        bad |= close_out(f, dir, name);
+    }
+    return bad;
+}

@@ -115,11 +115,14 @@ class Source:
     def summary(self, prog):
         """A line on stderr: what was read; Fatal when nothing valid was."""
         if self.frames == 0:
-            raise Fatal("%s: %s holds no telemetry frame (%d bytes outside frames, %d frames "
-                        "with a bad CRC or length)" % (prog, self.path, self.dec.skipped, self.bad))
+            raise Fatal("%s holds no telemetry frame (%d bytes outside frames, %d frames "
+                        "with a bad CRC or length)" % (self.path, self.dec.skipped, self.bad))
         if self.bad:
-            print("%s: %d frames read, %d bad frames skipped (bad CRC or length)"
+            print("telemetry %s: %d frames read, %d bad frames skipped (bad CRC or length)"
                   % (prog, self.frames, self.bad), file=sys.stderr)
+        if len(self.dec.buf) >= 2:
+            print("telemetry %s: the last %d bytes are a frame cut short" % (prog, len(self.dec.buf)),
+                  file=sys.stderr)
 
 
 def cmd_dump(args):
@@ -204,9 +207,9 @@ def cmd_view(args):
         import matplotlib.pyplot as plt
         import numpy as np
     except ImportError as e:
-        raise Fatal("view: %s (tools/install-deps.sh sim)" % e)
+        raise Fatal("%s (tools/install-deps.sh sim)" % e)
     if not args.png and matplotlib.get_backend().lower() not in INTERACTIVE:
-        raise Fatal("view: no display to draw on (matplotlib backend '%s'%s). Draw into a "
+        raise Fatal("no display to draw on (matplotlib backend '%s'%s). Draw into a "
                     "picture instead: tools/telemetry.py view %s --png view.png%s"
                     % (matplotlib.get_backend(), "" if os.environ.get("DISPLAY") else
                        ", DISPLAY is not set", args.source,
@@ -241,10 +244,10 @@ def cmd_view(args):
         pass
     src.summary("view")
     if m.bad_rows:
-        print("view: %d map rows outside the grid skipped" % m.bad_rows, file=sys.stderr)
+        print("telemetry view: %d map rows outside the grid skipped" % m.bad_rows, file=sys.stderr)
     if args.png:
         save()
-        print("view: wrote %s" % args.png)
+        print("telemetry view: wrote %s" % args.png)
     else:
         draw(fig, axes, m)
         plt.ioff()
@@ -255,7 +258,7 @@ def cmd_to_readings(args):
     """READING frames as readings.csv rows, the HELLO's grid and sonar as config.txt."""
     src = Source(args.log, args.baud, False)
     if src.device:
-        raise Fatal("to-readings: %s is a device: record a log first (cat %s > run.log, or "
+        raise Fatal("%s is a device: record a log first (cat %s > run.log, or "
                     "host_sim --telemetry FILE)" % (args.log, args.log))
     hello = None
     changed = 0
@@ -272,10 +275,10 @@ def cmd_to_readings(args):
             drops = fr["drops"]
     src.summary("to-readings")
     if hello is None:
-        raise Fatal("to-readings: %s has no HELLO frame with the sonar's settings (the firmware "
+        raise Fatal("%s has no HELLO frame with the sonar's settings (the firmware "
                     "sends one every 5 s; a log from before telemetry version 2 lacks them)" % args.log)
     if not rows:
-        raise Fatal("to-readings: %s has no READING frame" % args.log)
+        raise Fatal("%s has no READING frame" % args.log)
     out = args.out or os.path.splitext(args.log)[0] + "-readings"
     try:
         os.makedirs(out, exist_ok=True)
@@ -302,16 +305,16 @@ def cmd_to_readings(args):
                    "(host_sim --replay reads it)\n" % os.path.basename(args.log)
                    + "".join("%s = %d\n" % kv for kv in cfg))
     except OSError as e:
-        raise Fatal("to-readings: cannot write into %s: %s" % (out, e.strerror), 1)
-    print("to-readings: %d readings into %s; the grid and sonar settings into %s"
+        raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+    print("telemetry to-readings: %d readings into %s; the grid and sonar settings into %s"
           % (len(rows), os.path.join(out, "readings.csv"), os.path.join(out, "config.txt")))
     print("  replay: host_sim --replay %s --out %s" % (os.path.join(out, "readings.csv"),
                                                        os.path.join(out, "replay")))
     if changed:
-        print("to-readings: warning: the HELLO frames changed %d times (a SET of the sonar's "
+        print("telemetry to-readings: warning: the HELLO frames changed %d times (a SET of the sonar's "
               "settings?); config.txt holds the first" % changed, file=sys.stderr)
     if drops:
-        print("to-readings: warning: the robot dropped %d telemetry events: readings are "
+        print("telemetry to-readings: warning: the robot dropped %d telemetry events: readings are "
               "missing, and the replay will differ from the robot's map" % drops, file=sys.stderr)
 
 
@@ -340,13 +343,13 @@ def cmd_send(args):
     try:
         data = slamlink.command(args.words)
     except slamlink.CommandError as e:
-        raise Fatal("send: %s" % e)
+        raise Fatal("%s" % e)
     try:
         mode = os.stat(args.port).st_mode
     except OSError as e:
-        raise Fatal("send: %s: %s" % (args.port, e.strerror))
+        raise Fatal("%s: %s" % (args.port, e.strerror))
     if not stat.S_ISCHR(mode):
-        raise Fatal("send: %s is not a serial device or a pseudo-terminal" % args.port)
+        raise Fatal("%s is not a serial device or a pseudo-terminal" % args.port)
     port = open_port(args.port, args.baud)
     port.write(data)
     port.flush()
@@ -377,13 +380,13 @@ def cmd_send(args):
         if want_map and geo and map_complete(rows, geo):
             break
     if answer is None:
-        raise Fatal("send: %s did not answer within %g s" % (args.port, args.wait), 1)
+        raise Fatal("%s did not answer within %g s" % (args.port, args.wait), 1)
     if answer["type"] == "error":
-        raise Fatal("send: the robot refused it: %s" % slamlink.ERROR_TEXT.get(
+        raise Fatal("the robot refused it: %s" % slamlink.ERROR_TEXT.get(
             slamlink.ERRORS.get(answer["code"]), "code %d" % answer["code"]), 1)
     if want_map:
         if geo is None or not map_complete(rows, geo):
-            raise Fatal("send: the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
+            raise Fatal("the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
         os.makedirs(args.out, exist_ok=True)
         for which, name, vmax in ((0, "om", geo["om_max"]), (1, "tm", geo["tm_max"])):
             grid = [[0] * geo["a"] for _ in range(geo["b"])]
@@ -391,7 +394,7 @@ def cmd_send(args):
                 if m == which and row < geo["b"] and first + len(cells) <= geo["a"]:
                     grid[row][first:first + len(cells)] = list(cells)
             write_pgm(args.out, name, grid, vmax, geo)
-        print("send: wrote %s/om.pgm and %s/tm.pgm (with ROS .yaml)" % (args.out, args.out))
+        print("telemetry send: wrote %s/om.pgm and %s/tm.pgm (with ROS .yaml)" % (args.out, args.out))
 
 
 def map_complete(rows, geo):
@@ -408,7 +411,7 @@ def cmd_frame(args):
     try:
         print(slamlink.command(args.words).hex(" "))
     except slamlink.CommandError as e:
-        raise Fatal("frame: %s" % e)
+        raise Fatal("%s" % e)
 
 
 def main(argv=None):
@@ -448,7 +451,7 @@ def main(argv=None):
     try:
         handlers[args.command](args)
     except Fatal as e:
-        print("telemetry: %s" % e, file=sys.stderr)
+        print("telemetry %s: %s" % (args.command, e), file=sys.stderr)
         return e.status
     except KeyboardInterrupt:
         return 130

@@ -7,7 +7,8 @@
 #include "hal_common/trace.h"
 #include "host/sim.h"
 
-/* Bytes in each storage slot: OM and TM of a 160 x 160 grid with room to spare. */
+/* Bytes in each storage slot: OM and TM of a 160 x 160 grid with room to spare, the
+ * size of an MCU's flash sector; hal_host_storage_resize() makes room for larger grids. */
 #define HOST_STORAGE_SIZE (128u * 1024u)
 
 static struct {
@@ -22,19 +23,23 @@ static struct {
     uint64_t trace_ticks;
     bool in_tick;
     trace_tick_t rec;    /* what the firmware saw in the tick under way */
-    uint8_t storage[HAL_STORAGE_SLOTS][HOST_STORAGE_SIZE];
+    uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
+    size_t storage_size; /* bytes of each slot in use; 0 until the first use */
     bool rewriting[HAL_STORAGE_SLOTS];
     bool storage_ready;
 } hh;
 
 static void storage_erase(uint8_t slot)
 {
-    memset(hh.storage[slot], 0xFF, HOST_STORAGE_SIZE); /* as erased flash reads */
+    memset(hh.storage[slot], 0xFF, HAL_HOST_STORAGE_MAX); /* as erased flash reads */
 }
 
 /* Storage starts erased, once per process: it outlives worlds and hal_init(). */
 static void storage_power_on(void)
 {
+    if (hh.storage_size == 0u) {
+        hh.storage_size = HOST_STORAGE_SIZE;
+    }
     if (!hh.storage_ready) {
         for (uint8_t i = 0; i < HAL_STORAGE_SLOTS; i++) {
             storage_erase(i);
@@ -212,16 +217,33 @@ size_t hal_uart_read(uint8_t *data, size_t len)
     return n;
 }
 
+void hal_host_storage_resize(size_t bytes)
+{
+    hh.storage_size = bytes > HAL_HOST_STORAGE_MAX ? HAL_HOST_STORAGE_MAX : bytes;
+    hh.storage_ready = false;
+    storage_power_on();
+}
+
+const uint8_t *hal_host_storage_slot(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS) {
+        return NULL;
+    }
+    storage_power_on();
+    return hh.storage[slot];
+}
+
 size_t hal_storage_size(void)
 {
-    return HOST_STORAGE_SIZE;
+    storage_power_on();
+    return hh.storage_size;
 }
 
 /* A range [offset, offset + len) inside a slot, without overflow. */
 static bool storage_range_ok(uint8_t slot, uint32_t offset, const void *data, size_t len)
 {
-    return slot < HAL_STORAGE_SLOTS && offset <= HOST_STORAGE_SIZE &&
-           len <= HOST_STORAGE_SIZE - offset && (data != NULL || len == 0u);
+    return slot < HAL_STORAGE_SLOTS && offset <= hh.storage_size &&
+           len <= hh.storage_size - offset && (data != NULL || len == 0u);
 }
 
 int hal_storage_begin(uint8_t slot)
