@@ -213,8 +213,9 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
     }
 }
 
-/* Commands from the UART, then what waits for the robot to stand. */
-static void robot_commands(robot_t *r, uint32_t ticks)
+/* Commands from the UART, then what waits for the robot to stand. Kept out of line, so
+ * its buffers are not on the stack while robot_idle() saves the maps. */
+__attribute__((noinline)) static void robot_commands(robot_t *r, uint32_t ticks)
 {
     uint8_t rx[ROBOT_RX_BYTES];
     size_t n = hal_uart_read(rx, sizeof rx);
