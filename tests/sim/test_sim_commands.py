@@ -155,4 +155,10 @@ for text, what in (("1 stop\nabc start\n", ":2:"), ("1 fly\n", ":1:"), ("2 stop\
     p = sim.run("--commands", path, "--out", out, expect=2)
     check(what in p.stderr and not os.path.exists(out), "a bad commands file (%r): exit 2, says %s"
           % (text, what))
+# --realtime takes a speed factor (checked, not timed: the run must simply complete).
+for factor, status in (("0", 2), ("abc", 2), ("5000", 2), ("500", 0)):
+    out = sim.out("rt" + factor)
+    p = sim.run("--realtime", factor, "--duration", 0.5, "--out", out, expect=status)
+    check(status == 0 or ("FACTOR" in p.stderr and not os.path.exists(out)),
+          "--realtime %s: exit %d" % (factor, status))
 sim.done()
