@@ -108,7 +108,7 @@ static void test_stop_and_start(void **state)
     assert_int_equal(r.acks, 1u);
     assert_int_equal(r.cmd, TELEM_CMD_STOP);
     assert_true(standing());
-    assert_true(robot.stopped);
+    assert_true(robot.hold & ROBOT_HOLD_STOP);
     odom_pose_t at = robot.pose;
     uint32_t pings = robot.sweep.pings;
     run(300);
@@ -138,9 +138,9 @@ static void test_set_applies_once_the_robot_stands(void **state)
     assert_int_equal(r.value, 120u);
     assert_int_equal(robot.cfg.cruise_mm_s, 120u);
     assert_int_equal(robot.explore.cruise_mm_s, 200); /* not yet: the robot is moving */
-    assert_true(robot.hold);
+    assert_true(robot.hold & ROBOT_HOLD_COMMAND);
     run(200);
-    assert_false(robot.hold);
+    assert_int_equal(robot.hold, 0u);
     assert_int_equal(robot.explore.cruise_mm_s, 120);
     /* The pose was kept; the square begins again where the robot stood. */
     assert_true(robot.pose.x_um >= before.x_um);
@@ -189,7 +189,7 @@ static void test_mode_and_calibration_run(void **state)
     assert_int_equal(r.acks, 2u);
     assert_int_equal(r.cmd, TELEM_CMD_CALIBRATE);
     assert_int_equal(robot.explore.mode, ROBOT_CALIBRATION_MODE);
-    assert_false(robot.stopped);
+    assert_int_equal(robot.hold & ROBOT_HOLD_STOP, 0u);
     assert_false(standing());
 }
 
@@ -265,7 +265,7 @@ static void test_refused_commands_change_nothing(void **state)
     };
     for (unsigned i = 0; i < sizeof want / sizeof want[0]; i++) {
         slam_config_t cfg_before = robot.cfg;
-        bool stopped = robot.stopped;
+        uint8_t hold = robot.hold;
         uint8_t pending = robot.pending;
         size_t n;
         switch (i) {
@@ -317,7 +317,7 @@ static void test_refused_commands_change_nothing(void **state)
         assert_int_equal(r.code, want[i].code);
         assert_int_equal(r.key, want[i].key);
         assert_memory_equal(&robot.cfg, &cfg_before, sizeof cfg_before);
-        assert_int_equal(robot.stopped, stopped);
+        assert_int_equal(robot.hold, hold);
         assert_int_equal(robot.pending, pending);
     }
     assert_int_equal(robot.telem.refused, sizeof want / sizeof want[0]);

@@ -37,9 +37,8 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     telem_init(&r->telem);
     r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
     r->save_requested = false;
-    r->hold = false;
+    r->hold = 0u;
     r->held = false;
-    r->stopped = false;
     r->pending = 0u;
     return SLAM_OK;
 }
@@ -95,7 +94,7 @@ void robot_tick(robot_t *r)
     /* Where to go, and the wheel speeds that get us there. Under a hold the exploration
      * waits where it is and the robot comes to a stand. */
     int32_t target_mm_s[2] = {0, 0};
-    bool hold = r->hold || r->stopped;
+    bool hold = r->hold != 0u;
     if (!hold) {
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
                      motion_stalled(&r->motion), target_mm_s);
@@ -108,6 +107,12 @@ void robot_tick(robot_t *r)
     r->held = hold && duty[ODOM_LEFT] == 0 && duty[ODOM_RIGHT] == 0;
 
     r->ticks++;
+}
+
+/* Set or clear one reason to hold the robot still (robot_idle() is the only writer). */
+static void robot_hold(robot_t *r, uint8_t why, bool on)
+{
+    r->hold = (uint8_t)(on ? r->hold | why : r->hold & ~why);
 }
 
 void robot_request_save(robot_t *r)
@@ -153,11 +158,11 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
     telem_t *t = &r->telem;
     switch (c->type) {
     case TELEM_CMD_START:
-        r->stopped = false;
+        robot_hold(r, ROBOT_HOLD_STOP, false);
         telem_send_ack(t, c->type);
         break;
     case TELEM_CMD_STOP:
-        r->stopped = true;
+        robot_hold(r, ROBOT_HOLD_STOP, true);
         telem_send_ack(t, c->type);
         break;
     case TELEM_CMD_GET: {
@@ -189,7 +194,7 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
             telem_send_config(t, &r->cfg, key);
         } else {
             if (c->type == TELEM_CMD_CALIBRATE) {
-                r->stopped = false;
+                robot_hold(r, ROBOT_HOLD_STOP, false);
             }
             telem_send_ack(t, c->type);
         }
@@ -227,11 +232,11 @@ __attribute__((noinline)) static void robot_commands(robot_t *r, uint32_t ticks)
         }
     }
     if (r->pending != 0u) {
-        r->hold = true;
+        robot_hold(r, ROBOT_HOLD_COMMAND, true);
         if (r->held) {
             robot_reconfigure(r, (r->pending & ROBOT_PENDING_RESEED) != 0u);
             r->pending = 0u;
-            r->hold = false;
+            robot_hold(r, ROBOT_HOLD_COMMAND, false);
         }
     }
 }
@@ -250,7 +255,7 @@ void robot_idle(robot_t *r)
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;
     if (!r->store.active && r->store.available && (due || r->save_requested)) {
         /* Stop first: beginning a slot erases it, which may stall the CPU. */
-        r->hold = true;
+        robot_hold(r, ROBOT_HOLD_SAVE, true);
         if (r->held) {
             /* The pose is three words the tick rewrites: copy it in one piece. */
             hal_irq_state_t irq = hal_critical_enter();
@@ -259,7 +264,7 @@ void robot_idle(robot_t *r)
             r->save_requested = false;
             r->next_save = ticks + period;
             mapstore_begin(&r->store, &r->grid, &pose, ticks);
-            r->hold = false;
+            robot_hold(r, ROBOT_HOLD_SAVE, false);
         }
     }
     (void)mapstore_step(&r->store, &r->grid);
@@ -273,7 +278,7 @@ void robot_idle(robot_t *r)
         .overruns = hal_tick_overruns(),
         .saves = r->store.saves,
         .explore_mode = r->cfg.explore_mode,
-        .flags = (uint8_t)((r->stopped ? TELEM_FLAG_STOPPED : 0u) |
+        .flags = (uint8_t)(((r->hold & ROBOT_HOLD_STOP) != 0u ? TELEM_FLAG_STOPPED : 0u) |
                            (r->pending != 0u ? TELEM_FLAG_PENDING : 0u)),
     };
     telem_idle(&r->telem, &r->grid, &r->cfg, &st, ticks);

@@ -44,12 +44,18 @@ typedef struct {
     mapstore_t store;      /**< map saves, run by robot_idle() */
     uint32_t next_save;    /**< the tick count at which the next periodic save begins */
     volatile bool save_requested; /**< robot_request_save() was called */
-    volatile bool hold;    /**< robot_idle() asks the tick to stop the robot */
+    volatile uint8_t hold; /**< why robot_idle() asks the tick to stop the robot
+                                (ROBOT_HOLD_* bits); 0: drive */
     volatile bool held;    /**< the tick says the robot stands still under hold */
-    volatile bool stopped; /**< STOP: stand still until START; the sweep goes on mapping */
     uint8_t pending;       /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
     telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
+
+/** Reasons to hold the robot still: a save beginning, a command waiting to be applied,
+ *  and STOP (until START; the sweep goes on mapping). Written by robot_idle() only. */
+#define ROBOT_HOLD_SAVE 0x01u
+#define ROBOT_HOLD_COMMAND 0x02u
+#define ROBOT_HOLD_STOP 0x04u
 
 /**
  * What the calibration run (the CALIBRATE command) drives: the square of square_side_um
