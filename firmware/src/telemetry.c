@@ -69,7 +69,9 @@ static size_t wrap(uint8_t *frame, uint8_t type, size_t len)
 
 size_t telem_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len)
 {
-    memmove(buf + 4, payload, len);
+    if (len > 0u) { /* a command without a payload may pass NULL */
+        memmove(buf + 4, payload, len);
+    }
     return wrap(buf, type, len);
 }
 

@@ -282,7 +282,8 @@ int telem_config_set(slam_config_t *cfg, uint8_t key, uint32_t value);
 
 /**
  * Build one frame.
- * @param buf  at least TELEM_FRAME_MAX bytes
+ * @param buf      at least TELEM_FRAME_MAX bytes
+ * @param payload  len bytes (may be NULL when len is 0); it may lie at buf + 4
  * @return the frame length
  */
 size_t telem_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len);
