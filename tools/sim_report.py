@@ -189,6 +189,8 @@ def figure(args, res, group, base):
     ax.set_xticks([j + 0.19 for j in range(len(labels))])
     ax.set_xticklabels(["raw OM", "+threshold", "+template", "+insert", "tuned\nTH/K"])
     ax.set_ylim(0, 1)
+    ax.set_xlabel("post-processing step")
+    ax.set_ylabel("F1 (bars), precision (dots)")
     ax.set_title("post-processing at TH = 3 (mean of %d seeds)" % len(group("post-default")))
     ax.legend(fontsize=8, loc="lower left")
 
