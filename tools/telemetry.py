@@ -31,6 +31,7 @@ or a source with nothing valid in it.
 import argparse
 import math
 import os
+import signal
 import stat
 import sys
 import time
@@ -448,6 +449,10 @@ def main(argv=None):
         ap.error("--every must be positive")
     handlers = {"dump": cmd_dump, "view": cmd_view, "to-readings": cmd_to_readings,
                 "send": cmd_send, "frame": cmd_frame}
+    # SIGTERM (a service manager, kill) ends a --follow as Ctrl-C does: the picture is
+    # drawn a last time; and Ctrl-C works even where the shell started us with it ignored.
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGINT, stop)
     try:
         handlers[args.command](args)
     except Fatal as e:
@@ -458,6 +463,10 @@ def main(argv=None):
     except BrokenPipeError:
         return 0
     return 0
+
+
+def stop(signum, frame):
+    raise KeyboardInterrupt
 
 
 def frames(path, baud=115200, follow=False):
