@@ -3,7 +3,12 @@
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 TEST_PRESETS := host host-asan host-m32 stm32f4
-FIRMWARE_ELF := build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf
+# The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
+# (generic_f405, the one QEMU runs) is sonarslam_stm32f4; every other is sonarslam_<BOARD>.
+BOARD ?= generic_f405
+BOARDS := $(patsubst hal/stm32f4/board_%.h,%,$(wildcard hal/stm32f4/board_*.h))
+FIRMWARE_IMAGE := $(if $(filter generic_f405,$(BOARD)),sonarslam_stm32f4,sonarslam_$(BOARD))
+FIRMWARE_ELF := build/stm32f4/hal/stm32f4/$(FIRMWARE_IMAGE).elf
 
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
@@ -21,7 +26,8 @@ help:
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
-	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash)"
+	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
+	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash); BOARD= as above"
 	@echo "make debug     OpenOCD and gdb-multiarch on the board"
 	@echo "make linux     sonarslam-linux for a Linux robot (build/linux/hal/linux/)"
 	@echo "make clean     remove build/ and out/"
@@ -71,8 +77,11 @@ bench: build-host build-stm32f4
 	tools/stm32f4/bench_arm.py build/stm32f4
 
 firmware: deps-firmware
+	@case " $(BOARDS) " in *" $(BOARD) "*) ;; *) echo "make: unknown BOARD '$(BOARD)'; boards: $(BOARDS)" >&2; exit 2 ;; esac
 	cmake --preset stm32f4
-	cmake --build --preset stm32f4 -j $(JOBS)
+	cmake --build --preset stm32f4 -j $(JOBS) --target $(FIRMWARE_IMAGE)
+	tools/stm32f4/bench_arm.py build/stm32f4 --static-only --image $(FIRMWARE_IMAGE)
+	@echo "firmware: $(FIRMWARE_ELF) (and .bin, .hex, .map)"
 
 flash: firmware
 	tools/stm32f4/flash.sh $(FIRMWARE_ELF)

@@ -89,6 +89,27 @@ int truth_image(const map_geom_t *g, const uint8_t *truth, uint32_t start, uint8
  */
 char *fmt_fixed(char *out, double v, int decimals, char sep);
 
+/*
+ * The logs' columns (host_sim/README.md describes them). Units are in the names; each kind
+ * of column has one precision, enough to carry the firmware's value exactly: times are
+ * whole 10 ms ticks, lengths whole µm, servo angles whole millidegrees, and ten decimals
+ * of a radian are finer than half a binary angle unit (7.3e-10 rad), so a replay recovers
+ * the firmware's exact heading.
+ */
+#define CSV_TIME_DECIMALS 2
+#define CSV_LENGTH_DECIMALS 6
+#define CSV_HEADING_DECIMALS 10
+#define CSV_SERVO_DECIMALS 3
+#define CSV_READINGS_HEADER "t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad"
+#define CSV_TRUTH_COLUMNS "true_x_m,true_y_m,true_th_rad"
+#define CSV_TRAJECTORY_HEADER "t_s,odom_x_m,odom_y_m,odom_th_rad," CSV_TRUTH_COLUMNS
+
+/**
+ * The status column of a reading: "ok" inside the confidence sector (range_min <= d < rc),
+ * "far" at or beyond rc, "near" below range_min, "timeout" without an echo.
+ */
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
+
 /** Open DIR/NAME for writing; NULL with a message on stderr when it fails. */
 FILE *open_out(const char *dir, const char *name);
 
@@ -97,6 +118,9 @@ int close_out(FILE *f, const char *dir, const char *name);
 
 /** Create a directory and its parents; -1 with a message on stderr. */
 int make_dirs(const char *path);
+
+/** The robot's map storage slots as DIR/slot0.bin, DIR/slot1.bin; -1 with a message. */
+int write_storage(const char *dir);
 
 /* ---- options (options.c) --------------------------------------------------------------- */
 
@@ -122,7 +146,10 @@ typedef struct {
     size_t nsets;
     const char *trace;
     const char *telemetry;
+    const char *commands;
+    const char *storage;
     bool realtime;
+    double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
     bool plot;
     bool quiet;
@@ -210,5 +237,35 @@ void plot_figure(const char *out, bool quiet);
 
 /** --replay: rebuild OM from a readings.csv through the same mapper (replay.c). */
 int replay(const options_t *o);
+
+/* ---- commands to the robot (commands.c) -------------------------------------------------- */
+
+typedef struct {
+    uint64_t tick;   /* the tick after which the bytes arrive */
+    size_t offset;   /* into bytes */
+    size_t len;
+} command_line_t;
+
+/** The --commands file: framed command bytes and when they arrive. */
+typedef struct {
+    command_line_t *lines;
+    size_t n;
+    uint8_t *bytes;
+    size_t nbytes;
+    size_t next;      /* the next line to feed */
+    size_t dropped;   /* bytes the UART had no room for */
+} commands_t;
+
+/**
+ * Read a --commands file: `TIME_S COMMAND` lines (start, stop, mode MODE, get KEY,
+ * set KEY VALUE, save, map, calibrate, or hex BYTES), times not going back; `#` comments.
+ * @return 0, or EXIT_USAGE with a message naming the file and line
+ */
+int commands_load(const char *path, commands_t *c);
+
+/** Hand the robot's UART every command due by @p tick (hal_host_uart_receive()). */
+void commands_feed(commands_t *c, uint64_t tick);
+
+void commands_free(commands_t *c);
 
 #endif /* HOST_SIM_HOST_SIM_H */

@@ -215,14 +215,14 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
 
     if (tick % TRAJECTORY_EVERY == 0u || last) {
-        char line[160];
-        char *e = fmt_fixed(line, t, 2, ',');
-        e = fmt_fixed(e, ox, 6, ',');
-        e = fmt_fixed(e, oy, 6, ',');
-        e = fmt_fixed(e, wrap_pi(oth), 6, ',');
-        e = fmt_fixed(e, tr.x, 6, ',');
-        e = fmt_fixed(e, tr.y, 6, ',');
-        e = fmt_fixed(e, wrap_pi(tr.th), 6, '\n');
+        char line[192];
+        char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+        e = fmt_fixed(e, ox, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, oy, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(oth), CSV_HEADING_DECIMALS, ',');
+        e = fmt_fixed(e, tr.x, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, tr.y, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(tr.th), CSV_HEADING_DECIMALS, '\n');
         fwrite(line, 1, (size_t)(e - line), trajectory);
     }
 
@@ -243,28 +243,29 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
         r->marked_y = sy;
     }
     char line[256];
-    char *e = fmt_fixed(line, t, 2, ',');
-    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, 3, ',');
+    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
+    uint32_t d = 0u;
     odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
     if (sw->reading.echo) {
-        uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
-        e = fmt_fixed(e, d * 1e-6, 6, ',');
-        memcpy(e, "ok,", 3);
-        e += 3;
+        d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
+        e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
         (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
     } else {
-        memcpy(e, ",timeout,", 9);
-        e += 9;
+        *e++ = ',';
         mapper_timeout(&ideal_mapper, &ideal_grid, &truth_pose);
     }
-    /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
-     * the replay recovers the exact heading. */
-    e = fmt_fixed(e, op->x_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, op->y_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, bam_rad(op->heading), 10, ',');
-    e = fmt_fixed(e, ping.x, 6, ',');
-    e = fmt_fixed(e, ping.y, 6, ',');
-    e = fmt_fixed(e, wrap_pi(ping.th), 6, '\n');
+    const char *status = reading_status(&robot.mapper.sonar, sw->reading.echo, d);
+    size_t n = strlen(status);
+    memcpy(e, status, n);
+    e += n;
+    *e++ = ',';
+    e = fmt_fixed(e, op->x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, op->y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(bam_rad(op->heading)), CSV_HEADING_DECIMALS, ',');
+    e = fmt_fixed(e, ping.x, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
     fwrite(line, 1, (size_t)(e - line), readings);
 }
 
@@ -332,6 +333,11 @@ int main(int argc, char **argv)
         room_free(&room);
         return EXIT_USAGE;
     }
+    commands_t commands = {0};
+    if (o.commands != NULL && (rc = commands_load(o.commands, &commands)) != 0) {
+        room_free(&room);
+        return rc;
+    }
     build_params(&cfg, &params);
     /* The world starts the robot at the room's start pose: the one chosen above. */
     room.start_x = sx;
@@ -391,10 +397,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "host_sim: cannot start the run (out of memory, or an output file)\n");
         return 1;
     }
-    fprintf(readings, "t,servo_deg,range_m,status,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
-    fprintf(trajectory, "t,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
+    fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
+    fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
 
     hal_host_attach(sim);
+    if (o.storage != NULL) {
+        /* Room for a record of this grid: the robot now saves its maps every
+         * save_period_s, and stands still while a save begins, as a real one does. */
+        hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
+    }
     if (hal_init() != HAL_OK || robot_init(&robot, &cfg) != SLAM_OK ||
         hal_tick_start(tick_callback, &robot) != HAL_OK) {
         fprintf(stderr, "host_sim: the firmware did not start\n");
@@ -435,10 +446,11 @@ int main(int argc, char **argv)
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
+        commands_feed(&commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
         observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
         if (o.realtime) {
-            double ahead = (double)(k + 1u) * TICK_S - (wall_now() - t0);
+            double ahead = (double)(k + 1u) * TICK_S / o.realtime_factor - (wall_now() - t0);
             if (ahead > 0.0) {
                 struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
                 nanosleep(&ts, NULL);
@@ -501,6 +513,9 @@ int main(int argc, char **argv)
     }
     bad |= write_map(o.out, "truth", &r->geom, work, true);
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
+    if (o.storage != NULL) {
+        bad |= write_storage(o.storage);
+    }
     FILE *tf = open_out(o.out, "timing.json");
     if (tf != NULL) {
         fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
@@ -515,6 +530,11 @@ int main(int argc, char **argv)
     if (o.plot && bad == 0) {
         plot_figure(o.out, o.quiet);
     }
+    if (commands.dropped != 0u) {
+        fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
+                o.commands, commands.dropped);
+    }
+    commands_free(&commands);
     free(ps);
     free(scratch);
     free(bufs);

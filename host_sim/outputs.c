@@ -41,6 +41,17 @@ char *fmt_fixed(char *out, double v, int decimals, char sep)
     return out;
 }
 
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um)
+{
+    if (!echo) {
+        return "timeout";
+    }
+    if (range_um >= s->confidence_um) {
+        return "far";
+    }
+    return range_um < s->range_min_um ? "near" : "ok";
+}
+
 int make_dirs(const char *path)
 {
     char buf[4096];
@@ -118,4 +129,23 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
     }
     fputs(text, f);
     return close_out(f, dir, file);
+}
+
+int write_storage(const char *dir)
+{
+    if (make_dirs(dir) != 0) {
+        return -1;
+    }
+    int bad = 0;
+    for (uint8_t slot = 0; slot < HAL_STORAGE_SLOTS; slot++) {
+        char name[32];
+        snprintf(name, sizeof name, "slot%u.bin", (unsigned)slot);
+        FILE *f = open_out(dir, name);
+        if (f == NULL) {
+            return -1;
+        }
+        fwrite(hal_host_storage_slot(slot), 1u, hal_storage_size(), f);
+        bad |= close_out(f, dir, name);
+    }
+    return bad;
 }

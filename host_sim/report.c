@@ -212,7 +212,7 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
 void plot_figure(const char *out, bool quiet)
 {
     const char *script = SLAM_SOURCE_DIR "/tools/plot_run.py";
-    char *argv[] = {"/usr/bin/python3", (char *)script, (char *)out, NULL};
+    char *argv[] = {"/usr/bin/python3", (char *)script, (char *)out, "--quiet", NULL};
     pid_t pid;
     extern char **environ;
     if (access(argv[0], X_OK) != 0 || access(script, R_OK) != 0 ||
