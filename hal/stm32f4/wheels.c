@@ -25,6 +25,7 @@ static const motor_t motors[2] = {
 };
 
 static uint32_t motor_period; /* timer counts in one PWM period: full duty */
+static uint32_t motor_dir[2];  /* the BSRR word the direction pins were last given */
 
 static void encoder_setup(uint32_t base, bool invert)
 {
@@ -67,6 +68,8 @@ void stm32_wheels_init(void)
     tim->CR1 = STM32_TIM_CR1_ARPE | STM32_TIM_CR1_CEN;
 
     STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = motors[0].off | motors[1].off;
+    motor_dir[0] = motors[0].off;
+    motor_dir[1] = motors[1].off;
     stm32_gpio_write(BOARD_MOTOR_STBY_PORT, BOARD_MOTOR_STBY_PIN, true);
 }
 
@@ -78,7 +81,8 @@ uint16_t hal_encoder_count(hal_wheel_t wheel)
 
 void hal_motor_set(hal_wheel_t wheel, int16_t duty)
 {
-    const motor_t *m = &motors[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
+    unsigned i = wheel == HAL_WHEEL_RIGHT ? 1u : 0u;
+    const motor_t *m = &motors[i];
     int32_t d = duty;
     if (d > HAL_DUTY_MAX) {
         d = HAL_DUTY_MAX;
@@ -86,9 +90,18 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
         d = -HAL_DUTY_MAX;
     }
     uint32_t magnitude = (uint32_t)(d < 0 ? -d : d);
-    /* Direction first, in one BSRR write, then the duty (taken at the next PWM period). */
-    STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = d > 0 ? m->forward : d < 0 ? m->reverse : m->off;
-    STM32_TIM(BOARD_MOTOR_TIM)->CCR[m->ccr_index] = magnitude * motor_period / HAL_DUTY_MAX;
+    uint32_t dir = d > 0 ? m->forward : d < 0 ? m->reverse : m->off;
+    stm32_tim_t *tim = STM32_TIM(BOARD_MOTOR_TIM);
+    if (dir != motor_dir[i]) {
+        /* The duty in force was meant for the old direction, and a CCR write only takes
+         * effect at the end of the period: zero it and load it now (UG, which restarts the
+         * period of both channels), then turn, in one BSRR write. */
+        tim->CCR[m->ccr_index] = 0u;
+        tim->EGR = STM32_TIM_EGR_UG;
+        STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = dir;
+        motor_dir[i] = dir;
+    }
+    tim->CCR[m->ccr_index] = magnitude * motor_period / HAL_DUTY_MAX; /* from the next period */
 }
 
 void stm32_safe_outputs(void)
@@ -98,5 +111,7 @@ void stm32_safe_outputs(void)
     tim->CCR[BOARD_MOTOR_RIGHT_CH - 1u] = 0u;
     tim->EGR = STM32_TIM_EGR_UG; /* now, not at the end of the period */
     STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = motors[0].off | motors[1].off;
+    motor_dir[0] = motors[0].off;
+    motor_dir[1] = motors[1].off;
     stm32_gpio_write(BOARD_MOTOR_STBY_PORT, BOARD_MOTOR_STBY_PIN, false);
 }
