@@ -241,6 +241,7 @@ void lhal_stats(lhal_stats_t *out)
     out->output_rounds = atomic_load(&lx.output.rounds);
     out->outputs_posted = atomic_load(&lx.posted);
     out->outputs_written = atomic_load(&lx.applied);
+    out->output_writing = atomic_load(&lx.doing);
 }
 
 void lhal_report(FILE *f)

@@ -52,6 +52,7 @@ typedef struct {
     uint32_t output_rounds;        /**< times the output thread went round (the same) */
     uint32_t outputs_posted;       /**< output changes set through hal.h */
     uint32_t outputs_written;      /**< the last of them the output thread has written */
+    const char *output_writing;    /**< what the output thread writes now ("servo_pwm"), or NULL */
 } lhal_stats_t;
 
 /** Use this configuration at the next hal_init() (copied). */
