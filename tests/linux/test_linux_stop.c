@@ -26,6 +26,7 @@
 #include "lhal/app.h"
 #include "lhal/lhal.h"
 #include "tmptree.h"
+#include "wiring.h"
 #include "wait_until.h"
 
 #define MS 1000000ull
@@ -129,6 +130,15 @@ static pid_t start(void)
     return pid;
 }
 
+/* Starts the program in a child and waits until the motors run. */
+static pid_t start_driving(void)
+{
+    pid_t pid = start();
+    WAIT_UNTIL(fake_gpio_value(L_IN1) == 1 && fake_gpio_value(STBY) == 1);
+    atomic_store(&sh->go, true);
+    return pid;
+}
+
 /* The child's exit status (128 + N when signal N ended it); bounded, it never hangs. */
 static int finish(pid_t pid)
 {
@@ -229,28 +239,10 @@ static int setup(void **state)
     memset(sh, 0, sizeof *sh);
     atomic_store(&sh->now_ns, 1000u * MS);
     tmptree_make(root, "stop");
-    tmptree_pwm_channel(root, 0u, 0u);
-    tmptree_pwm_channel(root, 0u, 1u);
-    tmptree_pwm_channel(root, 1u, 0u);
     tmptree_file(root, "maps/.keep", "");
     snprintf(conf, sizeof conf, "%s/robot.conf", root);
-    char text[2048];
-    snprintf(text, sizeof text,
-             "gpio_chip = fakechip0\n"
-             "encoder_left_a = 1\nencoder_left_b = 2\nencoder_right_a = 3\nencoder_right_b = 4\n"
-             "sonar_trigger = 5\nsonar_echo = 6\n"
-             "motor_left_in1 = 7\nmotor_left_in2 = 8\nmotor_right_in1 = 9\nmotor_right_in2 = 10\n"
-             "motor_standby = 11\n"
-             "pwm_root = %s\n"
-             "servo_pwm_chip = 1\nservo_pwm_channel = 0\n"
-             "motor_left_pwm_chip = 0\nmotor_left_pwm_channel = 0\n"
-             "motor_right_pwm_chip = 0\nmotor_right_pwm_channel = 1\n"
-             "storage_dir = %s/maps\n"
-             "tick_priority = 0\n"
-             "# a square: the motors run from the first tick\n"
-             "explore_mode = 3\n",
-             root, root);
-    tmptree_file(root, "robot.conf", text);
+    /* With a standby line, and a square: the motors run from the first tick. */
+    wiring_conf_file(root, "motor_standby = 11\nexplore_mode = 3\n");
     return 0;
 }
 
@@ -274,21 +266,13 @@ static void assert_motors_ran_and_stopped(void)
     assert_string_equal(file("pwmchip0/pwm1/enable"), "0\n");
 }
 
-/* The servo's duty_cycle becomes a FIFO nobody reads while the robot drives: its next write
- * never returns (a PCA9685 on a hung I2C bus). The tick goes on; the watchdog finds the
- * output thread stuck within 50 ms past the 100 ms limit (on the backend's clock) and
- * drops the lines in the same pass, though that thread never comes back. The program
- * saves the maps and exits 3. */
-static void test_a_servo_write_that_never_returns(void **state)
+/* The program found the stall the watchdog names within 50 ms past the limit (the age it
+ * gives is the stamp's, on the backend's clock), stopped the motors, saved the maps and
+ * exited 3. */
+static void assert_stopped_for_a_stall(pid_t pid, const char *says)
 {
-    (void)state;
-    pid_t pid = start();
-    WAIT_UNTIL(fake_gpio_value(L_IN1) == 1 && fake_gpio_value(STBY) == 1);
-    atomic_store(&sh->go, true);
-    make_fifo("pwmchip1/pwm0/duty_cycle");
-    step_until_fault(false, true);
     assert_int_equal(finish(pid), APP_EXIT_SAFETY);
-    unsigned ms = stall_ms(file("err.txt"), "watchdog: writing servo_pwm has not returned for ");
+    unsigned ms = stall_ms(file("err.txt"), says);
     assert_true(ms > 100u && ms <= 150u);
     assert_motors_ran_and_stopped();
     assert_true(tmptree_exists(root, "maps/om.pgm"));
@@ -297,22 +281,30 @@ static void test_a_servo_write_that_never_returns(void **state)
     assert_non_null(strstr(file("out.txt"), "maps written to"));
 }
 
+/* The servo's duty_cycle becomes a FIFO nobody reads while the robot drives: its next write
+ * never returns (a PCA9685 on a hung I2C bus). The tick goes on; the watchdog finds the
+ * output thread stuck within 50 ms past the 100 ms limit (on the backend's clock) and
+ * drops the lines in the same pass, though that thread never comes back. The program
+ * saves the maps and exits 3. */
+static void test_a_servo_write_that_never_returns(void **state)
+{
+    (void)state;
+    pid_t pid = start_driving();
+    make_fifo("pwmchip1/pwm0/duty_cycle");
+    step_until_fault(false, true);
+    assert_stopped_for_a_stall(pid, "watchdog: writing servo_pwm has not returned for ");
+}
+
 /* The events thread ends without a word (as it did when poll() failed): the encoder counts
  * freeze while the motors run. The watchdog sees it stamp no more. */
 static void test_the_events_thread_killed(void **state)
 {
     (void)state;
-    pid_t pid = start();
-    WAIT_UNTIL(fake_gpio_value(L_IN1) == 1 && fake_gpio_value(STBY) == 1);
-    atomic_store(&sh->go, true);
+    pid_t pid = start_driving();
     atomic_store(&sh->kill_events, true);
     WAIT_UNTIL(!atomic_load(&sh->kill_events));
     step_until_fault(true, false);
-    assert_int_equal(finish(pid), APP_EXIT_SAFETY);
-    unsigned ms = stall_ms(file("err.txt"), "watchdog: the events thread (encoders, echo) stopped ");
-    assert_true(ms > 100u && ms <= 150u);
-    assert_motors_ran_and_stopped();
-    assert_true(tmptree_exists(root, "maps/om.pgm"));
+    assert_stopped_for_a_stall(pid, "watchdog: the events thread (encoders, echo) stopped ");
 }
 
 /* SIGTERM while the output thread hangs in a servo write and the map cannot be written (its
@@ -322,9 +314,7 @@ static void test_sigterm_twice(void **state)
 {
     (void)state;
     make_fifo("maps/om.pgm.tmp");
-    pid_t pid = start();
-    WAIT_UNTIL(fake_gpio_value(L_IN1) == 1 && fake_gpio_value(STBY) == 1);
-    atomic_store(&sh->go, true);
+    pid_t pid = start_driving();
     make_fifo("pwmchip1/pwm0/duty_cycle");
     wait_until_output_stuck();
     atomic_store(&sh->quiet, true);

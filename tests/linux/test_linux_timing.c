@@ -123,24 +123,34 @@ static void test_watchdog_trips_only_beyond_100_ms(void **state)
     assert_int_equal(age, 0u);
 }
 
+/* The stamp at `field` of wdog_stamps_t is fresh at exactly `limit` old and stale (the
+ * verdict, with its age) one nanosecond later, the others fresh. */
+static void assert_stale_beyond(const wdog_t *w, size_t field, uint64_t limit, wdog_verdict_t v)
+{
+    uint64_t age = 0u;
+    uint64_t now = T0 + 5000u * MS;
+    wdog_stamps_t s = stamps(now);
+    uint64_t *stamp = (uint64_t *)(void *)((char *)&s + field);
+    *stamp = now - limit;
+    assert_int_equal(wdog_check(w, now, &s, &age), WDOG_OK);
+    (*stamp)--;
+    assert_int_equal(wdog_check(w, now, &s, &age), v);
+    assert_int_equal(age, limit + 1u);
+}
+
 /* A thread that is stuck (a write that never returns) or dead stamps no more. */
 static void test_watchdog_watches_every_thread(void **state)
 {
     (void)state;
     const wdog_t w = {.tick_limit_ns = 100u * MS, .idle_limit_ns = 0u};
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, events_ns), 100u * MS, WDOG_EVENTS_STALL);
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, output_ns), 100u * MS, WDOG_OUTPUT_STALL);
+    /* The tick is named first, then the events thread, then the output thread. */
     uint64_t age = 0u;
     uint64_t now = T0 + 5000u * MS;
     wdog_stamps_t s = stamps(now);
-    s.events_ns = now - 100u * MS;
-    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_OK);
-    s.events_ns--;
-    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_EVENTS_STALL);
-    assert_int_equal(age, 100u * MS + 1u);
-    s = stamps(now);
     s.output_ns = now - 150u * MS;
     assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_OUTPUT_STALL);
-    assert_int_equal(age, 150u * MS);
-    /* The tick is named first, then the events thread, then the output thread. */
     s.events_ns = now - 120u * MS;
     assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_EVENTS_STALL);
     s.tick_ns = now - 101u * MS;
@@ -152,15 +162,11 @@ static void test_watchdog_watches_the_kicks_when_asked(void **state)
 {
     (void)state;
     const wdog_t w = {.tick_limit_ns = 100u * MS, .idle_limit_ns = 2000u * MS};
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, kick_ns), 2000u * MS, WDOG_IDLE_STALL);
+    /* A stalled tick is the first thing said. */
     uint64_t age = 0u;
     uint64_t now = T0 + 5000u * MS;
     wdog_stamps_t s = stamps(now);
-    s.kick_ns = now - 2000u * MS;
-    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_OK);
-    s.kick_ns--;
-    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_IDLE_STALL);
-    assert_int_equal(age, 2000u * MS + 1u);
-    /* A stalled tick is the first thing said. */
     s.tick_ns = now - 200u * MS;
     s.kick_ns = now - 3000u * MS;
     assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_TICK_STALL);
