@@ -352,6 +352,9 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     (void)state;
     atomic_store(&ticks, 0u);
     hal_motor_set(HAL_WHEEL_LEFT, 900);
+    written();
+    assert_int_equal(fake_gpio_value(L_IN1), 1);
+    assert_int_equal(fake_gpio_value(STBY), 1);
     assert_int_equal(hal_tick_start(tick_cb, &ticks), HAL_OK);
     WAIT_UNTIL(atomic_load(&ticks) >= 2u);
     atomic_store(&block_tick, true);
@@ -367,7 +370,11 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     char msg[256];
     assert_int_equal(lhal_fault(msg, sizeof msg), LHAL_FAULT_WATCHDOG);
     assert_non_null(strstr(msg, "no control tick for 101 ms"));
-    /* Stopped without the tick's lock, which the stuck tick still holds. */
+    /* Stopped before the fault was reported, without the tick's lock, which the stuck tick
+     * still holds: the lines, then the PWM. */
+    assert_int_equal(fake_gpio_value(L_IN1), 0);
+    assert_int_equal(fake_gpio_value(L_IN2), 0);
+    assert_int_equal(fake_gpio_value(STBY), 0);
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_string_equal(pwm("pwmchip0/pwm0/enable"), "0\n");
     atomic_store(&block_tick, false);
