@@ -22,6 +22,7 @@
 #include "fake_hal.h"
 #include "slam/error.h"
 #include "slam/explore.h"
+#include "slam/grid.h"
 #include "slam/odometry.h"
 #include "slam/robot.h"
 
@@ -75,6 +76,9 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->start_cell_b = (uint16_t)pick(s, 0, SLAM_GRID_B - 1);
     c->om_max = (uint8_t)pick(s, 1, 255);
     c->tm_max = (uint8_t)pick(s, 1, 255);
+    c->om_mode = (uint8_t)pick(s, 0, OM_MODES - 1);
+    c->om_hit = (uint8_t)pick(s, 1, GRID_EVIDENCE_MAX);
+    c->om_miss = (uint8_t)pick(s, 1, GRID_EVIDENCE_MAX);
     c->range_min_um = (uint32_t)pick(s, 0, 1000000);
     c->confidence_radius_um = (uint32_t)pick(s, c->range_min_um + 1, 10000000);
     c->sound_speed_mm_per_s = (uint32_t)pick(s, 300000, 400000);
@@ -90,8 +94,10 @@ static void random_config(uint64_t *s, slam_config_t *c)
     do {
         c->servo_pulse_180deg_us = (uint16_t)pick(s, 400, 2600);
     } while (c->servo_pulse_180deg_us == c->servo_pulse_0deg_us);
-    c->post_threshold = (uint8_t)pick(s, 0, c->om_max - 1);
+    c->post_threshold =
+        (uint8_t)pick(s, 0, (c->om_mode == OM_MODE_COUNT ? c->om_max : GRID_EVIDENCE_MAX) - 1);
     c->post_template_k = (uint8_t)pick(s, 0, 8);
+    c->post_insert = (uint8_t)pick(s, 0, 1);
     c->top_speed_mm_s = (uint16_t)pick(s, 50, 5000);
     c->accel_mm_s2 = (uint16_t)pick(s, 10, 50000);
     c->motion_kp_q8 = (uint16_t)pick(s, 0, 2048);
@@ -155,11 +161,12 @@ static void check_outputs(const robot_t *r, uint64_t seed, uint32_t tick)
 
 static void check_grid(const robot_t *r, uint64_t seed)
 {
+    uint8_t om_max = r->cfg.om_mode == OM_MODE_COUNT ? r->cfg.om_max : 255u;
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
-        if (r->grid.om[i] > r->cfg.om_max || r->grid.tm[i] > r->cfg.tm_max) {
+        if (r->grid.om[i] > om_max || r->grid.tm[i] > r->cfg.tm_max) {
             fail_msg("seed %llu: cell %u holds OM %u, TM %u beyond OMmax %u, TMmax %u",
-                     (unsigned long long)seed, (unsigned)i, r->grid.om[i], r->grid.tm[i],
-                     r->cfg.om_max, r->cfg.tm_max);
+                     (unsigned long long)seed, (unsigned)i, r->grid.om[i], r->grid.tm[i], om_max,
+                     r->cfg.tm_max);
         }
     }
 }
