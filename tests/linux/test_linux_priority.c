@@ -80,11 +80,25 @@ static uint64_t clock_that_starts_the_hog(void)
     return 1000u * MS;
 }
 
-static void test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted(void **state)
+static int setup(void **state)
 {
     (void)state;
     fake_gpio_reset();
     tmptree_make(root, "prio");
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    lhal_shutdown();
+    tmptree_remove(root);
+    return 0;
+}
+
+static void test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted(void **state)
+{
+    (void)state;
     wiring_lconf(&cfg, "fakechip0", 1, root);
     cfg.tick_priority = 50u;
     main_thread = pthread_self();
@@ -101,8 +115,6 @@ static void test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preemp
      * holder, which waits for the CPU behind the hog: no tick while the hog runs. */
     assert_int_equal(atomic_load(&ticks_while_hog_ran), 5u);
     assert_int_equal(lhal_fault(NULL, 0), LHAL_FAULT_NONE);
-    lhal_shutdown();
-    tmptree_remove(root);
 }
 
 /* One CPU for everything, and SCHED_FIFO allowed, or the test cannot say anything. */
@@ -133,7 +145,8 @@ int main(void)
         return 77;
     }
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted),
+        cmocka_unit_test_setup_teardown(test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted,
+                                        setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
