@@ -2,7 +2,7 @@
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
-TEST_PRESETS := host host-asan host-m32 stm32f4
+TEST_PRESETS := host host-asan host-m32 host-tsan stm32f4
 # The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
 # (generic_f405, the one QEMU runs) is sonarslam_stm32f4; every other is sonarslam_<BOARD>.
 BOARD ?= generic_f405
@@ -10,17 +10,21 @@ BOARDS := $(patsubst hal/stm32f4/board_%.h,%,$(wildcard hal/stm32f4/board_*.h))
 FIRMWARE_IMAGE := $(if $(filter generic_f405,$(BOARD)),sonarslam_stm32f4,sonarslam_$(BOARD))
 FIRMWARE_ELF := build/stm32f4/hal/stm32f4/$(FIRMWARE_IMAGE).elf
 
+FUZZ_RUNS ?= 50000
+FUZZ_SEED ?= 1000
+
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 
-.PHONY: help sim test bench report trace deps deps-sim deps-firmware firmware flash debug linux clean \
+.PHONY: help sim test bench fuzz-core report trace deps deps-sim deps-firmware firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
 	@echo "make sim       install what is missing, build, run the default room; picture in $(SIM_OUT)/"
 	@echo "               (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
 	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
-	@echo "               32-bit, and the STM32F4 images in QEMU)"
+	@echo "               32-bit, ThreadSanitizer on the Linux backend, the STM32F4 images in QEMU)"
+	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
@@ -71,6 +75,11 @@ linux:
 	@tools/install-deps.sh linux
 	cmake --preset linux
 	cmake --build --preset linux -j $(JOBS)
+
+# The core fuzz of make test (500 configurations, seconds), longer: FUZZ_RUNS configurations
+# from FUZZ_SEED on. A failure names its seed; `test_core_fuzz 1 SEED` runs that one again.
+fuzz-core: build-host-asan
+	build/host-asan/tests/test_core_fuzz $(FUZZ_RUNS) $(FUZZ_SEED)
 
 bench: build-host build-stm32f4
 	tools/bench.py build/host

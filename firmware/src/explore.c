@@ -260,15 +260,23 @@ static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
     target_mm_s[ODOM_RIGHT] = dir * speed;
 }
 
+/* The squared distance from the start of the leg. As in nearest_ahead(), the differences
+ * are taken modulo 2^32 (exact within 2 km, and defined after any encoder glitch); the
+ * squares fit 63 bits and their sum 64. */
+static uint64_t leg_dist2(const odom_pose_t *pose, const explore_t *e)
+{
+    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)e->leg_x_um);
+    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)e->leg_y_um);
+    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
+}
+
 static void forward_step(explore_t *e, const odom_pose_t *pose, bool reading,
                          int32_t target_mm_s[2])
 {
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = e->cruise_mm_s;
     if (e->mode == EXPLORE_SQUARE) {
-        int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
-        int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
         int64_t side = e->square_side_um;
-        if (dx * dx + dy * dy >= side * side) {
+        if (leg_dist2(pose, e) >= (uint64_t)(side * side)) {
             e->leg++;
             if (e->laps != 0u && e->leg >= 4u * e->laps) {
                 enter(e, EXPLORE_STOP);
@@ -325,10 +333,8 @@ static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
 
 static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
-    int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
-    int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
     int64_t back = EXPLORE_BACK_UM;
-    if (dx * dx + dy * dy >= back * back || e->ticks > EXPLORE_TURN_MAX_TICKS) {
+    if (leg_dist2(pose, e) >= (uint64_t)(back * back) || e->ticks > EXPLORE_TURN_MAX_TICKS) {
         e->decide = true; /* TM mode weighs the ways again */
         if (e->mode == EXPLORE_TM) {
             enter(e, EXPLORE_LOOK);

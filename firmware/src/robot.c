@@ -104,7 +104,7 @@ void robot_tick(robot_t *r)
     motion_step(&r->motion, &r->odom, duty);
     hal_motor_set(HAL_WHEEL_LEFT, duty[ODOM_LEFT]);
     hal_motor_set(HAL_WHEEL_RIGHT, duty[ODOM_RIGHT]);
-    r->held = hold && duty[ODOM_LEFT] == 0 && duty[ODOM_RIGHT] == 0;
+    r->held = hold && motion_at_rest(&r->motion);
 
     r->ticks++;
 }

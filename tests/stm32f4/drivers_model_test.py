@@ -25,7 +25,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "stm32f4"))
 from elf32 import Elf  # noqa: E402
-from tick_unicorn import Machine  # noqa: E402
+from tick_unicorn import Machine, unicorn  # noqa: E402
 
 FLASH_BASE = 0x08000000
 SECTOR_BYTES = 128 * 1024
@@ -445,6 +445,7 @@ def test_wheels(r):
     m.write32(BOARD["enc_cnt"][1], 0xFFFF)
     check(r.call("hal_encoder_count", 0) == 0x1234 and r.call("hal_encoder_count", 1) == 0xFFFF,
           "the encoders read their timers' 16-bit counters")
+    test_wheels_never_reverse_at_the_old_duty(r, motor)
     motor(0, 700)
     r.call("stm32_safe_outputs")
     check(m.read32(BOARD["motor_ccr"][0]) == 0 and m.read32(BOARD["motor_ccr"][1]) == 0,
@@ -452,6 +453,67 @@ def test_wheels(r):
     check(m.read32(BOARD["dir_bsrr"]) == 1 << (BOARD["stby_pin"] + 16),
           "and puts the driver in standby (%s low)" % pin(BOARD["stby_pin"]))
 
+
+
+def test_wheels_never_reverse_at_the_old_duty(r, motor):
+    """TIM3 as RM0090 has it with OCxPE: a CCR write goes to the preload register, which
+    the timer takes at the end of the PWM period or at once on an update (EGR.UG). The pins
+    change with the BSRR write. A reversal must never let the bridge drive the new direction
+    while the duty commanded for the old one is still in force."""
+    uc = r.m.uc
+    ccr = {0x3C: 0, 0x40: 1}                     # TIM3 CCR3, CCR4: left, right
+    pins = {"now": 0}
+    pre, pre_dir, act, act_dir = [0, 0], [0, 0], [0, 0], [0, 0]
+    bad = []
+
+    def drive(p, wheel):                         # +1, -1 or 0 (coast): IN1 minus IN2
+        in1, in2 = (0, 1) if wheel == 0 else (2, 3)
+        return (p >> in1 & 1) - (p >> in2 & 1)
+
+    def tim(_uc, _access, addr, _size, value, _data):
+        off = addr - 0x40000400
+        if off in ccr:
+            w = ccr[off]
+            pre[w], pre_dir[w] = value, drive(pins["now"], w)
+        elif off == 0x14 and value & 1:
+            update()
+
+    def gpio(_uc, _access, _addr, _size, value, _data):
+        p = (pins["now"] | (value & 0xFFFF)) & ~(value >> 16)
+        for w in (0, 1):
+            d = drive(p, w)
+            if d != 0 and act[w] != 0 and act_dir[w] != 0 and d != act_dir[w]:
+                bad.append("wheel %d drives %+d at the duty %d commanded for %+d"
+                           % (w, d, act[w], act_dir[w]))
+        pins["now"] = p
+
+    def update():                                # the end of a PWM period, or UG
+        act[:], act_dir[:] = pre, pre_dir
+
+    hooks = [uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, tim, begin=0x40000400, end=0x400007FF),
+             uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, gpio, begin=GPIOC_BSRR, end=GPIOC_BSRR + 3)]
+    uc.ctl_flush_tb()
+    for w in (0, 1):
+        motor(w, 0)
+    update()
+    for w in (0, 1):
+        for a, b in ((700, -700), (-1000, 1000), (300, -1), (1, -1000)):
+            motor(w, a)
+            update()
+            motor(w, b)
+            update()
+    motor(0, 900)
+    motor(1, -900)
+    update()
+    motor(0, -900)                               # both reverse within one period
+    motor(1, 900)
+    update()
+    for h in hooks:
+        uc.hook_del(h)
+    check(not bad, "a reversal zeroes the duty in force before the pins turn (%s)"
+          % ("; ".join(bad[:3]) or "no reverse drive at an old duty"))
+    check(drive(pins["now"], 0) == -1 and act[0] == pre[0] == 16000000 // 20000 * 900 // 1000,
+          "and the new duty follows")
 
 
 FLASH_ACR = 0x40023C00

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "hal/hal.h"
 #include "hal_common/mapexport.h"
@@ -27,9 +28,16 @@
 static robot_t app_robot;
 static volatile sig_atomic_t app_stop_signal;
 
+/* The first stop signal stops the motors at once (without I/O in the handler: the
+ * watchdog thread drops the lines and the PWM) and lets the program save the maps; a
+ * second one ends it at once, whatever it waits for. */
 static void app_on_stop(int sig)
 {
+    if (app_stop_signal != 0) {
+        _exit(128 + sig);
+    }
     app_stop_signal = sig;
+    lhal_signal_stop();
 }
 
 /* A crash stops the motors first, then takes its default course (core dump). */
@@ -56,23 +64,16 @@ static void app_usage(FILE *f)
             "\n"
             "On exit the motors stop and the maps are written to storage_dir: om.pgm, om_post.pgm,\n"
             "tm.pgm, each with a ROS map_server .yaml. The motors also stop, and the program\n"
-            "exits with status 3, when the control tick stalls for more than 100 ms.\n"
+            "exits with status 3, when a thread stalls for more than 100 ms or a hardware\n"
+            "write fails. A second Ctrl-C (or SIGTERM) ends the program at once.\n"
             "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
-            "3 stopped for safety.\n");
+            "3 stopped for safety, 128 + N ended at once by a second signal N.\n");
 }
 
 /* The tick callback: the firmware's 10 ms interrupt body. */
 static void app_tick(void *ctx)
 {
     robot_tick(ctx);
-}
-
-static uint32_t app_ticks(void)
-{
-    hal_irq_state_t s = hal_critical_enter();
-    uint32_t t = app_robot.ticks;
-    hal_critical_exit(s);
-    return t;
 }
 
 static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
@@ -156,14 +157,22 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     char msg[256];
     lhal_fault_t fault = LHAL_FAULT_NONE;
     bool warned_stuck = false;
+    uint32_t ticks = 0u;
     while (!app_stop_signal) {
-        robot_idle(&app_robot);
+        /* Everything that reads the robot's state runs inside the background loop's turn,
+         * which a tick that does not end keeps for at most 20 ms: then the loop goes on to
+         * see the watchdog's fault. */
+        lhal_stats_t st = {0};
+        if (lhal_idle_lock() == HAL_OK) {
+            robot_idle(&app_robot);
+            ticks = app_robot.ticks;
+            lhal_stats(&st);
+            lhal_idle_unlock();
+        }
         fault = lhal_fault(msg, sizeof msg);
-        if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && app_ticks() >= tick_limit)) {
+        if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && ticks >= tick_limit)) {
             break;
         }
-        lhal_stats_t st;
-        lhal_stats(&st);
         if (!warned_stuck && st.sonar.stuck_high > 0u) {
             fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
                          "(stuck, or the sensor has no power); pings time out\n");
@@ -172,12 +181,17 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         const struct timespec pause = {0, APP_IDLE_NS};
         nanosleep(&pause, NULL);
     }
-    lhal_shutdown();
+    bool clean = lhal_shutdown();
+    fault = lhal_fault(msg, sizeof msg);
     if (fault != LHAL_FAULT_NONE) {
         fprintf(err, APP_NAME ": %s\n", msg);
         status = APP_EXIT_SAFETY;
     } else if (app_stop_signal) {
         fprintf(out, "stopped by signal %d\n", (int)app_stop_signal);
+    }
+    if (!clean) {
+        fprintf(err, APP_NAME ": a thread did not stop; the maps are written as the tick "
+                     "left them\n");
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
     lhal_report(out);
