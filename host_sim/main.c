@@ -486,6 +486,9 @@ int main(int argc, char **argv)
     }
     int bad = close_out(readings, o.out, "readings.csv") | close_out(trajectory, o.out, "trajectory.csv");
 
+    /* The hits still held back for matching belong in the map too (a replay does the same). */
+    loc_flush(&robot.loc, &robot.mapper, &robot.grid);
+
     chain_scores_t odo;
     chain_scores_t ideal;
     score_chain(r, robot.grid.om, &cfg, post, scratch, &odo);

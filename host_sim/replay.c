@@ -11,6 +11,7 @@
 
 static grid_t grid;
 static mapper_t mapper;
+static loc_t loc;
 
 /* The columns a replay needs, in this order, found by name in the header: a log may
  * carry more (the simulator's truth) or order them differently. */
@@ -133,6 +134,7 @@ int replay(const options_t *o)
     }
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
+    loc_init(&loc, &cfg);
     char line[512];
     unsigned lineno = 0;
     unsigned rows = 0;
@@ -156,17 +158,21 @@ int replay(const options_t *o)
             break;
         }
         rows++;
-        /* Every echo goes through the mapper, which sorts it by this configuration's
-         * range limits: a replay with another rc maps what the status column calls far. */
-        odom_pose_t p = {to_um(row.x), to_um(row.y), to_bam(row.th)};
-        if (!row.echo) {
-            mapper_timeout(&mapper, &grid, &p);
-            continue;
-        }
-        bam32_t sv = fix_bam_from_mdeg((int32_t)lround(row.servo * 1000.0));
-        (void)mapper_reading(&mapper, &grid, &p, sv, (uint32_t)lround(row.range * 1e6));
+        /* Every reading goes the way the robot's went: posted as its tick posts it, then
+         * mapped and matched as its background loop does. Every echo goes through the
+         * mapper, which sorts it by this configuration's range limits: a replay with
+         * another rc maps what the status column calls far. */
+        const loc_reading_t rd = {
+            .ping = {to_um(row.x), to_um(row.y), to_bam(row.th)},
+            .range_um = row.echo ? (uint32_t)lround(row.range * 1e6) : 0u,
+            .servo = fix_bam_from_mdeg((int32_t)lround(row.servo * 1000.0)),
+            .echo = row.echo,
+        };
+        (void)loc_post(&loc, &rd);
+        loc_idle(&loc, &mapper, &grid);
     }
     fclose(in);
+    loc_flush(&loc, &mapper, &grid);
     if (rc != 0) {
         return rc;
     }

@@ -196,6 +196,11 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
                "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
             m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances);
+    const loc_t *lo = &robot->loc;
+    fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
+               "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
+            lo->on ? "true" : "false", lo->tried, lo->applied, lo->refused, lo->dropped,
+            lo->late);
 
     double span_x = room->max_x - room->min_x;
     double span_y = room->max_y - room->min_y;

@@ -381,9 +381,9 @@ static void test_config_keys_get_and_set(void **state)
     /* Refused, and nothing changes. */
     slam_config_t before = c;
     assert_int_equal(telem_config_set(&c, 0u, 1u), -(int)TELEM_ERR_KEY);
-    assert_int_equal(telem_config_set(&c, 48u, 1u), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_set(&c, 49u, 1u), -(int)TELEM_ERR_KEY);
     assert_int_equal(telem_config_set(&c, 255u, 1u), -(int)TELEM_ERR_KEY);
-    assert_int_equal(telem_config_get(&c, 48u, &v), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_get(&c, 49u, &v), -(int)TELEM_ERR_KEY);
     assert_int_equal(telem_config_set(&c, 11u, 100000u), -(int)TELEM_ERR_FIXED); /* cell_um */
     assert_int_equal(telem_config_set(&c, 39u, 4u), -(int)TELEM_ERR_RANGE);  /* no mode 4 */
     assert_int_equal(telem_config_set(&c, 45u, 256u), -(int)TELEM_ERR_RANGE); /* u8 */

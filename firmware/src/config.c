@@ -59,6 +59,7 @@ static const slam_config_t slam_config_defaults = {
     .square_laps = 1u,
     .explore_seed = 1u,
     .save_period_s = 60u,
+    .localize = 1u,
 };
 
 void slam_config_default(slam_config_t *cfg)
@@ -69,6 +70,7 @@ void slam_config_default(slam_config_t *cfg)
 void slam_config_paper(slam_config_t *cfg)
 {
     cfg->om_mode = OM_MODE_COUNT;
+    cfg->localize = 0u;
     cfg->post_threshold = 3u;
     cfg->post_template_k = 1u;
     cfg->post_insert = 1u;
@@ -233,6 +235,9 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->explore_seed == 0u) {
         return "explore_seed";
+    }
+    if (c->localize > 1u) {
+        return "localize";
     }
     return NULL;
 }

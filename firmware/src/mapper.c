@@ -39,38 +39,73 @@ static void clear_beam(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32
     count_n(&m->cleared, grid_om_ray(g, xs, ys, xe, ye));
 }
 
-mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
-                                bam32_t servo, uint32_t range_um)
+mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
 {
-    mapper_outcome_t out;
+    if (range_um >= m->sonar.confidence_um) {
+        return MAPPER_FAR;
+    }
+    return range_um < m->sonar.range_min_um ? MAPPER_NEAR : MAPPER_HIT;
+}
+
+mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                             uint32_t range_um)
+{
+    mapper_outcome_t out = mapper_classify(m, range_um);
     bool evidence = g->mode == OM_MODE_EVIDENCE;
     if (evidence) {
         count_n(&m->cleared, grid_om_free(g, at_ping->x_um, at_ping->y_um) == SLAM_OK ? 1u : 0u);
     }
-    if (range_um >= m->sonar.confidence_um) {
-        out = MAPPER_FAR;
+    if (out == MAPPER_FAR) {
         count(&m->far);
         if (evidence) {
             clear_beam(m, g, at_ping, servo, m->sonar.confidence_um);
         }
-    } else if (range_um < m->sonar.range_min_um) {
-        out = MAPPER_NEAR;
+    } else if (out == MAPPER_NEAR) {
         count(&m->near);
-    } else {
-        if (evidence && range_um > m->cell_um) {
-            clear_beam(m, g, at_ping, servo, range_um - m->cell_um);
-        }
-        sonar_obstacle(&m->sonar, at_ping, servo, range_um, &m->last_x_um, &m->last_y_um);
-        if (grid_om_hit(g, m->last_x_um, m->last_y_um) == SLAM_OK) {
-            out = MAPPER_HIT;
-            count(&m->hits);
-        } else {
-            out = MAPPER_OUTSIDE;
-            count(&m->outside);
-        }
+    } else if (evidence && range_um > m->cell_um) {
+        clear_beam(m, g, at_ping, servo, range_um - m->cell_um);
     }
     m->last = out;
     return out;
+}
+
+mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um)
+{
+    m->last_x_um = x_um;
+    m->last_y_um = y_um;
+    if (grid_om_hit(g, x_um, y_um) == SLAM_OK) {
+        m->last = MAPPER_HIT;
+        count(&m->hits);
+    } else {
+        m->last = MAPPER_OUTSIDE;
+        count(&m->outside);
+    }
+    return m->last;
+}
+
+mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
+                                bam32_t servo, uint32_t range_um)
+{
+    if (mapper_free(m, g, at_ping, servo, range_um) != MAPPER_HIT) {
+        return m->last;
+    }
+    int32_t x;
+    int32_t y;
+    sonar_obstacle(&m->sonar, at_ping, servo, range_um, &x, &y);
+    return mapper_hit(m, g, x, y);
+}
+
+void mapper_note(mapper_t *m, const odom_pose_t *at_ping, const sweep_reading_t *rd)
+{
+    if (!rd->echo) {
+        m->last = MAPPER_TIMEOUT;
+        return;
+    }
+    uint32_t range_um = sonar_range_um(&m->sonar, rd->echo_us);
+    m->last = mapper_classify(m, range_um);
+    if (m->last == MAPPER_HIT) {
+        sonar_obstacle(&m->sonar, at_ping, rd->servo, range_um, &m->last_x_um, &m->last_y_um);
+    }
 }
 
 void mapper_timeout(mapper_t *m, grid_t *g, const odom_pose_t *at_ping)

@@ -25,6 +25,7 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
               hal_encoder_count(HAL_WHEEL_RIGHT));
     sweep_init(&r->sweep, cfg);
     mapper_init(&r->mapper, cfg);
+    loc_init(&r->loc, cfg);
     explore_init(&r->explore, cfg);
     motion_init(&r->motion, cfg);
     grid_init(&r->grid, cfg);
@@ -62,9 +63,10 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
 
 void robot_tick(robot_t *r)
 {
-    /* Where are we: one odometry step (Eq. 8-12). */
+    /* Where are we: one odometry step (Eq. 8-12), and the correction against the map. */
     odom_step(&r->odom, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
-    r->pose = odom_pose(&r->odom);
+    odom_pose_t odom = odom_pose(&r->odom);
+    r->pose = r->loc.deferred ? loc_apply(&r->loc.tick_corr, &odom) : odom;
 
     /* What does the sonar say: one step of the sweep. */
     uint32_t echo_us;
@@ -77,8 +79,29 @@ void robot_tick(robot_t *r)
         r->ping_errors++;
     }
 
-    /* Algorithm C.1. */
-    mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
+    /* Algorithm C.1: here whole, or TM here and the reading handed to robot_idle(), which
+     * maps it (free-space evidence is too much work for a tick) and corrects the pose. */
+    if (!r->loc.deferred) {
+        mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
+    } else {
+        (void)grid_tm_visit(&r->grid, r->pose.x_um, r->pose.y_um);
+        if (r->last.reading_ready) {
+            const sweep_reading_t *rd = &r->last.reading;
+            /* Exploration remembers the obstacle at once, where the robot believes it. */
+            odom_pose_t at = loc_apply(&r->loc.tick_corr, &r->mapper.ping_pose);
+            mapper_note(&r->mapper, &at, rd);
+            const loc_reading_t q = {
+                .ping = r->mapper.ping_pose,
+                .range_um = rd->echo ? sonar_range_um(&r->mapper.sonar, rd->echo_us) : 0u,
+                .servo = rd->servo,
+                .echo = rd->echo,
+            };
+            (void)loc_post(&r->loc, &q);
+        }
+        if (r->last.trigger) {
+            r->mapper.ping_pose = odom; /* readings are logged and mapped from odometry */
+        }
+    }
 
     /* Telemetry: the pose ten times a second, and every reading. */
     if (r->ticks % ROBOT_POSE_EVERY == 0u) {
@@ -250,6 +273,7 @@ void robot_idle(robot_t *r)
         hal_watchdog_kick();
     }
     robot_commands(r, ticks);
+    loc_idle(&r->loc, &r->mapper, &r->grid);
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;

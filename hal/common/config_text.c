@@ -46,6 +46,7 @@ static const field_t fields[] = {
     F(clearance_um, T_U32),           F(square_side_um, T_U32),
     F(square_laps, T_U8),
     F(explore_seed, T_U32),           F(save_period_s, T_U16),
+    F(localize, T_U8),
 };
 #undef F
 

@@ -461,17 +461,20 @@ def test_wheels_never_reverse_at_the_old_duty(r, motor):
     change with the BSRR write. A reversal must never let the bridge drive the new direction
     while the duty commanded for the old one is still in force."""
     uc = r.m.uc
-    ccr = {0x3C: 0, 0x40: 1}                     # TIM3 CCR3, CCR4: left, right
+    base = BOARD["motor_ccr"][0] & ~0x3FF        # the motors' timer
+    ccr = {BOARD["motor_ccr"][0] - base: 0, BOARD["motor_ccr"][1] - base: 1}  # left, right
+    bsrr = BOARD["dir_bsrr"]
+    pin_of = BOARD["dir_pins"]
     pins = {"now": 0}
     pre, pre_dir, act, act_dir = [0, 0], [0, 0], [0, 0], [0, 0]
     bad = []
 
     def drive(p, wheel):                         # +1, -1 or 0 (coast): IN1 minus IN2
-        in1, in2 = (0, 1) if wheel == 0 else (2, 3)
+        in1, in2 = pin_of[0:2] if wheel == 0 else pin_of[2:4]
         return (p >> in1 & 1) - (p >> in2 & 1)
 
     def tim(_uc, _access, addr, _size, value, _data):
-        off = addr - 0x40000400
+        off = addr - base
         if off in ccr:
             w = ccr[off]
             pre[w], pre_dir[w] = value, drive(pins["now"], w)
@@ -490,8 +493,8 @@ def test_wheels_never_reverse_at_the_old_duty(r, motor):
     def update():                                # the end of a PWM period, or UG
         act[:], act_dir[:] = pre, pre_dir
 
-    hooks = [uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, tim, begin=0x40000400, end=0x400007FF),
-             uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, gpio, begin=GPIOC_BSRR, end=GPIOC_BSRR + 3)]
+    hooks = [uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, tim, begin=base, end=base + 0x3FF),
+             uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, gpio, begin=bsrr, end=bsrr + 3)]
     uc.ctl_flush_tb()
     for w in (0, 1):
         motor(w, 0)

@@ -111,15 +111,20 @@ typedef struct {
 
     /* Persistence (mapstore.h). */
     uint16_t save_period_s;  /**< save the maps this often from robot_idle(); 0 = never; 60 */
+
+    /* Localization (localize.h). */
+    uint8_t localize;        /**< 1: correct the pose against OM; 0: odometry alone (the
+                                  paper's); 1 */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */
 void slam_config_default(slam_config_t *cfg);
 
 /**
- * Turn a configuration to the paper's method, leaving the robot's geometry alone: OM
- * counts hits (Eq. 6, OM_MODE_COUNT) and post-processing is the paper's threshold TH 3,
- * template (K 1: the paper's four neighbours erase one-cell walls) and insert.
+ * Turn a configuration to the paper's method, leaving the robot's geometry alone: the pose
+ * is odometry alone, OM counts hits (Eq. 6, OM_MODE_COUNT) and post-processing is the
+ * paper's threshold TH 3, template (K 1: the paper's four neighbours erase one-cell walls)
+ * and insert.
  */
 void slam_config_paper(slam_config_t *cfg);
 

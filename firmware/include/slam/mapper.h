@@ -75,6 +75,28 @@ mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_pi
                                 bam32_t servo, uint32_t range_um);
 
 /**
+ * mapper_reading() in its two halves, for a caller that holds hits back (localize.h).
+ * mapper_free(): everything a reading does to OM but its hit (the free-space evidence in
+ * OM_MODE_EVIDENCE) and the counts of far and near readings; MAPPER_HIT means a hit to
+ * place, at sonar_obstacle() of the reading. mapper_hit(): place it (OM += 1 or the
+ * log-odds step), counted as a hit or as outside. ISR-safe, O(1).
+ */
+mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                             uint32_t range_um);
+mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um);
+
+/** Whether a range is far (>= rc), near (< range_min) or a hit inside the sector. */
+mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um);
+
+/**
+ * What a reading is, without mapping it: m->last and, for a hit inside the sector, its
+ * obstacle point seen from @p at_ping (m->last_x_um, m->last_y_um). For a tick whose
+ * readings are mapped later (localize.h): exploration still remembers every obstacle at
+ * once. ISR-safe, O(1).
+ */
+void mapper_note(mapper_t *m, const odom_pose_t *at_ping, const sweep_reading_t *rd);
+
+/**
  * A reading without an echo, seen from a pose: counted; in OM_MODE_EVIDENCE the robot's
  * cell gets free-space evidence. mapper_tick() calls it; a log replay calls it directly.
  * ISR-safe, O(1).

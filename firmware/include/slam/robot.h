@@ -20,6 +20,7 @@
 #include "slam/config.h"
 #include "slam/explore.h"
 #include "slam/grid.h"
+#include "slam/localize.h"
 #include "slam/mapper.h"
 #include "slam/mapstore.h"
 #include "slam/motion.h"
@@ -33,6 +34,7 @@ typedef struct {
     odom_t odom;           /**< pose tracking */
     sweep_t sweep;         /**< servo sweep */
     mapper_t mapper;       /**< Algorithm C.1 */
+    loc_t loc;             /**< pose correction; readings mapped by robot_idle() */
     explore_t explore;     /**< where to go */
     motion_t motion;       /**< wheel speed control */
     grid_t grid;           /**< OM and TM */

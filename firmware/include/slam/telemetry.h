@@ -164,10 +164,11 @@ typedef enum {
     X(44, square_side_um, U32, 1)                                                               \
     X(45, square_laps, U8, 1)                                                                   \
     X(46, explore_seed, U32, 1)                                                                 \
-    X(47, save_period_s, U16, 1)
+    X(47, save_period_s, U16, 1)                                                                \
+    X(48, localize, U8, 0)
 
 /** The highest key id. */
-#define TELEM_CONFIG_KEY_MAX 47u
+#define TELEM_CONFIG_KEY_MAX 48u
 /** Keys the robot itself sets: MODE and CALIBRATE set explore_mode; a new explore_seed
  *  restarts the exploration's random stream. */
 #define TELEM_KEY_EXPLORE_MODE 39u
