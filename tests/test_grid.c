@@ -301,7 +301,7 @@ static void test_evidence_steps_and_saturation(void **state)
         (void)grid_om_free(&gg.g, l, 0);
     }
     assert_int_equal(om_at(0, 0), 255); /* L = +127 */
-    assert_int_equal(om_at(l, 0), 1);   /* L = -127, never 0 (unknown) */
+    assert_int_equal(om_at(l, 0), 1);   /* L = -127 */
     for (int i = 0; i < 4; i++) {      /* a cell hit once is balanced by four passes */
         (void)grid_om_free(&gg.g, 2 * l, 0);
     }
@@ -376,7 +376,7 @@ static void test_ray_against_exact_segment(void **state)
         assert_int_equal(gg.g.om[(uint32_t)b0 * SLAM_GRID_A + (uint32_t)a0], 127);
         uint32_t lowered = 0;
         for (uint32_t k = 0; k < SLAM_GRID_CELLS; k++) {
-            if (gg.g.om[k] == 0u) {
+            if (gg.g.om[k] == GRID_EVIDENCE_ZERO) {
                 continue;
             }
             assert_int_equal(gg.g.om[k], 127); /* each cell once */

@@ -187,8 +187,8 @@ static void test_predict_against_double(void **state)
         out[0][0] += 1000.0 * dist;
         out[1][1] += 1000.0 * dist;
         out[2][2] += 26000.0 * dist + 2200.0 * floor(turned / 1000.0);
-        out[3][3] += 1e6 * dist;
-        out[4][4] += 1e6 * dist;
+        out[3][3] += 1e3 * dist;
+        out[4][4] += 1e3 * dist;
         static const double lo[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN,
                                          LKF_VAR_K_MIN, LKF_VAR_K_MIN};
         static const double hi[LKF_N] = {LKF_VAR_XY_MAX, LKF_VAR_XY_MAX, LKF_VAR_TH_MAX,

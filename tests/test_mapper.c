@@ -58,11 +58,13 @@ static void play(const script_tick_t *s, size_t n)
     }
 }
 
-/* Asserts that a map holds exactly the listed non-zero cells. */
+/* Asserts that a map holds exactly the listed cells, every other one untouched (0 for
+ * counts, log-odds 0 for evidence). */
 static void expect_exactly(const uint8_t *map, const cell_value_t *cells, size_t n)
 {
     uint8_t want[SLAM_GRID_CELLS];
-    memset(want, 0, sizeof want);
+    memset(want, map == grid.om && grid.mode == OM_MODE_EVIDENCE ? (int)GRID_EVIDENCE_ZERO : 0,
+           sizeof want);
     for (size_t i = 0; i < n; i++) {
         want[grid_index((grid_cell_t){cells[i].a, cells[i].b})] = cells[i].value;
     }
@@ -192,32 +194,37 @@ static void test_evidence_reading_clears_its_beam(void **state)
     assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){88, 80})), GRID_UNKNOWN);
 }
 
-/* An echo beyond rc clears the beam up to rc and marks nothing occupied; a timeout clears
- * only the robot's cell; a reading touches at most rc / L + 3 cells, whatever its angle. */
+/* An echo beyond rc clears the last 0.5 m of the beam before rc and the robot's cell, and
+ * marks nothing occupied; a timeout clears only the robot's cell; a reading touches at most
+ * 0.5 m / L + 3 cells, whatever its angle. */
 static void test_evidence_far_and_timeout(void **state)
 {
     (void)state;
     odom_pose_t p = {0, 0, 0u};
     assert_int_equal(mapper_reading(&mapper, &grid, &p, fix_bam_from_mdeg(90000), 2500000u),
                      MAPPER_FAR);
-    /* From x = 50 mm to 1050 mm: cells 81..101, and the robot's cell 80. */
+    /* The beam from x = 50 mm reaches rc at 1050 mm: cells 91..101 (from 550 mm), and the
+     * robot's cell 80. */
     uint32_t lowered = 0;
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
-        assert_true(grid.om[i] == 0u || grid.om[i] == 127u);
-        lowered += grid.om[i] != 0u;
+        assert_true(grid.om[i] == GRID_EVIDENCE_ZERO || grid.om[i] == 127u);
+        lowered += grid.om[i] != GRID_EVIDENCE_ZERO;
     }
-    assert_int_equal(lowered, 22u);
+    assert_int_equal(lowered, 12u);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){80, 80})], 127);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){90, 80})], GRID_EVIDENCE_ZERO);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){91, 80})], 127);
     assert_int_equal(grid.om[grid_index((grid_cell_t){101, 80})], 127);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){102, 80})], 0);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){102, 80})], GRID_EVIDENCE_ZERO);
 
     setup_evidence(NULL);
     mapper_timeout(&mapper, &grid, &p);
     assert_int_equal(mapper.timeouts, 1u);
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
-        assert_int_equal(grid.om[i], i == grid_index((grid_cell_t){80, 80}) ? 127u : 0u);
+        assert_int_equal(grid.om[i], i == grid_index((grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
     }
 
-    uint32_t bound = cfg.confidence_radius_um / cfg.cell_um + 3u;
+    uint32_t bound = 500000u / cfg.cell_um + 3u;
     for (int h = 0; h < 360; h += 7) {
         for (int s = 65; s <= 155; s += 18) {
             uint32_t before = mapper.cleared;

@@ -49,7 +49,7 @@ def trinary(mode, om, tm=None):
     om = np.asarray(om)
     out = np.full(om.shape, MAP_UNKNOWN, np.uint8)
     if mode == OM_EVIDENCE:
-        out[(om != 0) & (om < EVIDENCE_ZERO)] = MAP_FREE
+        out[om < EVIDENCE_ZERO] = MAP_FREE
         out[om > EVIDENCE_ZERO] = MAP_OCCUPIED
     else:
         if tm is not None:

@@ -27,7 +27,7 @@
 #define LKF_KT0 1000000LL         /* 0.1 % of each turn: E_b within ±0.1 % */
 #endif
 #ifndef LKF_Q_K_PER_MM
-#define LKF_Q_K_PER_MM 1000000LL  /* (1 nrad/mm)² or (1 ppm)² per mm: 30 nrad/mm per √km */
+#define LKF_Q_K_PER_MM 1000LL     /* (1 nrad/mm)² or (1 ppm)² per km: E_d and E_b barely change */
 #endif
 
 uint32_t lkf_isqrt(uint64_t v)

@@ -23,8 +23,11 @@
 
 #include <stdint.h>
 
+#include "slam/localize.h"
+
 /** The state's entries. */
 enum { LKF_X = 0, LKF_Y, LKF_T, LKF_KD, LKF_KT, LKF_N };
+_Static_assert(LKF_N == LOC_STATES, "the filter's state and loc_t's covariance differ");
 
 #define LKF_J_SHIFT 12u               /**< Jacobians in Q12 */
 #define LKF_J_ONE (1 << LKF_J_SHIFT)
@@ -43,10 +46,7 @@ typedef struct {
     int64_t v[LKF_N];
 } lkf_state_t;
 
-/** The filter's covariance. */
-typedef struct {
-    int64_t p[LKF_N][LKF_N];
-} lkf_cov_t;
+/* lkf_cov_t, the filter's covariance, is in slam/localize.h: loc_t holds two. */
 
 /** floor(sqrt(v)). */
 uint32_t lkf_isqrt(uint64_t v);

@@ -30,7 +30,8 @@
 #define LOC_NORMAL_MIN_CELLS 4
 #endif
 #ifndef LOC_LINEAR_PERCENT
-#define LOC_LINEAR_PERCENT 15 /* smaller eigenvalue at most this share of the larger */
+#define LOC_LINEAR_PERCENT 35 /* smaller eigenvalue at most this share of the larger: walls
+                                 a few cells thick still count; corners and blobs do not */
 #endif
 
 static void count(uint32_t *c)
@@ -53,9 +54,7 @@ void loc_init(loc_t *l, const slam_config_t *cfg)
     l->corr = corr_of(0, 0, 0u);
     l->pub = l->corr;
     l->tick_corr = l->corr;
-    lkf_cov_t c;
-    lkf_init(&c);
-    memcpy(l->cov, c.p, sizeof l->cov);
+    lkf_init(&l->cov);
 }
 
 /* A point through a correction. Positions stay far inside ±2^31 µm (slam_config_check
@@ -145,10 +144,7 @@ static void propagate(loc_t *l, const odom_pose_t *odom)
     int64_t dx = fix_round_shift((int64_t)dxo * l->corr.c - (int64_t)dyo * l->corr.s, 30u);
     int64_t dy = fix_round_shift((int64_t)dxo * l->corr.s + (int64_t)dyo * l->corr.c, 30u);
     int64_t turn_urad = ((int64_t)turned * LOC_URAD_PER_BAM_Q26) >> 26;
-    lkf_cov_t c;
-    memcpy(c.p, l->cov, sizeof c.p);
-    lkf_predict(&c, dx / 1000, dy / 1000, ds_um / 1000, turn_urad);
-    memcpy(l->cov, c.p, sizeof c.p);
+    lkf_predict(&l->cov, dx / 1000, dy / 1000, ds_um / 1000, turn_urad);
     /* The learned drift, whole µrad at a time (the rest waits for the next move). */
     lkf_state_t k = {{0, 0, 0, l->kappa_prad_per_mm, l->kappa_ppb}};
     l->drift_nrad += lkf_drift_nrad(&k, ds_um, turn_urad);
@@ -304,12 +300,12 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
     odom_pose_t now = loc_apply(&l->corr, odom_now);
     lkf_state_t lin = {{0}};
     lkf_state_t d = {{0}};
-    lkf_cov_t p;
+    lkf_cov_t *p = &l->work;
     uint32_t used = 0;
     for (unsigned pass = 0; pass < LOC_PASSES; pass++) {
         d = (lkf_state_t){{0}};
-        memcpy(p.p, l->cov, sizeof p.p);
-        used = match_pass(l, g, now.x_um, now.y_um, &lin, &d, &p);
+        *p = l->cov;
+        used = match_pass(l, g, now.x_um, now.y_um, &lin, &d, p);
         lin = d;
     }
     l->last_points = used;
@@ -325,8 +321,8 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
     correct_about(l, now.x_um, now.y_um, bam_of_urad(d.v[LKF_T]), d.v[LKF_X], d.v[LKF_Y]);
     l->kappa_prad_per_mm = clamp_kappa(l->kappa_prad_per_mm + d.v[LKF_KD]);
     l->kappa_ppb = clamp_kappa(l->kappa_ppb + d.v[LKF_KT]);
-    lkf_sane(&p);
-    memcpy(l->cov, p.p, sizeof p.p);
+    lkf_sane(p);
+    l->cov = *p;
 }
 
 /* ---- draining the queue ------------------------------------------------------------------ */
@@ -352,16 +348,17 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
         mapper_timeout(m, g, &at);
         return;
     }
-    if (mapper_free(m, g, &at, rd->servo, rd->range_um) != MAPPER_HIT) {
-        return;
-    }
     int32_t x;
     int32_t y;
-    sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
+    if (mapper_free(m, g, &at, rd->servo, rd->range_um, &x, &y) != MAPPER_HIT) {
+        return;
+    }
     if (!l->on) {
         (void)mapper_hit(m, g, x, y); /* the correction is zero: odometry's frame is the map's */
         return;
     }
+    /* Held back in the odometry frame. */
+    sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
     if (l->win_count == LOC_WINDOW) {
         hit_enters_map(l, m, g);
     }

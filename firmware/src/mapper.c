@@ -6,6 +6,10 @@
 
 #include "slam/error.h"
 
+#ifndef MAPPER_RAY_UM
+#define MAPPER_RAY_UM 500000u /* a beam clears the last 0.5 m before its echo, or rc */
+#endif
+
 void mapper_init(mapper_t *m, const slam_config_t *cfg)
 {
     memset(m, 0, sizeof *m);
@@ -26,19 +30,6 @@ static void count_n(uint32_t *counter, uint32_t n)
     *counter = *counter > UINT32_MAX - n ? UINT32_MAX : *counter + n;
 }
 
-/* Free-space evidence along the beam up to a distance short of its echo. */
-static void clear_beam(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
-                       uint32_t reach_um)
-{
-    int32_t xs;
-    int32_t ys;
-    int32_t xe;
-    int32_t ye;
-    sonar_origin(&m->sonar, at_ping, &xs, &ys);
-    sonar_along(xs, ys, sonar_bearing(&m->sonar, at_ping->heading, servo), reach_um, &xe, &ye);
-    count_n(&m->cleared, grid_om_ray(g, xs, ys, xe, ye));
-}
-
 mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
 {
     if (range_um >= m->sonar.confidence_um) {
@@ -48,24 +39,38 @@ mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
 }
 
 mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
-                             uint32_t range_um)
+                             uint32_t range_um, int32_t *hit_x_um, int32_t *hit_y_um)
 {
     mapper_outcome_t out = mapper_classify(m, range_um);
-    bool evidence = g->mode == OM_MODE_EVIDENCE;
-    if (evidence) {
-        count_n(&m->cleared, grid_om_free(g, at_ping->x_um, at_ping->y_um) == SLAM_OK ? 1u : 0u);
-    }
-    if (out == MAPPER_FAR) {
-        count(&m->far);
-        if (evidence) {
-            clear_beam(m, g, at_ping, servo, m->sonar.confidence_um);
-        }
-    } else if (out == MAPPER_NEAR) {
-        count(&m->near);
-    } else if (evidence && range_um > m->cell_um) {
-        clear_beam(m, g, at_ping, servo, range_um - m->cell_um);
-    }
     m->last = out;
+    if (out == MAPPER_NEAR) {
+        count(&m->near);
+        return out;
+    }
+    sonar_beam_t beam;
+    sonar_beam(&m->sonar, at_ping, servo, &beam);
+    if (out == MAPPER_HIT) {
+        sonar_beam_point(&beam, range_um, hit_x_um, hit_y_um);
+    } else {
+        count(&m->far);
+    }
+    if (g->mode == OM_MODE_EVIDENCE) {
+        /* Up to one cell short of the echo, or to rc for a far one, over the last
+         * MAPPER_RAY_UM: the cells nearer the robot are crossed by readings from farther
+         * away, and its own cell is free (the body is there). */
+        uint32_t reach = out == MAPPER_FAR ? m->sonar.confidence_um
+                         : range_um > m->cell_um ? range_um - m->cell_um : 0u;
+        int32_t xe;
+        int32_t ye;
+        sonar_beam_point(&beam, reach, &xe, &ye);
+        int32_t xs = at_ping->x_um;
+        int32_t ys = at_ping->y_um;
+        if (reach > MAPPER_RAY_UM) {
+            count_n(&m->cleared, grid_om_free(g, xs, ys) == SLAM_OK ? 1u : 0u);
+            sonar_beam_point(&beam, reach - MAPPER_RAY_UM, &xs, &ys);
+        }
+        count_n(&m->cleared, grid_om_ray(g, xs, ys, xe, ye));
+    }
     return out;
 }
 
@@ -86,12 +91,11 @@ mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um)
 mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
                                 bam32_t servo, uint32_t range_um)
 {
-    if (mapper_free(m, g, at_ping, servo, range_um) != MAPPER_HIT) {
-        return m->last;
-    }
     int32_t x;
     int32_t y;
-    sonar_obstacle(&m->sonar, at_ping, servo, range_um, &x, &y);
+    if (mapper_free(m, g, at_ping, servo, range_um, &x, &y) != MAPPER_HIT) {
+        return m->last;
+    }
     return mapper_hit(m, g, x, y);
 }
 

@@ -43,20 +43,27 @@ void sonar_origin(const sonar_t *s, const odom_pose_t *pose, int32_t *x_um, int3
     *y_um = fix_sat_i32((int64_t)pose->y_um + fix_round_shift(mx * sn + my * c, 30u));
 }
 
-void sonar_along(int32_t xs_um, int32_t ys_um, bam32_t bearing, uint32_t range_um,
-                 int32_t *x_um, int32_t *y_um)
+void sonar_beam(const sonar_t *s, const odom_pose_t *pose, bam32_t servo, sonar_beam_t *b)
 {
-    /* d < 2^32 and |cos| <= 1, so the products fit. */
+    sonar_origin(s, pose, &b->x_um, &b->y_um);
+    bam32_t theta = sonar_bearing(s, pose->heading, servo);
+    b->c = fix_cos(theta);
+    b->s = fix_sin(theta);
+}
+
+void sonar_beam_point(const sonar_beam_t *b, uint32_t range_um, int32_t *x_um, int32_t *y_um)
+{
+    /* d < 2^32 and |cos| <= 1, so the products fit; a point of the world (within 1 km,
+     * slam_config_check()) plus a sonar's range stays far inside int32_t. */
     int64_t d = range_um;
-    *x_um = fix_sat_i32(xs_um + fix_round_shift(d * fix_cos(bearing), 30u));
-    *y_um = fix_sat_i32(ys_um + fix_round_shift(d * fix_sin(bearing), 30u));
+    *x_um = (int32_t)(b->x_um + fix_round_shift(d * b->c, 30u));
+    *y_um = (int32_t)(b->y_um + fix_round_shift(d * b->s, 30u));
 }
 
 void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
                     uint32_t range_um, int32_t *x_um, int32_t *y_um)
 {
-    int32_t xs;
-    int32_t ys;
-    sonar_origin(s, pose, &xs, &ys);
-    sonar_along(xs, ys, sonar_bearing(s, pose->heading, servo), range_um, x_um, y_um);
+    sonar_beam_t b;
+    sonar_beam(s, pose, servo, &b);
+    sonar_beam_point(&b, range_um, x_um, y_um);
 }

@@ -18,9 +18,9 @@ static void test_pgm_is_flipped_and_trinary(void **state)
     (void)state;
     char root[TMPTREE_PATH_MAX];
     tmptree_make(root, "map");
-    /* 3 × 2 cells of an evidence map; row b = 0 is the southern one: unknown, free,
-     * occupied, then occupied, balanced (unknown), free. */
-    const uint8_t cells[6] = {0, 100, 140, /* b = 0 */ 255, 128, 1 /* b = 1 */};
+    /* 3 × 2 cells of an evidence map; row b = 0 is the southern one: unknown (log-odds 0),
+     * free, occupied, then occupied, free at the floor, free. */
+    const uint8_t cells[6] = {128, 100, 140, /* b = 0 */ 255, 0, 1 /* b = 1 */};
     uint8_t img[6];
     mapx_trinary(OM_MODE_EVIDENCE, cells, NULL, NULL, 3, 2, img);
     const mapfile_geometry_t geo = {50000u, -4000000, -25000};
@@ -31,7 +31,7 @@ static void test_pgm_is_flipped_and_trinary(void **state)
     assert_memory_equal(pgm, header, sizeof header - 1u);
     const uint8_t *px = (const uint8_t *)pgm + sizeof header - 1u;
     /* First image row: b = 1 (north up). */
-    const uint8_t want[6] = {0, 205, 254, /* b = 0 */ 205, 254, 0};
+    const uint8_t want[6] = {0, 254, 254, /* b = 0 */ 205, 254, 0};
     assert_memory_equal(px, want, sizeof want);
 
     assert_string_equal(tmptree_read(root, "om.yaml"),

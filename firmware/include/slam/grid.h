@@ -15,11 +15,12 @@
  * What an OM cell holds depends on the configured om_mode:
  * - OM_MODE_COUNT, the paper's Eq. 6: the number of sonar hits, saturating at OMmax; 0 is
  *   a cell never hit, and nothing ever decrements.
- * - OM_MODE_EVIDENCE: 0 is a cell no reading has touched; any other value v is a
- *   log-odds of occupancy L = v − GRID_EVIDENCE_ZERO in [−127, 127]. A hit adds om_hit,
- *   a beam that passes through (or the robot standing on the cell) takes om_miss, both
- *   saturating. L > 0 is occupied, L < 0 free, L = 0 unknown. With hit 4 and miss 1 a
- *   cell stays occupied until four beams have passed through it for every hit.
+ * - OM_MODE_EVIDENCE: a cell holds v = GRID_EVIDENCE_ZERO + L, L a log-odds of occupancy
+ *   in [−127, 127]; every cell starts at L = 0, unknown. A hit adds om_hit, a beam that
+ *   passes through (or the robot standing on the cell) takes om_miss, both saturating.
+ *   L > 0 is occupied, L < 0 free, L = 0 unknown (never seen, or as much evidence for as
+ *   against). With hit 4 and miss 1 a cell stays occupied until four beams have passed
+ *   through it for every hit.
  *
  * TM counts control periods spent in a cell and saturates at TMmax (Eq. 7); it never
  * decrements. A point outside the grid is rejected and counted; nothing is ever written
@@ -70,7 +71,7 @@ typedef struct {
 } grid_t;
 
 /**
- * Clear both maps and set the geometry from the configuration (L, start pose, start
+ * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the configuration (L, start pose, start
  * cell, OMmax, TMmax). The configuration must have passed slam_config_check().
  */
 void grid_init(grid_t *g, const slam_config_t *cfg);
@@ -145,7 +146,7 @@ static inline grid_state_t grid_state_of(uint8_t mode, uint8_t om, uint8_t tm)
         if (om > GRID_EVIDENCE_ZERO) {
             return GRID_OCCUPIED;
         }
-        return om != 0u && om < GRID_EVIDENCE_ZERO ? GRID_FREE : GRID_UNKNOWN;
+        return om < GRID_EVIDENCE_ZERO ? GRID_FREE : GRID_UNKNOWN;
     }
     if (om != 0u) {
         return GRID_OCCUPIED;
@@ -161,8 +162,8 @@ static inline grid_state_t grid_state(const grid_t *g, uint32_t index)
 
 /**
  * The OM byte at and below which post_threshold() frees a cell, for threshold TH in a
- * mode: TH itself in OM_MODE_COUNT, log-odds TH in OM_MODE_EVIDENCE (unknown cells, 0,
- * are always below it).
+ * mode: TH itself in OM_MODE_COUNT, log-odds TH in OM_MODE_EVIDENCE (unknown cells are
+ * always at or below it).
  */
 static inline uint8_t grid_threshold_byte(uint8_t mode, uint8_t th)
 {

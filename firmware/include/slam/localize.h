@@ -100,6 +100,14 @@ typedef struct {
     bool echo;         /**< false: a timeout */
 } loc_reading_t;
 
+/** The filter's states: x, y, θ of a correction, and odometry's two drifts. */
+#define LOC_STATES 5u
+
+/** The filter's covariance (src/loc_kf.h says its units). */
+typedef struct {
+    int64_t p[LOC_STATES][LOC_STATES];
+} lkf_cov_t;
+
 /** A held-back hit: the obstacle point in the odometry frame. */
 typedef struct {
     int32_t x_um;
@@ -130,7 +138,9 @@ typedef struct {
     /* The filter (src/loc_kf.h): the covariance of a correction about the robot and of the
      * systematic drift of odometry, κd (prad/mm) and κt (ppb), whose estimates are kept
      * in kappa_prad_per_mm and kappa_ppb. */
-    int64_t cov[5][5];
+    lkf_cov_t cov;
+    lkf_cov_t work;                   /**< a match's covariance while it runs (static: the
+                                           idle loop's stack stays small) */
     int32_t kappa_prad_per_mm;
     int32_t kappa_ppb;
     int64_t drift_nrad;               /**< learned drift not yet turned into the correction */
