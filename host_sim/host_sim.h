@@ -230,7 +230,7 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
 /** The summary table on stdout. */
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
-                   uint64_t ticks, const sim_t *sim);
+                   uint64_t ticks, const sim_t *sim, const robot_t *robot);
 
 /** figure.png through tools/plot_run.py; a missing Python or matplotlib is a warning. */
 void plot_figure(const char *out, bool quiet);

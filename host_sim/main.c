@@ -528,7 +528,7 @@ int main(int argc, char **argv)
         bad |= close_out(tf, o.out, "timing.json");
     }
     if (!o.quiet) {
-        print_summary(&o, r, &odo, &ideal, ps, wall_s, ticks, sim);
+        print_summary(&o, r, &odo, &ideal, ps, wall_s, ticks, sim, &robot);
     }
     if (o.plot && bad == 0) {
         plot_figure(o.out, o.quiet);

@@ -236,7 +236,7 @@ void plot_figure(const char *out, bool quiet)
 
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
-                   uint64_t ticks, const sim_t *sim)
+                   uint64_t ticks, const sim_t *sim, const robot_t *robot)
 {
     sim_truth_t tr = sim_truth(sim);
     printf("\nsonarslam host_sim: %s, %.0f s, seed %llu, %.0f mm cells, %s exploration%s\n",
@@ -255,9 +255,16 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
     const score_t *best = &ps->s[ps->best_th][ps->best_k];
     printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
            best->precision, best->recall, best->f1);
-    printf("\n  odometry error  final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
+    const loc_t *lo = &robot->loc;
+    printf("\n  pose error      final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
            r->max_th_err * 180.0 / PI, r->path_m);
+    if (lo->on) {
+        printf("  pose correction %u of %u matches applied against the map\n", lo->applied,
+               lo->tried);
+    } else {
+        printf("  pose correction off: the pose is odometry alone\n");
+    }
     printf("  coverage        %.1f %% of %u reachable cells visited; collisions %u\n",
            r->reachable_cells ? 100.0 * r->visited_cells / r->reachable_cells : 0.0,
            r->reachable_cells, tr.collisions);
