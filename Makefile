@@ -27,7 +27,8 @@ help:
 	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
-	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
+	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
+	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
@@ -52,6 +53,7 @@ sim: deps-sim
 
 report: build-host
 	tools/sim_report.py
+	tools/pose_report.py
 
 # The HAL trace the STM32F4 self-test replays: one minute of the default room, recorded
 # by the simulator with the MCU's 160 x 160 grid placement. Record it again whenever the

@@ -1,0 +1,222 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""The pose correction measured: maps and pose error with it on and off, every shipped room.
+
+usage: tools/pose_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--jobs N]
+                            [--quick] [--figure PNG]
+
+Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 simulated
+minutes each, once with the pose correction (the default, `localize = 1`) and once
+without it (`localize = 0`: the paper's odometry alone), then a 1-hour and a 10-hour run
+of the default room both ways. Prints Markdown tables (the ones in the README): mean raw
+and final F1 of OM built from the firmware's own pose and from the true poses, the gap
+between them, median and worst final heading and position error, and the correction's
+counters. With --figure, also draws the 1-hour maps side by side and the heading error
+over time (host_sim/figures/pose_correction.png in the README).
+Exit status: 0 done, 1 a run failed, 2 bad options.
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sim_report import SRC, ROOMS, mean, run_all  # noqa: E402
+
+MODES = (("off", "0"), ("on", "1"))
+LONG = (3600, 36000)  # s: the issue's 1-hour and 10-hour runs
+LONG_SEEDS = (1, 2, 3)
+
+
+def median(xs):
+    xs = sorted(xs)
+    n = len(xs)
+    if n == 0:
+        return float("nan")
+    return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
+
+
+def rooms():
+    return sorted(os.path.splitext(os.path.basename(p))[0]
+                  for p in glob.glob(os.path.join(ROOMS, "*.room")))
+
+
+def jobs_for(args):
+    dur = 120 if args.quick else 600
+    jobs = {}
+    for room in rooms():
+        for s in range(1, args.seeds + 1):
+            for mode, val in MODES:
+                jobs["%s-%s-%d" % (room, mode, s)] = [
+                    "--room", os.path.join(ROOMS, room + ".room"), "--seed", s,
+                    "--duration", dur, "--set", "localize=" + val]
+    for dur_l in (LONG if not args.quick else (600,)):
+        for s in LONG_SEEDS:
+            for mode, val in MODES:
+                jobs["long%d-%s-%d" % (dur_l, mode, s)] = [
+                    "--seed", s, "--duration", dur_l, "--set", "localize=" + val]
+    return jobs, dur
+
+
+def summary(ms):
+    """The table's figures over a list of runs' metrics."""
+    def f1(which, step):
+        return mean(m["maps"][which][step]["f1"] for m in ms)
+    est_raw, true_raw = f1("odometry", "raw"), f1("perfect_odometry", "raw")
+    head = [m["odometry"]["final_heading_deg"] for m in ms]
+    pos = [m["odometry"]["final_position_m"] for m in ms]
+    loc = [m["localization"] for m in ms]
+    return {"est_raw": est_raw, "est_final": f1("odometry", "insert"),
+            "true_raw": true_raw, "true_final": f1("perfect_odometry", "insert"),
+            "gap": true_raw - est_raw,
+            "head_med": median(head), "head_max": max(head),
+            "pos_med": median(pos), "pos_max": max(pos),
+            "tried": mean(x["tried"] for x in loc), "applied": mean(x["applied"] for x in loc),
+            "refused": mean(x["refused"] for x in loc), "n": len(ms)}
+
+
+ROW = "| %s | %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.1f | %.1f | %.3f | %.3f |"
+HEAD = ("| room | correction | F1 raw (own pose) | F1 final (own pose) | F1 raw (true poses) "
+        "| F1 final (true poses) | gap | heading median (°) | heading worst (°) "
+        "| position median (m) | position worst (m) |\n|---|---|---|---|---|---|---|---|---|---|---|")
+
+
+def row(label, mode, s):
+    return ROW % (label, mode, s["est_raw"], s["est_final"], s["true_raw"], s["true_final"],
+                  s["gap"], s["head_med"], s["head_max"], s["pos_med"], s["pos_max"])
+
+
+def report(args):
+    jobs, dur = jobs_for(args)
+    base = args.out
+    total = len(jobs)
+    print("pose_report: %d runs of host_sim into %s" % (total, base), file=sys.stderr)
+    res = run_all(args.host_sim, base, jobs, args.jobs)
+
+    def group(prefix):
+        return [res[n] for n in sorted(res) if n.rsplit("-", 1)[0] == prefix]
+
+    print("### Pose correction on and off (%d seeds, %d s each)\n" % (args.seeds, dur))
+    print(HEAD)
+    alls = {}
+    for room in rooms():
+        for mode, _ in MODES:
+            s = summary(group("%s-%s" % (room, mode)))
+            print(row(room, mode, s))
+    for mode, _ in MODES:
+        ms = [m for room in rooms() for m in group("%s-%s" % (room, mode))]
+        alls[mode] = summary(ms)
+        print(row("**all %d rooms**" % len(rooms()), mode, alls[mode]))
+    print()
+
+    print("### Long runs (default room, seeds %s)\n" % ", ".join(map(str, LONG_SEEDS)))
+    print("| run | correction | F1 raw (own pose) per seed | heading error per seed (°) "
+          "| position error per seed (m) |\n|---|---|---|---|---|")
+    longs = sorted({n.split("-")[0] for n in res if n.startswith("long")},
+                   key=lambda x: int(x[4:]))
+    for name in longs:
+        for mode, _ in MODES:
+            ms = group("%s-%s" % (name, mode))
+            print("| %g h | %s | %s | %s | %s |" % (
+                int(name[4:]) / 3600.0, mode,
+                " / ".join("%.3f" % m["maps"]["odometry"]["raw"]["f1"] for m in ms),
+                " / ".join("%.1f" % m["odometry"]["final_heading_deg"] for m in ms),
+                " / ".join("%.3f" % m["odometry"]["final_position_m"] for m in ms)))
+    print()
+
+    on = alls["on"]
+    print("### The correction's work (mean per %d s run, every room)\n" % dur)
+    print("| matches tried | applied | refused |\n|---|---|---|")
+    print("| %.0f | %.0f | %.0f |\n" % (on["tried"], on["applied"], on["refused"]))
+
+    worse = [room for room in rooms()
+             if summary(group(room + "-on"))["est_raw"] < summary(group(room + "-off"))["est_raw"]]
+    print("Rooms whose mean raw F1 (own pose) is lower with the correction than without: %s\n"
+          % (", ".join(worse) if worse else "none"))
+    if args.figure:
+        figure(args, base, longs[0] if longs else None)
+
+
+def heading_series(folder):
+    t, e = [], []
+    with open(os.path.join(folder, "trajectory.csv")) as f:
+        for r in csv.DictReader(f):
+            d = float(r["odom_th_rad"]) - float(r["true_th_rad"])
+            d = math.atan2(math.sin(d), math.cos(d))
+            t.append(float(r["t_s"]) / 60.0)
+            e.append(abs(math.degrees(d)))
+    return t, e
+
+
+def room_window(metrics_path, margin_m=0.5):
+    """The rows and columns of the exported grid that hold the room and a margin."""
+    with open(metrics_path) as f:
+        sc = json.load(f)["scenario"]
+    x0, y0, x1, y1 = sc["room_bounds"]
+    ox, oy = sc["grid"]["origin"]
+    cell, h = sc["cell_mm"] / 1000.0, sc["grid"]["b"]
+
+    def col(x):
+        return min(max(int((x - ox) / cell), 0), sc["grid"]["a"])
+
+    def row_(y):
+        return min(max(h - int((y - oy) / cell), 0), h)
+    return (slice(row_(y1 + margin_m), row_(y0 - margin_m)),
+            slice(col(x0 - margin_m), col(x1 + margin_m)))
+
+
+def figure(args, base, name):
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from plot_run import read_pgm
+    except ImportError as e:
+        sys.exit("pose_report: %s (tools/install-deps.sh sim)" % e)
+    fig, axes = plt.subplots(1, 4, figsize=(19, 4.6))
+    folders = {mode: os.path.join(base, "%s-%s-1" % (name, mode)) for mode, _ in MODES}
+    panels = ((folders["off"], "om.pgm", "without correction (odometry alone)"),
+              (folders["on"], "om.pgm", "with the pose correction"),
+              (folders["on"], "truth.pgm", "the room (truth)"))
+    crop = room_window(os.path.join(folders["on"], "metrics.json"))
+    for ax, (folder, pgm, title) in zip(axes[:3], panels):
+        ax.imshow(read_pgm(os.path.join(folder, pgm))[crop], cmap="gray", vmin=0, vmax=255)
+        ax.set_title("%s, %s" % (title, "%g min" % (int(name[4:]) / 60.0)), fontsize=10)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    ax = axes[3]
+    for mode, color in (("off", "tab:red"), ("on", "tab:green")):
+        t, e = heading_series(folders[mode])
+        ax.plot(t, e, color=color, lw=0.8, label="correction " + mode)
+    ax.set_xlabel("time [min]")
+    ax.set_ylabel("heading error [°]")
+    ax.set_yscale("symlog", linthresh=1.0)
+    ax.set_title("heading error, default room, seed 1")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(args.figure, dpi=72, metadata={"Software": None})
+    print("(figure: %s)" % args.figure)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
+    ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
+    ap.add_argument("--seeds", type=int, default=10, help="seeds 1..N per room (default 10)")
+    ap.add_argument("--out", default=os.path.join(SRC, "out", "pose_report"))
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--quick", action="store_true",
+                    help="2-minute runs and no long runs, for a first look")
+    ap.add_argument("--figure", help="also draw the 1-hour maps and heading error into this PNG")
+    args = ap.parse_args()
+    if args.seeds < 1 or args.jobs < 1:
+        ap.error("--seeds and --jobs need at least 1")
+    if not os.path.exists(args.host_sim):
+        sys.exit("pose_report: %s not found: build it first (make sim)" % args.host_sim)
+    report(args)
+
+
+if __name__ == "__main__":
+    main()
