@@ -3,7 +3,7 @@
 """The pose correction measured: maps and pose error with it on and off, every shipped room.
 
 usage: tools/pose_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--jobs N]
-                            [--quick] [--figure PNG]
+                            [--quick] [--no-long] [--host-arg ARG]... [--figure PNG]
 
 Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 simulated
 minutes each, once with the pose correction (the default, `localize = 1`) and once
@@ -52,12 +52,12 @@ def jobs_for(args):
             for mode, val in MODES:
                 jobs["%s-%s-%d" % (room, mode, s)] = [
                     "--room", os.path.join(ROOMS, room + ".room"), "--seed", s,
-                    "--duration", dur, "--set", "localize=" + val]
-    for dur_l in (LONG if not args.quick else (600,)):
+                    "--duration", dur, "--set", "localize=" + val] + args.host_arg
+    for dur_l in () if args.no_long else LONG if not args.quick else (600,):
         for s in LONG_SEEDS:
             for mode, val in MODES:
                 jobs["long%d-%s-%d" % (dur_l, mode, s)] = [
-                    "--seed", s, "--duration", dur_l, "--set", "localize=" + val]
+                    "--seed", s, "--duration", dur_l, "--set", "localize=" + val] + args.host_arg
     return jobs, dur
 
 
@@ -137,7 +137,9 @@ def report(args):
     print("Rooms whose mean raw F1 (own pose) is lower with the correction than without: %s\n"
           % (", ".join(worse) if worse else "none"))
     if args.figure:
-        figure(args, base, longs[0] if longs else None)
+        if not longs:
+            sys.exit("pose_report: --figure draws the long runs: leave out --no-long")
+        figure(args, base, longs[0])
 
 
 def heading_series(folder):
@@ -209,6 +211,10 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--quick", action="store_true",
                     help="2-minute runs and no long runs, for a first look")
+    ap.add_argument("--no-long", action="store_true", help="leave out the 1-hour and 10-hour runs")
+    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
+                    help="one more host_sim argument for every run (repeatable), for example "
+                    "--host-arg=--error --host-arg=eb=1.0")
     ap.add_argument("--figure", help="also draw the 1-hour maps and heading error into this PNG")
     args = ap.parse_args()
     if args.seeds < 1 or args.jobs < 1:
