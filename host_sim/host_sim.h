@@ -151,6 +151,7 @@ typedef struct {
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
+    bool scoring; /* --scoring: write the scorer's truth and observable masks */
     bool plot;
     bool quiet;
 } options_t;

@@ -515,6 +515,14 @@ int main(int argc, char **argv)
         return 1;
     }
     bad |= write_map(o.out, "truth", &r->geom, work, true);
+    if (o.scoring) {
+        /* What score_map() counts against, for a scorer outside this program
+         * (tools/compare.py): black where a mask is set, the orientation of om.pgm. */
+        mapx_counts(r->truth, 1u, A, B, work);
+        bad |= write_map(o.out, "scoring_truth", &r->geom, work, false);
+        mapx_counts(r->observable, 1u, A, B, work);
+        bad |= write_map(o.out, "scoring_observable", &r->geom, work, false);
+    }
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
     if (o.storage != NULL) {
         bad |= write_storage(o.storage);
