@@ -15,8 +15,9 @@ FUZZ_SEED ?= 1000
 
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
+COMPARE_ARGS ?=
 
-.PHONY: help sim test bench fuzz-core report trace deps deps-sim deps-firmware firmware flash debug linux clean \
+.PHONY: help sim test bench fuzz-core report compare trace deps deps-sim deps-firmware firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
@@ -29,6 +30,8 @@ help:
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
 	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
+	@echo "make compare   the firmware's mapper beside OctoMap on the same logs: P/R/F1 and"
+	@echo "               instructions per reading (installs OctoMap; tools/compare.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
@@ -54,6 +57,15 @@ sim: deps-sim
 report: build-host
 	tools/sim_report.py
 	tools/pose_report.py
+
+# OctoMap is needed here only: a project of its own (tools/octomap), never in make test.
+compare:
+	@tools/install-deps.sh sim compare
+	cmake --preset host
+	cmake --build --preset host -j $(JOBS) --target host_sim
+	cmake -S tools/octomap -B build/compare
+	cmake --build build/compare -j $(JOBS)
+	tools/compare.py $(COMPARE_ARGS)
 
 # The HAL trace the STM32F4 self-test replays: one minute of the default room, recorded
 # by the simulator with the MCU's 160 x 160 grid placement. Record it again whenever the

@@ -103,6 +103,7 @@ char *fmt_fixed(char *out, double v, int decimals, char sep);
 #define CSV_READINGS_HEADER "t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad"
 #define CSV_TRUTH_COLUMNS "true_x_m,true_y_m,true_th_rad"
 #define CSV_TRAJECTORY_HEADER "t_s,odom_x_m,odom_y_m,odom_th_rad," CSV_TRUTH_COLUMNS
+#define CSV_ESTIMATE_HEADER "t_s,est_x_m,est_y_m,est_th_rad"
 
 /**
  * The status column of a reading: "ok" inside the confidence sector (range_min <= d < rc),
@@ -151,6 +152,7 @@ typedef struct {
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
+    bool scoring; /* --scoring: write the scorer's truth and observable masks */
     bool plot;
     bool quiet;
 } options_t;
@@ -198,6 +200,7 @@ typedef struct {
     double max_pos_err, max_th_err, final_pos_err, final_th_err, path_m;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
+    FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
 } run_t;
 
 typedef struct {

@@ -267,6 +267,16 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
     e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
     fwrite(line, 1, (size_t)(e - line), readings);
+    if (r->estimates != NULL) {
+        /* Where the robot believed the ping was (odometry and the correction of the tick),
+         * for a mapper outside this program to map from the firmware's estimate. */
+        odom_pose_t est = robot.loc.deferred ? loc_apply(&robot.loc.tick_corr, op) : *op;
+        e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+        e = fmt_fixed(e, est.x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, '\n');
+        fwrite(line, 1, (size_t)(e - line), r->estimates);
+    }
 }
 
 /* ---- main ----------------------------------------------------------------------------- */
@@ -399,6 +409,13 @@ int main(int argc, char **argv)
     }
     fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
     fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
+    if (o.scoring) {
+        r->estimates = open_out(o.out, "scoring_estimate.csv");
+        if (r->estimates == NULL) {
+            return 1;
+        }
+        fprintf(r->estimates, "%s\n", CSV_ESTIMATE_HEADER);
+    }
 
     hal_host_attach(sim);
     if (o.storage != NULL) {
@@ -485,6 +502,9 @@ int main(int argc, char **argv)
         }
     }
     int bad = close_out(readings, o.out, "readings.csv") | close_out(trajectory, o.out, "trajectory.csv");
+    if (r->estimates != NULL) {
+        bad |= close_out(r->estimates, o.out, "scoring_estimate.csv");
+    }
 
     /* The hits still held back for matching belong in the map too (a replay does the same). */
     loc_flush(&robot.loc, &robot.mapper, &robot.grid);
@@ -515,6 +535,14 @@ int main(int argc, char **argv)
         return 1;
     }
     bad |= write_map(o.out, "truth", &r->geom, work, true);
+    if (o.scoring) {
+        /* What score_map() counts against, for a scorer outside this program
+         * (tools/compare.py): black where a mask is set, the orientation of om.pgm. */
+        mapx_counts(r->truth, 1u, A, B, work);
+        bad |= write_map(o.out, "scoring_truth", &r->geom, work, false);
+        mapx_counts(r->observable, 1u, A, B, work);
+        bad |= write_map(o.out, "scoring_observable", &r->geom, work, false);
+    }
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
     if (o.storage != NULL) {
         bad |= write_storage(o.storage);

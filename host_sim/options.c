@@ -56,6 +56,10 @@ static void usage(FILE *f)
         "                       (tools/plot_run.py DIR draws them)\n"
         "  --realtime [FACTOR]  run at the speed of the real robot (FACTOR times it, 0.1 to\n"
         "                       1000; default 1), not as fast as possible\n"
+        "  --scoring            also write what the score is computed against: the truth's\n"
+        "                       boundary cells (scoring_truth.pgm) and the cells within rc\n"
+        "                       of a sonar position (scoring_observable.pgm), black where set,\n"
+        "                       and the estimated pose of every reading (scoring_estimate.csv)\n"
         "  --no-plot            do not draw figure.png\n"
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
@@ -248,6 +252,8 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--replay needs a readings.csv");
             }
             o->replay = argv[i];
+        } else if (strcmp(a, "--scoring") == 0) {
+            o->scoring = true;
         } else if (strcmp(a, "--no-plot") == 0) {
             o->plot = false;
         } else if (strcmp(a, "--quiet") == 0) {
