@@ -38,6 +38,7 @@ static const slam_config_t slam_config_defaults = {
     .sweep_stops = 6u,
     .settle_ticks = 3u,
     .echo_timeout_ticks = 4u,
+    .ping_interval_ticks = 6u,
     .servo_pulse_0deg_us = 500u,
     .servo_pulse_180deg_us = 2500u,
     .post_threshold = 3u,
@@ -163,6 +164,9 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->echo_timeout_ticks == 0u) {
         return "echo_timeout_ticks";
+    }
+    if (c->ping_interval_ticks == 0u) {
+        return "ping_interval_ticks";
     }
     if (!in_range_u(c->servo_pulse_0deg_us, 400u, 2600u)) {
         return "servo_pulse_0deg_us";

@@ -34,6 +34,7 @@ static const field_t fields[] = {
     F(mount_yaw_mdeg, T_I32),         F(sweep_first_mdeg, T_I32),
     F(sweep_last_mdeg, T_I32),        F(sweep_stops, T_U8),
     F(settle_ticks, T_U8),            F(echo_timeout_ticks, T_U8),
+    F(ping_interval_ticks, T_U8),
     F(servo_pulse_0deg_us, T_U16),    F(servo_pulse_180deg_us, T_U16),
     F(post_threshold, T_U8),          F(post_template_k, T_U8),
     F(top_speed_mm_s, T_U16),         F(accel_mm_s2, T_U16),

@@ -71,6 +71,9 @@ typedef struct {
     uint8_t sweep_stops;            /**< 6 (18° apart) */
     uint8_t settle_ticks;           /**< servo travel + settle before the ping; 3 (30 ms) */
     uint8_t echo_timeout_ticks;     /**< give up on an echo after this; 4 (40 ms >= 38 ms) */
+    uint8_t ping_interval_ticks;    /**< least time from one trigger to the next; 6 (60 ms, the
+                                         HC-SR04 datasheet's measurement cycle: sooner, the
+                                         late echo of one ping is read as the next) */
     uint16_t servo_pulse_0deg_us;   /**< servo pulse at 0°; 500 µs (SG90) */
     uint16_t servo_pulse_180deg_us; /**< servo pulse at 180°; 2500 µs (SG90) */
 
