@@ -188,9 +188,12 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     const mapper_t *m = &robot->mapper;
     fprintf(f, "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
                "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
-               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u},\n",
+               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
+               "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
-            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances);
+            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances,
+            robot->explore.stalls, robot->explore.leaves, robot->explore.doors,
+            robot->explore.seeks);
 
     double span_x = room->max_x - room->min_x;
     double span_y = room->max_y - room->min_y;

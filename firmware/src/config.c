@@ -47,11 +47,12 @@ static const slam_config_t slam_config_defaults = {
     .accel_mm_s2 = 500u,
     .motion_kp_q8 = 64u,
     .motion_ki_q8 = 8u,
-    .explore_mode = EXPLORE_RANDOM,
+    .explore_mode = EXPLORE_WALLS,
     .cruise_mm_s = 200u,
     .turn_mm_s = 100u,
     .avoid_um = 300000u,
     .clearance_um = 130000u,
+    .follow_um = 300000u,
     .square_side_um = 1000000u,
     .square_laps = 1u,
     .explore_seed = 1u,
@@ -207,6 +208,9 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (!in_range_u(c->clearance_um, 10000u, 2000000u)) {
         return "clearance_um";
+    }
+    if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
+        return "follow_um";
     }
     if (!in_range_u(c->square_side_um, 100000u, 100000000u)) {
         return "square_side_um";

@@ -41,7 +41,8 @@ static const field_t fields[] = {
     F(motion_kp_q8, T_U16),           F(motion_ki_q8, T_U16),
     F(explore_mode, T_U8),            F(cruise_mm_s, T_U16),
     F(turn_mm_s, T_U16),              F(avoid_um, T_U32),
-    F(clearance_um, T_U32),           F(square_side_um, T_U32),
+    F(clearance_um, T_U32),           F(follow_um, T_U32),
+    F(square_side_um, T_U32),
     F(square_laps, T_U8),
     F(explore_seed, T_U32),           F(save_period_s, T_U16),
 };

@@ -31,6 +31,7 @@ typedef enum {
     EXPLORE_RANDOM = 1, /**< the paper's random exploration with obstacle avoidance */
     EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
     EXPLORE_SQUARE = 3, /**< drive a square, counter-clockwise (odometry tests) */
+    EXPLORE_WALLS = 4,  /**< follow what is met on the right; leave for the least visited way */
     EXPLORE_MODES
 } explore_mode_t;
 
@@ -90,11 +91,14 @@ typedef struct {
     uint16_t motion_ki_q8;   /**< duty per µm of accumulated error, Q8; 8 */
 
     /* Exploration (§II.E). */
-    uint8_t explore_mode;    /**< an explore_mode_t; EXPLORE_RANDOM */
+    uint8_t explore_mode;    /**< an explore_mode_t; EXPLORE_WALLS (the best wall coverage
+                                  and F1 measured in the simulator) */
     uint16_t cruise_mm_s;    /**< forward speed; 200 */
     uint16_t turn_mm_s;      /**< wheel speed when turning in place; 100 */
     uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
     uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
+    uint32_t follow_um;      /**< walls mode: distance from the axle to what it follows;
+                                  300 mm */
     uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
     uint8_t square_laps;     /**< laps of the square, then stop; 0 = go on forever; 1 */
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
