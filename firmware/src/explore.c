@@ -41,6 +41,7 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     e->target_heading = fix_bam_from_mdeg(cfg->start_heading_mdeg);
     e->scan.ahead_um = INT32_MAX;
     e->scan.right_q10 = INT32_MAX;
+    e->scan.behind_q10 = INT32_MAX;
     e->map_um = INT32_MAX;
     explore_map_init(e, cfg);
     explore_seek_init(e);

@@ -9,6 +9,7 @@
 
 #define EXPLORE_WALL_NEAR_UM 100000   /* a point of the wall on the right is 0.1 m or more */
 #define EXPLORE_WALL_FAR_UM 150000    /* and up to 0.15 m beyond the follow distance aside */
+#define EXPLORE_WALL_OFF_UM 100000    /* and within 0.1 m of the wall's line */
 #define EXPLORE_WALK_BEFORE_UM 300000 /* the wall is read on the map from 0.3 m before */
 #define EXPLORE_WALK_AFTER_UM 150000  /* to 0.15 m after the opening's far point */
 #define EXPLORE_WALK_SAMPLES 4u       /* wall samples read a tick, three cells each */
@@ -55,13 +56,12 @@ void explore_walls_point(explore_t *e, const odom_pose_t *pose, int32_t x_um, in
     if (e->front) {
         int32_t front_side;
         int32_t front = explore_robot_frame(e, pose, e->front_x_um, e->front_y_um, &front_side);
-        if (ahead <= front) {
-            return;
-        }
         int32_t off = side - front_side;
         off = off < 0 ? -off : off;
-        if (!e->door && ahead - front >= EXPLORE_DOOR_MIN_UM &&
-            ahead - front <= EXPLORE_DOOR_MAX_UM && off < EXPLORE_WALL_NEAR_UM) {
+        if (ahead <= front || off >= EXPLORE_WALL_OFF_UM) {
+            return; /* behind the front, or not on the wall's line (a jamb's far corner) */
+        }
+        if (!e->door && ahead - front >= EXPLORE_DOOR_MIN_UM && ahead - front <= EXPLORE_DOOR_MAX_UM) {
             e->door = true;
             e->edge_x_um = e->front_x_um;
             e->edge_y_um = e->front_y_um;
@@ -176,7 +176,7 @@ static void walk_samples(explore_t *e, const grid_t *g)
 static void give_up(explore_t *e)
 {
     e->door = false;
-    e->follow_ticks = 0u;
+    e->lost_um = 0u;
     e->arc_ticks = 0u;
     explore_enter(e, EXPLORE_FOLLOW);
 }

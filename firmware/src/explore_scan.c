@@ -32,7 +32,7 @@ void explore_scan_begin(explore_t *e, const odom_pose_t *pose, q1_30_t c, q1_30_
     e->scan_sin = s;
     e->scan_x_um = pose->x_um;
     e->scan_y_um = pose->y_um;
-    e->scan_work = (explore_scan_t){INT32_MAX, 0, INT32_MAX};
+    e->scan_work = (explore_scan_t){INT32_MAX, 0, INT32_MAX, INT32_MAX};
     e->scan_next = 0u;
 }
 
@@ -64,13 +64,15 @@ bool explore_scan_points(explore_t *e)
         }
         if (right && side < 0 && side > -EXPLORE_RIGHT_WIDE_UM && ahead < EXPLORE_RIGHT_AHEAD_UM) {
             /* Walls mode keeps what is on the right at follow_um: the offset of what lies
-             * ahead, so that a short opening in a wall is bridged; the distance of what is
-             * behind, so that the robot rounds a corner at the follow distance. In
-             * 1.024 mm units the squares of the band's offsets fit 32 bits. */
-            int32_t a = ahead < 0 ? ahead / 1024 : 0;
+             * beside and ahead; and, round a corner, the distance of what lies behind.
+             * In 1.024 mm units the squares of the band's offsets fit 32 bits. */
+            int32_t a = ahead / 1024;
             int32_t d = side / 1024;
-            int32_t r = a * a + d * d;
-            w->right_q10 = r < w->right_q10 ? r : w->right_q10;
+            if (ahead >= 0) {
+                w->right_q10 = d * d < w->right_q10 ? d * d : w->right_q10;
+            } else if (a * a + d * d < w->behind_q10) {
+                w->behind_q10 = a * a + d * d;
+            }
         }
     }
     return e->scan_next >= EXPLORE_POINTS;

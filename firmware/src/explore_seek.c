@@ -5,7 +5,7 @@
 #include <stddef.h>
 
 #define EXPLORE_FREE_STEPS 8u        /* cells (or skipped blocks) the rolling scan reads a tick */
-#define EXPLORE_SEEK_BLOCKS 6u       /* blocks weighed a tick */
+#define EXPLORE_SEEK_BLOCKS 4u       /* blocks weighed a tick */
 #define EXPLORE_SIGHT_CELLS 8u       /* cells of a line of sight walked a tick */
 #define EXPLORE_SEEK_REACH_UM 4000000 /* frontier blocks further than 4 m are not sought */
 #define EXPLORE_TARGET_TICKS 6000u   /* a block not reached within a minute is given up */

@@ -8,7 +8,7 @@
 #define EXPLORE_STEER_UM 2500        /* steer 1 mm/s per 2.5 mm off the follow distance */
 #define EXPLORE_STEER_MAX_MM_S 60    /* at most: a 0.2 m radius at cruise */
 #define EXPLORE_ARC_MM_S 30          /* with nothing on the right, arc right gently */
-#define EXPLORE_LOST_TICKS 50u       /* straight on for half a second first */
+#define EXPLORE_LOST_UM 100000u      /* with nothing beside, straight on this far first */
 #define EXPLORE_ARC_MAX_TICKS 1500u  /* then about a circle at most */
 #define EXPLORE_RETRACE_LEAVE 12u    /* leave after this many trail steps driven before */
 #define EXPLORE_LEFTS_MAX 8u         /* left turns in a row before backing off: a circle */
@@ -45,7 +45,7 @@ void explore_walls_look(explore_t *e, const odom_pose_t *pose, bool blocked)
     }
     if (!blocked) {
         e->lefts = 0u;
-        e->follow_ticks = 0u;
+        e->lost_um = 0u;
         e->arc_ticks = 0u;
         explore_enter(e, (explore_state_t)e->after_turn);
         return;
@@ -84,18 +84,26 @@ void explore_follow_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     }
     int32_t v = explore_speed_mm_s(e, ahead);
     int32_t steer;
-    if (e->scan.right_q10 != INT32_MAX) {
+    int32_t near = e->scan.right_q10;
+    if (near == INT32_MAX) {
+        /* Nothing beside: straight on a little first, then round the corner behind at
+         * the follow distance. */
+        e->lost_um += (uint32_t)v * 10u;
+        near = e->lost_um < EXPLORE_LOST_UM ? INT32_MAX - 1 : e->scan.behind_q10;
+    } else {
+        e->lost_um = 0u;
+    }
+    if (near == INT32_MAX - 1) {
+        steer = 0;
+    } else if (near != INT32_MAX) {
         /* (d² - f²) / 2f is d - f near the follow distance, without a square root. */
-        e->follow_ticks = 0u;
         e->arc_ticks = 0u;
         int32_t f = e->follow_um / 1024;
-        int32_t err_q10 = (e->scan.right_q10 - f * f) / (2 * f);
+        int32_t err_q10 = (near - f * f) / (2 * f);
         int32_t err_um = err_q10 * 1024;
         steer = err_um / EXPLORE_STEER_UM;
         steer = steer > EXPLORE_STEER_MAX_MM_S ? EXPLORE_STEER_MAX_MM_S : steer;
         steer = steer < -EXPLORE_STEER_MAX_MM_S ? -EXPLORE_STEER_MAX_MM_S : steer;
-    } else if (++e->follow_ticks < EXPLORE_LOST_TICKS) {
-        steer = 0;
     } else if (++e->arc_ticks < EXPLORE_ARC_MAX_TICKS) {
         steer = EXPLORE_ARC_MM_S; /* round toward the seen side, looking for the wall */
     } else {
@@ -143,7 +151,7 @@ void explore_walls_cross(explore_t *e, const odom_pose_t *pose, const grid_t *g,
 {
     int32_t f = e->follow_um / 1024;
     if (e->scan.right_q10 < f * f) {
-        e->follow_ticks = 0u;
+        e->lost_um = 0u;
         e->arc_ticks = 0u;
         explore_enter(e, EXPLORE_FOLLOW);
         return;

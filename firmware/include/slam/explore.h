@@ -106,9 +106,11 @@ typedef enum {
 typedef struct {
     int32_t ahead_um;  /**< the nearest point in the corridor ahead; INT32_MAX if none */
     int32_t lateral_um;/**< that point's offset, left positive */
-    int32_t right_q10; /**< the squared distance to the nearest point on the right,
-                            beside or just ahead of the robot (walls mode), in units of
-                            (1.024 mm)^2; INT32_MAX if none */
+    int32_t right_q10; /**< the squared offset of the nearest point on the right, beside
+                            or ahead of the robot (walls mode), in units of (1.024 mm)^2;
+                            INT32_MAX if none */
+    int32_t behind_q10;/**< the squared distance of the nearest point on the right behind
+                            the axle, likewise */
 } explore_scan_t;
 
 /** Exploration state. */
@@ -175,9 +177,8 @@ typedef struct {
     /* Walls mode. */
     uint32_t retrace;            /**< cells entered along the wall that were driven before */
     uint32_t fresh;              /**< cells entered that were not */
-    uint32_t follow_ticks;       /**< ticks since the wall was last seen on the right */
-    uint32_t cell_index;         /**< the cell the robot was in last tick */
-    uint32_t arc_ticks;          /**< ticks spent arcing right without a wall */
+    uint32_t lost_um;            /**< driven since the wall on the right was last beside */
+    uint32_t arc_ticks;          /**< ticks spent arcing right without anything on the right */
     int32_t front_x_um, front_y_um; /**< the furthest point of the wall on the right */
     int32_t edge_x_um, edge_y_um;   /**< an opening: the wall's last point before it */
     int32_t door_x_um, door_y_um;   /**< and its first point after it; then the middle
