@@ -8,8 +8,8 @@
 
 #define EXPLORE_DEG(d) ((bam32_t)((uint64_t)(d) * 0x100000000ull / 360u))
 #define EXPLORE_LOOK_UM 1000000 /* TM rays reach 1 m */
-#define EXPLORE_MAP_REACH_UM 250000 /* the corridor is read on the map this far ahead */
-#define EXPLORE_MAP_STOP_UM 200000  /* and an occupied cell this near ahead stops the robot */
+#define EXPLORE_MAP_REACH_UM 300000 /* the corridor is read on the map this far ahead */
+#define EXPLORE_MAP_STOP_UM 250000  /* and an occupied cell this near ahead stops the robot */
 #define EXPLORE_CANDIDATE_BAM ((bam32_t)(0x100000000ull / EXPLORE_CANDIDATES))
 
 /* A number below n from the exploration's own random stream. */
