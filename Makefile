@@ -2,26 +2,36 @@
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
-TEST_PRESETS := host host-asan host-m32 stm32f4
-FIRMWARE_ELF := build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf
+TEST_PRESETS := host host-asan host-m32 host-tsan stm32f4
+# The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
+# (generic_f405, the one QEMU runs) is sonarslam_stm32f4; every other is sonarslam_<BOARD>.
+BOARD ?= generic_f405
+BOARDS := $(patsubst hal/stm32f4/board_%.h,%,$(wildcard hal/stm32f4/board_*.h))
+FIRMWARE_IMAGE := $(if $(filter generic_f405,$(BOARD)),sonarslam_stm32f4,sonarslam_$(BOARD))
+FIRMWARE_ELF := build/stm32f4/hal/stm32f4/$(FIRMWARE_IMAGE).elf
+
+FUZZ_RUNS ?= 50000
+FUZZ_SEED ?= 1000
 
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 
-.PHONY: help sim test bench report trace deps deps-sim deps-firmware firmware flash debug linux clean \
+.PHONY: help sim test bench fuzz-core report trace deps deps-sim deps-firmware firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
 	@echo "make sim       install what is missing, build, run the default room; picture in $(SIM_OUT)/"
 	@echo "               (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
 	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
-	@echo "               32-bit, and the STM32F4 images in QEMU)"
+	@echo "               32-bit, ThreadSanitizer on the Linux backend, the STM32F4 images in QEMU)"
+	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
-	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash)"
+	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
+	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash); BOARD= as above"
 	@echo "make debug     OpenOCD and gdb-multiarch on the board"
 	@echo "make linux     sonarslam-linux for a Linux robot (build/linux/hal/linux/)"
 	@echo "make clean     remove build/ and out/"
@@ -66,13 +76,21 @@ linux:
 	cmake --preset linux
 	cmake --build --preset linux -j $(JOBS)
 
+# The core fuzz of make test (500 configurations, seconds), longer: FUZZ_RUNS configurations
+# from FUZZ_SEED on. A failure names its seed; `test_core_fuzz 1 SEED` runs that one again.
+fuzz-core: build-host-asan
+	build/host-asan/tests/test_core_fuzz $(FUZZ_RUNS) $(FUZZ_SEED)
+
 bench: build-host build-stm32f4
 	tools/bench.py build/host
 	tools/stm32f4/bench_arm.py build/stm32f4
 
 firmware: deps-firmware
+	@case " $(BOARDS) " in *" $(BOARD) "*) ;; *) echo "make: unknown BOARD '$(BOARD)'; boards: $(BOARDS)" >&2; exit 2 ;; esac
 	cmake --preset stm32f4
-	cmake --build --preset stm32f4 -j $(JOBS)
+	cmake --build --preset stm32f4 -j $(JOBS) --target $(FIRMWARE_IMAGE)
+	tools/stm32f4/bench_arm.py build/stm32f4 --static-only --image $(FIRMWARE_IMAGE)
+	@echo "firmware: $(FIRMWARE_ELF) (and .bin, .hex, .map)"
 
 flash: firmware
 	tools/stm32f4/flash.sh $(FIRMWARE_ELF)

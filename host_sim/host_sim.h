@@ -29,7 +29,18 @@ typedef struct {
     double cell_m;    /**< cell side */
     double origin_x;  /**< world x of the lower-left corner of cell (0, 0), m */
     double origin_y;
+    uint32_t cell_um; /**< the same geometry as the firmware holds it */
+    int32_t origin_x_um;
+    int32_t origin_y_um;
 } map_geom_t;
+
+/** The geometry of a firmware grid. */
+static inline map_geom_t map_geom_of(const grid_t *g)
+{
+    return (map_geom_t){SLAM_GRID_A,       SLAM_GRID_B,       g->cell_um * 1e-6,
+                        g->origin_x_um * 1e-6, g->origin_y_um * 1e-6, g->cell_um,
+                        g->origin_x_um,    g->origin_y_um};
+}
 
 /** How a map is scored (DESIGN.md §5). */
 typedef struct {
@@ -54,13 +65,22 @@ void score_map(const map_geom_t *g, const uint8_t *map, const uint8_t *truth,
 void mark_disc(const map_geom_t *g, uint8_t *marks, double x, double y, double radius_m);
 
 /**
- * Write a map as a binary PGM (row 0 = the top = the largest y) and its ROS map_server
- * YAML next to it: DIR/NAME.pgm and DIR/NAME.yaml. A cell value v of full scale max is
- * drawn as grey 255 - v·255/max (0 = white, max = black).
+ * Write an image of a×b bytes (row 0 = the top = the largest y, as hal_common/mapexport.h
+ * makes them) as DIR/NAME.pgm and, when @p yaml, its ROS map_server DIR/NAME.yaml.
  * @return 0, or -1 with a message on stderr
  */
-int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *cells,
-              uint8_t max, double occupied_thresh, double free_thresh);
+int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img,
+              bool yaml);
+
+/**
+ * Ground truth for export: the scoring truth's boundary cells, the inside of solid
+ * obstacles filled (cells no 4-connected path of free cells joins to the start or to the
+ * grid's border), the outside of the room left unknown (reached from the border).
+ * @param truth  boundary cells (room_rasterize()), a·b
+ * @param out    the trinary image (mapexport.h), first row the grid's last
+ * @return 0, or -1 when out of memory
+ */
+int truth_image(const map_geom_t *g, const uint8_t *truth, uint32_t start, uint8_t *out);
 
 /**
  * Append v with exactly @p decimals digits after the point (rounded half away from zero)
@@ -68,6 +88,27 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
  * for |v| < 9e8, a tenth of its cost: the logs hold tens of thousands of numbers.
  */
 char *fmt_fixed(char *out, double v, int decimals, char sep);
+
+/*
+ * The logs' columns (host_sim/README.md describes them). Units are in the names; each kind
+ * of column has one precision, enough to carry the firmware's value exactly: times are
+ * whole 10 ms ticks, lengths whole µm, servo angles whole millidegrees, and ten decimals
+ * of a radian are finer than half a binary angle unit (7.3e-10 rad), so a replay recovers
+ * the firmware's exact heading.
+ */
+#define CSV_TIME_DECIMALS 2
+#define CSV_LENGTH_DECIMALS 6
+#define CSV_HEADING_DECIMALS 10
+#define CSV_SERVO_DECIMALS 3
+#define CSV_READINGS_HEADER "t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad"
+#define CSV_TRUTH_COLUMNS "true_x_m,true_y_m,true_th_rad"
+#define CSV_TRAJECTORY_HEADER "t_s,odom_x_m,odom_y_m,odom_th_rad," CSV_TRUTH_COLUMNS
+
+/**
+ * The status column of a reading: "ok" inside the confidence sector (range_min <= d < rc),
+ * "far" at or beyond rc, "near" below range_min, "timeout" without an echo.
+ */
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
 
 /** Open DIR/NAME for writing; NULL with a message on stderr when it fails. */
 FILE *open_out(const char *dir, const char *name);
@@ -77,6 +118,9 @@ int close_out(FILE *f, const char *dir, const char *name);
 
 /** Create a directory and its parents; -1 with a message on stderr. */
 int make_dirs(const char *path);
+
+/** The robot's map storage slots as DIR/slot0.bin, DIR/slot1.bin; -1 with a message. */
+int write_storage(const char *dir);
 
 /* ---- options (options.c) --------------------------------------------------------------- */
 
@@ -94,6 +138,7 @@ typedef struct {
     int explore;
     const char *out;
     bool ideal;
+    bool paper;
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -101,7 +146,10 @@ typedef struct {
     size_t nsets;
     const char *trace;
     const char *telemetry;
+    const char *commands;
+    const char *storage;
     bool realtime;
+    double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
     bool plot;
     bool quiet;
@@ -184,6 +232,7 @@ typedef struct {
 
 /* The post-processing parameters over their whole range: F1 for every TH and K. */
 #define SWEEP_K 9u
+#define SWEEP_EVIDENCE_TH 16u
 typedef struct {
     uint8_t th_count;
     score_t s[256][SWEEP_K];
@@ -207,12 +256,42 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
 /** The summary table on stdout. */
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
-                   uint64_t ticks, const sim_t *sim);
+                   uint64_t ticks, const sim_t *sim, const robot_t *robot);
 
 /** figure.png through tools/plot_run.py; a missing Python or matplotlib is a warning. */
 void plot_figure(const char *out, bool quiet);
 
 /** --replay: rebuild OM from a readings.csv through the same mapper (replay.c). */
 int replay(const options_t *o);
+
+/* ---- commands to the robot (commands.c) -------------------------------------------------- */
+
+typedef struct {
+    uint64_t tick;   /* the tick after which the bytes arrive */
+    size_t offset;   /* into bytes */
+    size_t len;
+} command_line_t;
+
+/** The --commands file: framed command bytes and when they arrive. */
+typedef struct {
+    command_line_t *lines;
+    size_t n;
+    uint8_t *bytes;
+    size_t nbytes;
+    size_t next;      /* the next line to feed */
+    size_t dropped;   /* bytes the UART had no room for */
+} commands_t;
+
+/**
+ * Read a --commands file: `TIME_S COMMAND` lines (start, stop, mode MODE, get KEY,
+ * set KEY VALUE, save, map, calibrate, or hex BYTES), times not going back; `#` comments.
+ * @return 0, or EXIT_USAGE with a message naming the file and line
+ */
+int commands_load(const char *path, commands_t *c);
+
+/** Hand the robot's UART every command due by @p tick (hal_host_uart_receive()). */
+void commands_feed(commands_t *c, uint64_t tick);
+
+void commands_free(commands_t *c);
 
 #endif /* HOST_SIM_HOST_SIM_H */

@@ -14,6 +14,7 @@
 
 #include "hal/hal.h"
 #include "hal_common/config_text.h"
+#include "hal_common/mapexport.h"
 #include "hal_common/trace.h"
 #include "host_sim.h"
 #include "slam/error.h"
@@ -30,6 +31,9 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
     if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return -1;
+    }
+    if (o->paper) {
+        slam_config_paper(cfg);
     }
     cfg->cell_um = (uint32_t)lround(o->cell_mm * 1000.0);
     cfg->explore_mode = (uint8_t)o->explore;
@@ -186,6 +190,9 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     r->last_x = tr.x;
     r->last_y = tr.y;
 
+    /* The perfect-odometry maps' TM, at the true pose. */
+    (void)grid_tm_visit(&ideal_grid, to_um(tr.x), to_um(tr.y));
+
     /* Coverage: TM > 0 on a reachable cell. */
     grid_cell_t c;
     if (grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &c) == SLAM_OK) {
@@ -211,14 +218,14 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
 
     if (tick % TRAJECTORY_EVERY == 0u || last) {
-        char line[160];
-        char *e = fmt_fixed(line, t, 2, ',');
-        e = fmt_fixed(e, ox, 6, ',');
-        e = fmt_fixed(e, oy, 6, ',');
-        e = fmt_fixed(e, wrap_pi(oth), 6, ',');
-        e = fmt_fixed(e, tr.x, 6, ',');
-        e = fmt_fixed(e, tr.y, 6, ',');
-        e = fmt_fixed(e, wrap_pi(tr.th), 6, '\n');
+        char line[192];
+        char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+        e = fmt_fixed(e, ox, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, oy, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(oth), CSV_HEADING_DECIMALS, ',');
+        e = fmt_fixed(e, tr.x, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, tr.y, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(tr.th), CSV_HEADING_DECIMALS, '\n');
         fwrite(line, 1, (size_t)(e - line), trajectory);
     }
 
@@ -240,27 +247,29 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
     walls_ping(r, sx, sy, ping.bearing, t);
     char line[256];
-    char *e = fmt_fixed(line, t, 2, ',');
-    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, 3, ',');
+    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
+    uint32_t d = 0u;
+    odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
     if (sw->reading.echo) {
-        uint32_t d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
-        e = fmt_fixed(e, d * 1e-6, 6, ',');
-        memcpy(e, "ok,", 3);
-        e += 3;
-        odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
+        d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
+        e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
         (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
     } else {
-        memcpy(e, ",timeout,", 9);
-        e += 9;
+        *e++ = ',';
+        mapper_timeout(&ideal_mapper, &ideal_grid, &truth_pose);
     }
-    /* Ten decimals of a radian are finer than half a binary angle unit (7e-10 rad), so
-     * the replay recovers the exact heading. */
-    e = fmt_fixed(e, op->x_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, op->y_um * 1e-6, 6, ',');
-    e = fmt_fixed(e, bam_rad(op->heading), 10, ',');
-    e = fmt_fixed(e, ping.x, 6, ',');
-    e = fmt_fixed(e, ping.y, 6, ',');
-    e = fmt_fixed(e, wrap_pi(ping.th), 6, '\n');
+    const char *status = reading_status(&robot.mapper.sonar, sw->reading.echo, d);
+    size_t n = strlen(status);
+    memcpy(e, status, n);
+    e += n;
+    *e++ = ',';
+    e = fmt_fixed(e, op->x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, op->y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(bam_rad(op->heading)), CSV_HEADING_DECIMALS, ',');
+    e = fmt_fixed(e, ping.x, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
     fwrite(line, 1, (size_t)(e - line), readings);
 }
 
@@ -328,6 +337,11 @@ int main(int argc, char **argv)
         room_free(&room);
         return EXIT_USAGE;
     }
+    commands_t commands = {0};
+    if (o.commands != NULL && (rc = commands_load(o.commands, &commands)) != 0) {
+        room_free(&room);
+        return rc;
+    }
     build_params(&cfg, &params);
     /* The world starts the robot at the room's start pose: the one chosen above. */
     room.start_x = sx;
@@ -387,10 +401,15 @@ int main(int argc, char **argv)
         fprintf(stderr, "host_sim: cannot start the run (out of memory, or an output file)\n");
         return 1;
     }
-    fprintf(readings, "t,servo_deg,range_m,status,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
-    fprintf(trajectory, "t,odom_x,odom_y,odom_th,true_x,true_y,true_th\n");
+    fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
+    fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
 
     hal_host_attach(sim);
+    if (o.storage != NULL) {
+        /* Room for a record of this grid: the robot now saves its maps every
+         * save_period_s, and stands still while a save begins, as a real one does. */
+        hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
+    }
     if (hal_init() != HAL_OK || robot_init(&robot, &cfg) != SLAM_OK ||
         hal_tick_start(tick_callback, &robot) != HAL_OK) {
         fprintf(stderr, "host_sim: the firmware did not start\n");
@@ -407,8 +426,7 @@ int main(int argc, char **argv)
         hal_host_uart_sink(telemetry);
     }
 
-    r->geom = (map_geom_t){SLAM_GRID_A, SLAM_GRID_B, cfg.cell_um * 1e-6,
-                           robot.grid.origin_x_um * 1e-6, robot.grid.origin_y_um * 1e-6};
+    r->geom = map_geom_of(&robot.grid);
     r->truth = bufs;
     r->observable = bufs + ncells;
     r->reachable = bufs + 2u * ncells;
@@ -438,10 +456,11 @@ int main(int argc, char **argv)
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
+        commands_feed(&commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
         observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
         if (o.realtime) {
-            double ahead = (double)(k + 1u) * TICK_S - (wall_now() - t0);
+            double ahead = (double)(k + 1u) * TICK_S / o.realtime_factor - (wall_now() - t0);
             if (ahead > 0.0) {
                 struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
                 nanosleep(&ts, NULL);
@@ -477,6 +496,9 @@ int main(int argc, char **argv)
     }
     int bad = close_out(readings, o.out, "readings.csv") | close_out(trajectory, o.out, "trajectory.csv");
 
+    /* The hits still held back for matching belong in the map too (a replay does the same). */
+    loc_flush(&robot.loc, &robot.mapper, &robot.grid);
+
     chain_scores_t odo;
     chain_scores_t ideal;
     score_chain(r, robot.grid.om, &cfg, post, scratch, &odo);
@@ -487,14 +509,26 @@ int main(int argc, char **argv)
     }
     sweep_post(r, robot.grid.om, &cfg, work, scratch, ps);
 
-    double om_th = (cfg.post_threshold + 0.5) / cfg.om_max;
-    double om_free = 0.5 / cfg.om_max;
-    bad |= write_map(o.out, "om", &r->geom, robot.grid.om, cfg.om_max, om_th, om_free);
-    bad |= write_map(o.out, "om_post", &r->geom, post, cfg.om_max, 0.5, 0.25);
-    bad |= write_map(o.out, "om_ideal", &r->geom, ideal_grid.om, cfg.om_max, om_th, om_free);
-    bad |= write_map(o.out, "tm", &r->geom, robot.grid.tm, cfg.tm_max, 0.99, 0.01);
-    bad |= write_map(o.out, "truth", &r->geom, r->truth, 1u, 0.65, 0.196);
+    /* Every map in the one trinary meaning (hal_common/mapexport.h); TM as counts. */
+    const uint32_t A = r->geom.a;
+    const uint32_t B = r->geom.b;
+    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, NULL, A, B, work);
+    bad |= write_map(o.out, "om", &r->geom, work, true);
+    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, post, A, B, work);
+    bad |= write_map(o.out, "om_post", &r->geom, work, true);
+    mapx_trinary(cfg.om_mode, ideal_grid.om, ideal_grid.tm, NULL, A, B, work);
+    bad |= write_map(o.out, "om_ideal", &r->geom, work, true);
+    mapx_counts(robot.grid.tm, cfg.tm_max, A, B, work);
+    bad |= write_map(o.out, "tm", &r->geom, work, false);
+    if (truth_image(&r->geom, r->truth, grid_index(start), work) != 0) {
+        fprintf(stderr, "host_sim: out of memory\n");
+        return 1;
+    }
+    bad |= write_map(o.out, "truth", &r->geom, work, true);
     bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
+    if (o.storage != NULL) {
+        bad |= write_storage(o.storage);
+    }
     FILE *tf = open_out(o.out, "timing.json");
     if (tf != NULL) {
         fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
@@ -504,11 +538,16 @@ int main(int argc, char **argv)
         bad |= close_out(tf, o.out, "timing.json");
     }
     if (!o.quiet) {
-        print_summary(&o, r, &odo, &ideal, ps, wall_s, ticks, sim);
+        print_summary(&o, r, &odo, &ideal, ps, wall_s, ticks, sim, &robot);
     }
     if (o.plot && bad == 0) {
         plot_figure(o.out, o.quiet);
     }
+    if (commands.dropped != 0u) {
+        fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
+                o.commands, commands.dropped);
+    }
+    commands_free(&commands);
     free(ps);
     free(scratch);
     free(bufs);

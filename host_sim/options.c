@@ -34,6 +34,8 @@ static void usage(FILE *f)
         "  --cell MM            grid cell size in mm (default 50)\n"
         "  --explore MODE       walls | random | tm | square | off (default walls)\n"
         "  --ideal              turn every error source off\n"
+        "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
+        "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
         "  --error NAME=VALUE   one error level (repeatable): ed, eb (wheel diameter ratio,\n"
         "                       wheel base ratio), slip (per m/s² beyond slip_free m/s²),\n"
         "                       noise, sonar_noise (m), dropout, ghost, grazing (deg)\n"
@@ -44,12 +46,21 @@ static void usage(FILE *f)
         "  --trace FILE         also record the HAL trace of the run\n"
         "  --telemetry FILE     write the firmware's telemetry bytes (the UART) to FILE\n"
         "                       (watch: tools/telemetry.py view FILE --follow)\n"
-        "  --realtime           run at the speed of the real robot, not as fast as possible\n"
+        "  --commands FILE      send the robot commands at set times: 'TIME_S COMMAND' lines,\n"
+        "                       COMMAND start, stop, mode MODE, get KEY, set KEY VALUE, save,\n"
+        "                       map, calibrate, or hex BYTES (host_sim/README.md); the\n"
+        "                       answers go to --telemetry\n"
+        "  --storage DIR        give the robot map storage (it saves every save_period_s,\n"
+        "                       standing still as a save begins) and write its two slots as\n"
+        "                       DIR/slot0.bin and slot1.bin, as the Linux robot keeps them\n"
+        "                       (tools/plot_run.py DIR draws them)\n"
+        "  --realtime [FACTOR]  run at the speed of the real robot (FACTOR times it, 0.1 to\n"
+        "                       1000; default 1), not as fast as possible\n"
         "  --no-plot            do not draw figure.png\n"
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
         "\n"
-        "Files written: om.pgm om_post.pgm om_ideal.pgm tm.pgm truth.pgm (+ ROS .yaml each),\n"
+        "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png\n"
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
@@ -118,6 +129,7 @@ int parse_options(int argc, char **argv, options_t *o)
         .explore = EXPLORE_WALLS,
         .out = "out/sim",
         .plot = true,
+        .realtime_factor = 1.0,
     };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -186,6 +198,8 @@ int parse_options(int argc, char **argv, options_t *o)
             o->out = argv[i];
         } else if (strcmp(a, "--ideal") == 0) {
             o->ideal = true;
+        } else if (strcmp(a, "--paper") == 0) {
+            o->paper = true;
         } else if (strcmp(a, "--error") == 0 || strcmp(a, "--set") == 0) {
             bool err = a[2] == 'e';
             if (!take(argc, argv, &i, 1) || strchr(argv[i], '=') == NULL) {
@@ -211,8 +225,24 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--telemetry needs a file");
             }
             o->telemetry = argv[i];
+        } else if (strcmp(a, "--commands") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--commands needs a file");
+            }
+            o->commands = argv[i];
+        } else if (strcmp(a, "--storage") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--storage needs a folder");
+            }
+            o->storage = argv[i];
         } else if (strcmp(a, "--realtime") == 0) {
             o->realtime = true;
+            /* An optional factor: the next word, when it is not an option. */
+            if (i + 1 < argc && strncmp(argv[i + 1], "--", 2) != 0) {
+                if (!parse_double(argv[++i], 0.1, 1000.0, &o->realtime_factor)) {
+                    return fail_usage("--realtime: FACTOR must be a number from 0.1 to 1000");
+                }
+            }
         } else if (strcmp(a, "--replay") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--replay needs a readings.csv");

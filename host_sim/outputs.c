@@ -6,6 +6,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "hal_common/mapexport.h"
 #include "host_sim.h"
 
 char *fmt_fixed(char *out, double v, int decimals, char sep)
@@ -38,6 +39,17 @@ char *fmt_fixed(char *out, double v, int decimals, char sep)
         *out++ = sep;
     }
     return out;
+}
+
+const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um)
+{
+    if (!echo) {
+        return "timeout";
+    }
+    if (range_um >= s->confidence_um) {
+        return "far";
+    }
+    return range_um < s->range_min_um ? "near" : "ok";
 }
 
 int make_dirs(const char *path)
@@ -91,8 +103,8 @@ int close_out(FILE *f, const char *dir, const char *name)
     return 0;
 }
 
-int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *cells,
-              uint8_t max, double occupied_thresh, double free_thresh)
+int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img,
+              bool yaml)
 {
     char file[256];
     snprintf(file, sizeof file, "%s.pgm", name);
@@ -101,21 +113,13 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
         return -1;
     }
     fprintf(f, "P5\n%lu %lu\n255\n", (unsigned long)g->a, (unsigned long)g->b);
-    uint8_t *row = malloc(g->a);
-    if (row == NULL) {
-        fclose(f);
-        return -1;
+    fwrite(img, 1, (size_t)g->a * g->b, f);
+    if (close_out(f, dir, file) != 0 || !yaml) {
+        return yaml ? -1 : 0;
     }
-    for (uint32_t y = g->b; y-- > 0;) {
-        for (uint32_t x = 0; x < g->a; x++) {
-            uint32_t v = cells[(size_t)y * g->a + x];
-            v = v > max ? max : v;
-            row[x] = (uint8_t)(255u - (v * 255u + max / 2u) / max);
-        }
-        fwrite(row, 1, g->a, f);
-    }
-    free(row);
-    if (close_out(f, dir, file) != 0) {
+    char text[512];
+    if (mapx_yaml(text, sizeof text, file, g->cell_um, g->origin_x_um, g->origin_y_um) < 0) {
+        fprintf(stderr, "host_sim: %s/%s.yaml: the map's name is too long\n", dir, name);
         return -1;
     }
     snprintf(file, sizeof file, "%s.yaml", name);
@@ -123,9 +127,25 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
     if (f == NULL) {
         return -1;
     }
-    fprintf(f,
-            "image: %s.pgm\nresolution: %.6f\norigin: [%.6f, %.6f, 0.0]\nnegate: 0\n"
-            "occupied_thresh: %.4f\nfree_thresh: %.4f\n",
-            name, g->cell_m, g->origin_x, g->origin_y, occupied_thresh, free_thresh);
+    fputs(text, f);
     return close_out(f, dir, file);
+}
+
+int write_storage(const char *dir)
+{
+    if (make_dirs(dir) != 0) {
+        return -1;
+    }
+    int bad = 0;
+    for (uint8_t slot = 0; slot < HAL_STORAGE_SLOTS; slot++) {
+        char name[32];
+        snprintf(name, sizeof name, "slot%u.bin", (unsigned)slot);
+        FILE *f = open_out(dir, name);
+        if (f == NULL) {
+            return -1;
+        }
+        fwrite(hal_host_storage_slot(slot), 1u, hal_storage_size(), f);
+        bad |= close_out(f, dir, name);
+    }
+    return bad;
 }

@@ -23,13 +23,21 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
 {
     const map_geom_t *g = &r->geom;
     size_t n = (size_t)g->a * g->b;
-    score_map(g, om, r->truth, r->observable, &s->raw);
+    /* The raw map: every cell the mode calls occupied. */
     memcpy(out, om, n);
-    post_threshold(out, g->a, g->b, cfg->post_threshold, cfg->om_max);
+    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, 0u), cfg->om_max);
+    score_map(g, out, r->truth, r->observable, &s->raw);
+    memcpy(out, om, n);
+    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
+                   cfg->om_max);
     score_map(g, out, r->truth, r->observable, &s->threshold);
-    post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+    if (cfg->post_template_k > 0u) {
+        post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+    }
     score_map(g, out, r->truth, r->observable, &s->templ);
-    post_insert(out, g->a, g->b, cfg->om_max, scratch);
+    if (cfg->post_insert != 0u) {
+        post_insert(out, g->a, g->b, cfg->om_max, scratch);
+    }
     score_map(g, out, r->truth, r->observable, &s->insert);
 }
 
@@ -65,11 +73,14 @@ static void json_time(FILE *f, const char *name, double t, bool comma)
 void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
                 uint8_t *scratch, post_sweep_t *ps)
 {
-    ps->th_count = cfg->om_max;
+    /* Every TH a count can take; the first log-odds thresholds of an evidence map (a hit
+     * is worth om_hit, so a few hits' worth). */
+    ps->th_count = cfg->om_mode == OM_MODE_COUNT ? cfg->om_max : SWEEP_EVIDENCE_TH;
     double best = -1.0;
-    for (uint8_t th = 0; th < cfg->om_max; th++) {
+    for (uint8_t th = 0; th < ps->th_count; th++) {
         for (uint8_t k = 0; k < SWEEP_K; k++) {
-            post_params_t pp = {.threshold = th, .om_max = cfg->om_max, .k = k};
+            post_params_t pp = {.threshold = grid_threshold_byte(cfg->om_mode, th),
+                                .om_max = cfg->om_max, .k = k, .insert = cfg->post_insert};
             (void)post_run(om, out, r->geom.a, r->geom.b, &pp, scratch);
             score_map(&r->geom, out, r->truth, r->observable, &ps->s[th][k]);
             if (ps->s[th][k].f1 > best) {
@@ -140,8 +151,12 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "    \"explore\": \"%s\",\n    \"ideal\": %s,\n", explore_names[o->explore],
             o->ideal ? "true" : "false");
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
-    fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"om_max\": %u},\n",
-            cfg->post_threshold, cfg->post_template_k, cfg->om_max);
+    fprintf(f, "    \"om\": {\"mode\": \"%s\", \"hit\": %u, \"miss\": %u, \"om_max\": %u},\n",
+            cfg->om_mode == OM_MODE_COUNT ? "count" : "evidence", cfg->om_hit, cfg->om_miss,
+            cfg->om_max);
+    fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"insert\": %s, \"om_max\": %u},\n",
+            cfg->post_threshold, cfg->post_template_k, cfg->post_insert ? "true" : "false",
+            cfg->om_max);
     fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
                "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
                "\"grazing\": %.6g},\n",
@@ -194,6 +209,11 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
             m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances,
             robot->explore.stalls, robot->explore.leaves, robot->explore.doors,
             robot->explore.seeks);
+    const loc_t *lo = &robot->loc;
+    fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
+               "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
+            lo->on ? "true" : "false", lo->tried, lo->applied, lo->refused, lo->dropped,
+            lo->late);
 
     double span_x = room->max_x - room->min_x;
     double span_y = room->max_y - room->min_y;
@@ -210,7 +230,7 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
 void plot_figure(const char *out, bool quiet)
 {
     const char *script = SLAM_SOURCE_DIR "/tools/plot_run.py";
-    char *argv[] = {"/usr/bin/python3", (char *)script, (char *)out, NULL};
+    char *argv[] = {"/usr/bin/python3", (char *)script, (char *)out, "--quiet", NULL};
     pid_t pid;
     extern char **environ;
     if (access(argv[0], X_OK) != 0 || access(script, R_OK) != 0 ||
@@ -229,7 +249,7 @@ void plot_figure(const char *out, bool quiet)
 
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
-                   uint64_t ticks, const sim_t *sim)
+                   uint64_t ticks, const sim_t *sim, const robot_t *robot)
 {
     sim_truth_t tr = sim_truth(sim);
     printf("\nsonarslam host_sim: %s, %.0f s, seed %llu, %.0f mm cells, %s exploration%s\n",
@@ -248,9 +268,16 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
     const score_t *best = &ps->s[ps->best_th][ps->best_k];
     printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
            best->precision, best->recall, best->f1);
-    printf("\n  odometry error  final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
+    const loc_t *lo = &robot->loc;
+    printf("\n  pose error      final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
            r->max_th_err * 180.0 / PI, r->path_m);
+    if (lo->on) {
+        printf("  pose correction %u of %u matches applied against the map\n", lo->applied,
+               lo->tried);
+    } else {
+        printf("  pose correction off: the pose is odometry alone\n");
+    }
     printf("  coverage        %.1f %% of %u reachable cells visited; collisions %u, "
            "closest %.3f m\n",
            r->reachable_cells ? 100.0 * r->visited_cells / r->reachable_cells : 0.0,

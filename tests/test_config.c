@@ -17,10 +17,19 @@ static void test_defaults_are_the_papers(void **state)
     (void)state;
     slam_config_t c;
     slam_config_default(&c);
+    /* The default map holds free-space evidence, with every post-processing step off
+     * (each lowered F1 on it); the paper's method is one call away. */
+    assert_int_equal(c.om_mode, OM_MODE_EVIDENCE);
+    assert_int_equal(c.post_threshold, 0);
+    assert_int_equal(c.post_template_k, 0);
+    assert_int_equal(c.post_insert, 0);
+    slam_config_paper(&c);
+    assert_int_equal(c.om_mode, OM_MODE_COUNT);          /* Eq. 6 */
     assert_int_equal(c.om_max, 9);                       /* OMmax, Eq. 6 */
     assert_int_equal(c.tm_max, 30);                      /* TMmax, Eq. 7 */
     assert_int_equal(c.confidence_radius_um, 1000000u);  /* rc = 1 m */
     assert_int_equal(c.post_threshold, 3);               /* TH */
+    assert_int_equal(c.post_insert, 1);
     assert_int_equal(c.sweep_first_mdeg, 65000);         /* 65° ... */
     assert_int_equal(c.sweep_last_mdeg, 155000);         /* ... 155° */
     assert_int_equal(c.sweep_stops, 6);                  /* six stops, 18° apart */
@@ -81,8 +90,13 @@ BAD(ping_interval, c->ping_interval_ticks = 0u)
 BAD(pulse0, c->servo_pulse_0deg_us = 399u)
 BAD(pulse180, c->servo_pulse_180deg_us = 2601u)
 BAD(pulse_same, c->servo_pulse_180deg_us = c->servo_pulse_0deg_us)
-BAD(threshold, c->post_threshold = c->om_max)
+BAD(threshold, c->post_threshold = GRID_EVIDENCE_MAX)
+BAD(threshold_count, slam_config_paper(c); c->post_threshold = c->om_max)
 BAD(template_k, c->post_template_k = 9u)
+BAD(insert, c->post_insert = 2u)
+BAD(om_mode, c->om_mode = OM_MODES)
+BAD(om_hit, c->om_hit = 0u)
+BAD(om_miss, c->om_miss = GRID_EVIDENCE_MAX + 1u)
 
 static void test_every_bad_field_is_named(void **state)
 {
@@ -107,6 +121,9 @@ static void test_every_bad_field_is_named(void **state)
         {"servo_pulse_0deg_us", bad_pulse0},
         {"servo_pulse_180deg_us", bad_pulse180},      {"servo_pulse_180deg_us", bad_pulse_same},
         {"post_threshold", bad_threshold},            {"post_template_k", bad_template_k},
+        {"post_threshold", bad_threshold_count},      {"post_insert", bad_insert},
+        {"om_mode", bad_om_mode},                     {"om_hit", bad_om_hit},
+        {"om_miss", bad_om_miss},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         slam_config_t c;
@@ -138,6 +155,12 @@ static void test_edges_of_valid_ranges_pass(void **state)
     c.sweep_stops = 1u;
     c.sweep_first_mdeg = c.sweep_last_mdeg = 90000;
     c.post_template_k = 8u;
+    c.post_threshold = (uint8_t)(GRID_EVIDENCE_MAX - 1u);
+    c.om_hit = GRID_EVIDENCE_MAX;
+    c.om_miss = 1u;
+    c.post_insert = 1u;
+    assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
+    slam_config_paper(&c);
     c.post_threshold = (uint8_t)(c.om_max - 1u);
     assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
 }

@@ -3,6 +3,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -24,10 +25,12 @@ typedef struct {
 
 static guarded_grid_t gg;
 
+/* The paper's grid (Eq. 6 counts) unless a test says otherwise. */
 static void init_default(void)
 {
     slam_config_t c;
     slam_config_default(&c);
+    slam_config_paper(&c);
     memset(&gg, 0xA5, sizeof gg);
     grid_init(&gg.g, &c);
 }
@@ -130,6 +133,7 @@ static void test_saturation_table(void **state)
         const sat_case_t *k = &cases[i];
         slam_config_t c;
         slam_config_default(&c);
+        slam_config_paper(&c);
         c.om_max = k->which == 0 ? k->max : 9u;
         c.tm_max = k->which == 1 ? k->max : 30u;
         grid_init(&gg.g, &c);
@@ -262,6 +266,130 @@ static void test_state_reads_om_then_tm(void **state)
     assert_int_equal(grid_state(g, grid_index(north)), GRID_UNKNOWN);
 }
 
+static void init_evidence(void)
+{
+    slam_config_t c;
+    slam_config_default(&c);
+    assert_int_equal(c.om_mode, OM_MODE_EVIDENCE);
+    memset(&gg, 0xA5, sizeof gg);
+    grid_init(&gg.g, &c);
+}
+
+static uint8_t om_at(int32_t x, int32_t y)
+{
+    grid_cell_t c;
+    assert_int_equal(grid_cell_of(&gg.g, x, y, &c), SLAM_OK);
+    return gg.g.om[grid_index(c)];
+}
+
+/* A log-odds byte: 0 untouched, else 128 + L with L in [-127, 127]; +4 a hit, -1 a pass. */
+static void test_evidence_steps_and_saturation(void **state)
+{
+    (void)state;
+    init_evidence();
+    const int32_t l = (int32_t)L;
+    assert_int_equal(grid_om_hit(&gg.g, 0, 0), SLAM_OK);
+    assert_int_equal(om_at(0, 0), 132);
+    assert_int_equal(grid_om_free(&gg.g, 0, 0), SLAM_OK);
+    assert_int_equal(om_at(0, 0), 131);
+    assert_int_equal(grid_om_free(&gg.g, l, 0), SLAM_OK);   /* untouched: 128, then -1 */
+    assert_int_equal(om_at(l, 0), 127);
+    assert_int_equal(grid_state(&gg.g, grid_index((grid_cell_t){SLAM_GRID_A / 2u, SLAM_GRID_B / 2u})),
+                     GRID_OCCUPIED);
+    for (int i = 0; i < 1000; i++) {
+        (void)grid_om_hit(&gg.g, 0, 0);
+        (void)grid_om_free(&gg.g, l, 0);
+    }
+    assert_int_equal(om_at(0, 0), 255); /* L = +127 */
+    assert_int_equal(om_at(l, 0), 1);   /* L = -127 */
+    for (int i = 0; i < 4; i++) {      /* a cell hit once is balanced by four passes */
+        (void)grid_om_free(&gg.g, 2 * l, 0);
+    }
+    (void)grid_om_hit(&gg.g, 2 * l, 0);
+    assert_int_equal(om_at(2 * l, 0), GRID_EVIDENCE_ZERO);
+    grid_cell_t c;
+    assert_int_equal(grid_cell_of(&gg.g, 2 * l, 0, &c), SLAM_OK);
+    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_UNKNOWN);
+    assert_int_equal(grid_cell_of(&gg.g, l, 0, &c), SLAM_OK);
+    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_FREE);
+    assert_int_equal(grid_cell_of(&gg.g, 0, 5 * l, &c), SLAM_OK);
+    assert_int_equal(grid_tm_visit(&gg.g, 0, 5 * l), SLAM_OK);
+    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_UNKNOWN); /* TM is not OM */
+    assert_guards_intact();
+}
+
+/* The paper's mode ignores free-space evidence entirely. */
+static void test_count_mode_has_no_free_space(void **state)
+{
+    (void)state;
+    assert_int_equal(gg.g.mode, OM_MODE_COUNT);
+    assert_int_equal(grid_om_free(&gg.g, 0, 0), SLAM_OK);
+    assert_int_equal(grid_om_ray(&gg.g, 0, 0, 10 * (int32_t)L, 3 * (int32_t)L), 0u);
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(gg.g.om[i], 0);
+    }
+}
+
+/* Distance from a cell's centre to the segment between two cell centres, in cells. */
+static double seg_dist(double pa, double pb, double a0, double b0, double a1, double b1)
+{
+    double da = a1 - a0;
+    double db = b1 - b0;
+    double len2 = da * da + db * db;
+    double t = len2 > 0.0 ? ((pa - a0) * da + (pb - b0) * db) / len2 : 0.0;
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return hypot(pa - (a0 + t * da), pb - (b0 + t * db));
+}
+
+/* Random rays against the exact segment: the first and last cells are the end points',
+ * exactly max(|da|, |db|) + 1 cells are lowered once each, every one of them within half
+ * a cell of the exact line between the two cell centres (Bresenham's bound), and rays
+ * that run off the grid stop at its edge with nothing written outside. */
+static void test_ray_against_exact_segment(void **state)
+{
+    (void)state;
+    test_rng_t rng = {7u};
+    int32_t ox = gg.g.origin_x_um;
+    int32_t oy = gg.g.origin_y_um;
+    int32_t xe = ox + (int32_t)SLAM_GRID_A * L;
+    int32_t ye = oy + (int32_t)SLAM_GRID_B * L;
+    double worst = 0.0;
+    for (int i = 0; i < 20000; i++) {
+        init_evidence();
+        int32_t x0 = test_rng_range(&rng, ox, xe - 1);
+        int32_t y0 = test_rng_range(&rng, oy, ye - 1);
+        int32_t x1 = x0 + test_rng_range(&rng, -25 * L, 25 * L);
+        int32_t y1 = y0 + test_rng_range(&rng, -25 * L, 25 * L);
+        double a0 = floor(((double)x0 - ox) / L);
+        double b0 = floor(((double)y0 - oy) / L);
+        double a1 = floor(((double)x1 - ox) / L);
+        double b1 = floor(((double)y1 - oy) / L);
+        double span = fmax(fabs(a1 - a0), fabs(b1 - b0));
+        uint32_t n = grid_om_ray(&gg.g, x0, y0, x1, y1);
+        bool leaves = a1 < 0 || b1 < 0 || a1 >= SLAM_GRID_A || b1 >= SLAM_GRID_B;
+        if (leaves) {
+            assert_true(n <= span + 1.0);
+        } else {
+            assert_int_equal(n, (uint32_t)span + 1u);
+            assert_int_equal(gg.g.om[(uint32_t)b1 * SLAM_GRID_A + (uint32_t)a1], 127);
+        }
+        assert_int_equal(gg.g.om[(uint32_t)b0 * SLAM_GRID_A + (uint32_t)a0], 127);
+        uint32_t lowered = 0;
+        for (uint32_t k = 0; k < SLAM_GRID_CELLS; k++) {
+            if (gg.g.om[k] == GRID_EVIDENCE_ZERO) {
+                continue;
+            }
+            assert_int_equal(gg.g.om[k], 127); /* each cell once */
+            lowered++;
+            double d = seg_dist(k % SLAM_GRID_A, k / SLAM_GRID_A, a0, b0, a1, b1);
+            worst = d > worst ? d : worst;
+        }
+        assert_int_equal(lowered, n);
+        assert_guards_intact();
+    }
+    assert_true(worst <= 0.5 + 1e-9);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -271,6 +399,9 @@ int main(void)
         cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),
         cmocka_unit_test_setup(test_random_point_soak, setup),
         cmocka_unit_test_setup(test_state_reads_om_then_tm, setup),
+        cmocka_unit_test_setup(test_evidence_steps_and_saturation, setup),
+        cmocka_unit_test_setup(test_count_mode_has_no_free_space, setup),
+        cmocka_unit_test(test_ray_against_exact_segment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -37,6 +37,7 @@ static int setup(void **state)
 {
     (void)state;
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
     return 0;
@@ -57,11 +58,13 @@ static void play(const script_tick_t *s, size_t n)
     }
 }
 
-/* Asserts that a map holds exactly the listed non-zero cells. */
+/* Asserts that a map holds exactly the listed cells, every other one untouched (0 for
+ * counts, log-odds 0 for evidence). */
 static void expect_exactly(const uint8_t *map, const cell_value_t *cells, size_t n)
 {
     uint8_t want[SLAM_GRID_CELLS];
-    memset(want, 0, sizeof want);
+    memset(want, map == grid.om && grid.mode == OM_MODE_EVIDENCE ? (int)GRID_EVIDENCE_ZERO : 0,
+           sizeof want);
     for (size_t i = 0; i < n; i++) {
         want[grid_index((grid_cell_t){cells[i].a, cells[i].b})] = cells[i].value;
     }
@@ -159,12 +162,90 @@ static void test_outside_points_are_counted_not_written(void **state)
     }
 }
 
+static int setup_evidence(void **state)
+{
+    (void)state;
+    slam_config_default(&cfg);
+    assert_int_equal(cfg.om_mode, OM_MODE_EVIDENCE);
+    grid_init(&grid, &cfg);
+    mapper_init(&mapper, &cfg);
+    return 0;
+}
+
+/* The free-space evidence of one reading, cell by cell. From the start cell (80, 80) facing
+ * +x the beam starts 50 mm ahead (cell 81): a 299 954 µm echo hits cell 87 (+4) and clears
+ * cells 81..86 (up to 249 954 µm, one cell short) and the robot's cell 80 (-1 each). */
+static void test_evidence_reading_clears_its_beam(void **state)
+{
+    (void)state;
+    static const script_tick_t script[] = {
+        {0, 0, 0, PING, 90, 0},
+        {0, 0, 0, ECHO, 90, 1749},
+    };
+    play(script, sizeof script / sizeof script[0]);
+    static const cell_value_t om[] = {
+        {80, 80, 127}, {81, 80, 127}, {82, 80, 127}, {83, 80, 127}, {84, 80, 127},
+        {85, 80, 127}, {86, 80, 127}, {87, 80, 132},
+    };
+    expect_exactly(grid.om, om, sizeof om / sizeof om[0]);
+    assert_int_equal(mapper.cleared, 7u);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){87, 80})), GRID_OCCUPIED);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){84, 80})), GRID_FREE);
+    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){88, 80})), GRID_UNKNOWN);
+}
+
+/* An echo beyond rc clears the last 0.5 m of the beam before rc and the robot's cell, and
+ * marks nothing occupied; a timeout clears only the robot's cell; a reading touches at most
+ * 0.5 m / L + 3 cells, whatever its angle. */
+static void test_evidence_far_and_timeout(void **state)
+{
+    (void)state;
+    odom_pose_t p = {0, 0, 0u};
+    assert_int_equal(mapper_reading(&mapper, &grid, &p, fix_bam_from_mdeg(90000), 2500000u),
+                     MAPPER_FAR);
+    /* The beam from x = 50 mm reaches rc at 1050 mm: cells 91..101 (from 550 mm), and the
+     * robot's cell 80. */
+    uint32_t lowered = 0;
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_true(grid.om[i] == GRID_EVIDENCE_ZERO || grid.om[i] == 127u);
+        lowered += grid.om[i] != GRID_EVIDENCE_ZERO;
+    }
+    assert_int_equal(lowered, 12u);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){80, 80})], 127);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){90, 80})], GRID_EVIDENCE_ZERO);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){91, 80})], 127);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){101, 80})], 127);
+    assert_int_equal(grid.om[grid_index((grid_cell_t){102, 80})], GRID_EVIDENCE_ZERO);
+
+    setup_evidence(NULL);
+    mapper_timeout(&mapper, &grid, &p);
+    assert_int_equal(mapper.timeouts, 1u);
+    for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(grid.om[i], i == grid_index((grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
+    }
+
+    uint32_t bound = 500000u / cfg.cell_um + 3u;
+    for (int h = 0; h < 360; h += 7) {
+        for (int s = 65; s <= 155; s += 18) {
+            uint32_t before = mapper.cleared;
+            odom_pose_t q = {h * 1234, -h * 777, fix_bam_from_mdeg(h * 1000)};
+            (void)mapper_reading(&mapper, &grid, &q, fix_bam_from_mdeg(s * 1000), 999999u);
+            assert_true(mapper.cleared - before + 1u <= bound);
+            before = mapper.cleared;
+            (void)mapper_reading(&mapper, &grid, &q, fix_bam_from_mdeg(s * 1000), 3000000u);
+            assert_true(mapper.cleared - before <= bound);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_scripted_run_hits_exactly_the_expected_cells, setup),
         cmocka_unit_test_setup(test_tm_counts_one_per_tick, setup),
         cmocka_unit_test_setup(test_outside_points_are_counted_not_written, setup),
+        cmocka_unit_test_setup(test_evidence_reading_clears_its_beam, setup_evidence),
+        cmocka_unit_test_setup(test_evidence_far_and_timeout, setup_evidence),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "slam/error.h"
+#include "slam/grid.h"
 #include "slam/postprocess.h"
 
 /* Maps are drawn one string a row: '.' is 0, '1'..'9' that OM value, '#' is OMmax (9). */
@@ -200,7 +201,7 @@ static void test_full_chain_on_a_copy(void **state)
         "......89.."));
     map_t keep = om;
     map_t out = {.w = om.w, .h = om.h};
-    post_params_t p = {.threshold = 3u, .om_max = 9u, .k = 1u};
+    post_params_t p = {.threshold = 3u, .om_max = 9u, .k = 1u, .insert = 1u};
     assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_OK);
     assert_memory_equal(om.c, keep.c, om.w * om.h); /* the live map is untouched */
     /* threshold drops 1, 2 and 3; template drops the lone 4; insert closes the wall's gap
@@ -222,20 +223,44 @@ static void test_bad_parameters_change_nothing(void **state)
     map_t om = draw(ROWS("#..", "...", "..#"));
     map_t out = draw(ROWS("123", "456", "789"));
     map_t keep = out;
-    post_params_t p = {.threshold = 3u, .om_max = 9u, .k = 9u};
+    post_params_t p = {.threshold = 3u, .om_max = 9u, .k = 9u, .insert = 1u};
     assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_EINVAL);
     p.k = 1u;
-    p.threshold = 9u;
+    p.insert = 2u;
     assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_EINVAL);
-    p.threshold = 3u;
+    p.insert = 1u;
+    p.om_max = 0u;
+    assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_EINVAL);
+    p.om_max = 9u;
     assert_int_equal(post_run(om.c, out.c, 0u, om.h, &p, scratch), SLAM_EINVAL);
     assert_memory_equal(out.c, keep.c, out.w * out.h);
+}
+
+/* The evidence map's threshold is a log-odds: the byte 128 + TH, below which unknown (0)
+ * and free cells fall; template and insert are skipped when off. */
+static void test_evidence_threshold_and_steps_off(void **state)
+{
+    (void)state;
+    map_t om = {.w = 4u, .h = 1u};
+    const uint8_t row[4] = {0u, 100u, 131u, 140u}; /* unknown, free, L = 3, L = 12 */
+    memcpy(om.c, row, sizeof row);
+    map_t out = {.w = 4u, .h = 1u};
+    post_params_t p = {.threshold = grid_threshold_byte(OM_MODE_EVIDENCE, 4u), .om_max = 9u,
+                       .k = 0u, .insert = 0u};
+    assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_OK);
+    const uint8_t want[4] = {0u, 0u, 0u, 9u};
+    assert_memory_equal(out.c, want, sizeof want);
+    p.threshold = grid_threshold_byte(OM_MODE_EVIDENCE, 0u);
+    assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_OK);
+    const uint8_t want0[4] = {0u, 0u, 9u, 9u};
+    assert_memory_equal(out.c, want0, sizeof want0); /* no template: lone cells stay */
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threshold),
+        cmocka_unit_test(test_evidence_threshold_and_steps_off),
         cmocka_unit_test(test_template_removes_isolated_cells),
         cmocka_unit_test(test_template_counts_eight_neighbours),
         cmocka_unit_test(test_insert_fills_gaps_in_four_orientations),

@@ -2,6 +2,7 @@
 /* Tests of the robot wiring through a fake HAL: init, one tick's HAL traffic, mapping. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -20,6 +21,7 @@ static int setup(void **state)
     (void)state;
     fake_hal_reset();
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     memset(&robot, 0, sizeof robot);
     return 0;
 }
@@ -146,6 +148,46 @@ static void test_idle_feeds_watchdog_only_while_ticking(void **state)
     assert_int_equal(fake_hal.calls_watchdog, 2u);
 }
 
+/* `held` promises that the robot stands and stays standing while the hold lasts: a save
+ * erases flash next, which stalls an MCU, ticks and all, for up to two seconds. Wheels with
+ * inertia keep turning after the duty drops, so on the way down the PI part can cancel the
+ * feed-forward exactly for a tick while the ramp still asks for speed: that zero duty is
+ * not a stand. 3 200 holds at random moments of a drive, each followed for 50 held ticks. */
+static void test_held_means_the_ramp_is_at_rest(void **state)
+{
+    (void)state;
+    uint32_t rng = 12345u;
+    cfg.explore_mode = EXPLORE_SQUARE; /* drives from the first tick */
+    cfg.save_period_s = 0u;
+    for (int hold = 0; hold < 3200; hold++) {
+        fake_hal_reset();
+        assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+        int32_t speed[2] = {0, 0}; /* wheel speeds, counts per 16 ticks */
+        rng = rng * 1103515245u + 12345u;
+        uint32_t hold_at = 20u + (rng >> 16) % 300u;
+        int held_ticks = 0;
+        for (uint32_t t = 0; t < hold_at + 400u && held_ticks < 50; t++) {
+            for (unsigned w = 0; w < 2u; w++) {
+                /* First-order lag toward duty/100 counts a tick, with noise. */
+                rng = rng * 1103515245u + 12345u;
+                speed[w] += (fake_hal.motor[w] * 16 / 100 - speed[w]) / 8 + (int32_t)((rng >> 16) % 5u) - 2;
+                fake_hal.encoder[w] = (uint16_t)(fake_hal.encoder[w] + (uint16_t)(speed[w] / 16));
+            }
+            robot.hold = t >= hold_at;
+            bool was_held = robot.held;
+            robot_tick(&robot);
+            if (was_held) {
+                held_ticks++;
+                if (fake_hal.motor[0] != 0 || fake_hal.motor[1] != 0 || !robot.held) {
+                    fail_msg("hold %d: held at tick %u, then duty %d/%d and held %d", hold,
+                             (unsigned)t - 1u, fake_hal.motor[0], fake_hal.motor[1], robot.held);
+                }
+            }
+        }
+        assert_int_equal(held_ticks, 50);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -154,6 +196,7 @@ int main(void)
         cmocka_unit_test_setup(test_ticks_drive_sweep_and_map, setup),
         cmocka_unit_test_setup(test_refused_ping_is_counted_and_sweep_goes_on, setup),
         cmocka_unit_test_setup(test_idle_feeds_watchdog_only_while_ticking, setup),
+        cmocka_unit_test_setup(test_held_means_the_ramp_is_at_rest, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -25,6 +25,7 @@ static int setup(void **state)
 {
     (void)state;
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     sonar_init(&sonar, &cfg);
     return 0;
 }

@@ -38,6 +38,7 @@ static int setup(void **state)
     (void)state;
     memset(&lg, 0, sizeof lg);
     slam_config_default(&cfg);
+    slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     return 0;
 }
 

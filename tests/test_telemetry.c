@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of telemetry: frames and CRC, the event ring, a decoder that resynchronises, and
- * the maps rebuilt from MAP_ROW frames. */
+/* Tests of telemetry: frames and CRC, the event ring, a decoder that resynchronises, the
+ * maps rebuilt from MAP_ROW frames, the command parser and the configuration keys. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -13,53 +13,7 @@
 #include "slam/error.h"
 #include "slam/robot.h"
 #include "slam/telemetry.h"
-
-/* ---- a decoder, written from the protocol description in telemetry.h ------------------ */
-
-typedef struct {
-    uint8_t type;
-    uint8_t len;
-    uint8_t payload[255];
-} frame_t;
-
-/* Finds the next good frame at or after *pos; false at the end of the bytes. */
-static bool next_frame(const uint8_t *buf, size_t n, size_t *pos, frame_t *f, unsigned *bad)
-{
-    while (*pos + 6u <= n) {
-        size_t p = *pos;
-        if (buf[p] != 0xA5u || buf[p + 1u] != 0x5Au) {
-            (*pos)++;
-            continue;
-        }
-        uint8_t len = buf[p + 3u];
-        if (p + 6u + len > n) {
-            (*pos)++;
-            continue;
-        }
-        uint16_t crc = (uint16_t)(buf[p + 4u + len] | (buf[p + 5u + len] << 8));
-        if (crc != telem_crc16(buf + p + 2u, (size_t)len + 2u)) {
-            (*bad)++;
-            (*pos)++;
-            continue;
-        }
-        f->type = buf[p + 2u];
-        f->len = len;
-        memcpy(f->payload, buf + p + 4u, len);
-        *pos = p + 6u + len;
-        return true;
-    }
-    return false;
-}
-
-static uint32_t get32(const uint8_t *p)
-{
-    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-}
-
-static uint16_t get16(const uint8_t *p)
-{
-    return (uint16_t)(p[0] | p[1] << 8);
-}
+#include "test_frames.h"
 
 static robot_t robot;
 static slam_config_t cfg;
@@ -101,7 +55,7 @@ static void test_ring_drops_when_full_and_counts(void **state)
     assert_int_equal(t.dropped, 5u); /* one slot stays empty to tell full from empty */
     static grid_t g;
     telem_status_t st = {0};
-    telem_idle(&t, &g, &st, 0u);
+    telem_idle(&t, &g, &cfg, &st, 0u);
     /* The kept events went out in order: ticks 0..14. */
     size_t pos = 0;
     frame_t f;
@@ -145,9 +99,13 @@ static void test_robot_stream_decodes(void **state)
         counts[f.type]++;
         switch (f.type) {
         case TELEM_HELLO:
-            assert_int_equal(f.len, 19u);
+            assert_int_equal(f.len, 42u);
+            assert_int_equal(f.payload[0], TELEM_VERSION);
             assert_int_equal(get16(f.payload + 1), SLAM_GRID_A);
             assert_int_equal(get32(f.payload + 5), cfg.cell_um);
+            assert_int_equal(get32(f.payload + 19), cfg.confidence_radius_um);
+            assert_int_equal(get32(f.payload + 23), cfg.range_min_um);
+            assert_int_equal(get32(f.payload + 27), (uint32_t)cfg.mount_x_um);
             break;
         case TELEM_POSE:
             assert_int_equal(f.len, 16u);
@@ -168,7 +126,9 @@ static void test_robot_stream_decodes(void **state)
             break;
         }
         default:
-            assert_int_equal(f.len, 32u);
+            assert_int_equal(f.len, 42u);
+            assert_int_equal(f.payload[40], EXPLORE_OFF);
+            assert_int_equal(f.payload[41], 0u); /* neither stopped nor waiting */
             break;
         }
     }
@@ -210,11 +170,11 @@ static void test_short_writes_are_counted_and_resynchronised(void **state)
     odom_pose_t p = {10, 20, 30u};
     telem_post_pose(&t, 1u, &p);
     fake_hal.uart_room = 7u; /* the first frames get cut */
-    telem_idle(&t, &g, &st, 1u);
+    telem_idle(&t, &g, &cfg, &st, 1u);
     assert_true(t.short_writes >= 1u);
     fake_hal.uart_room = 0u;
     telem_post_pose(&t, 2u, &p);
-    telem_idle(&t, &g, &st, 2u);
+    telem_idle(&t, &g, &cfg, &st, 2u);
     size_t pos = 0;
     frame_t f;
     unsigned bad = 0;
@@ -229,6 +189,211 @@ static void test_short_writes_are_counted_and_resynchronised(void **state)
     assert_true(found);
 }
 
+
+/* ---- commands ---------------------------------------------------------------------------- */
+
+/* A command frame as a host sends it. */
+static size_t cmd_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len)
+{
+    return telem_frame(buf, type, payload, len);
+}
+
+/* Feeds bytes; returns how many commands came out (the last in *out). */
+static unsigned feed(telem_t *t, const uint8_t *b, size_t n, uint32_t ticks, telem_cmd_t *out)
+{
+    unsigned got = 0;
+    for (size_t i = 0; i < n; i++) {
+        telem_cmd_t c;
+        if (telem_rx_byte(t, b[i], ticks, &c)) {
+            *out = c;
+            got++;
+        }
+    }
+    return got;
+}
+
+/* The ERROR frames written so far, as (command, code) pairs; returns how many. */
+static unsigned errors_sent(uint8_t cmds[], uint8_t codes[], unsigned max)
+{
+    size_t pos = 0;
+    frame_t f;
+    unsigned bad = 0;
+    unsigned n = 0;
+    while (next_frame(fake_hal.uart, fake_hal.uart_len, &pos, &f, &bad)) {
+        if (f.type == TELEM_ERROR && n < max) {
+            assert_int_equal(f.len, 3u);
+            cmds[n] = f.payload[0];
+            codes[n] = f.payload[1];
+            n++;
+        }
+    }
+    return n;
+}
+
+static void test_every_command_parses(void **state)
+{
+    (void)state;
+    telem_t t;
+    telem_init(&t);
+    static const struct {
+        uint8_t type, len;
+        uint8_t payload[5];
+    } cmds[] = {
+        {TELEM_CMD_START, 0, {0}},     {TELEM_CMD_STOP, 0, {0}},
+        {TELEM_CMD_MODE, 1, {2}},      {TELEM_CMD_GET, 1, {36}},
+        {TELEM_CMD_SET, 5, {36, 0x96, 0, 0, 0}},
+        {TELEM_CMD_SAVE, 0, {0}},      {TELEM_CMD_SEND_MAP, 0, {0}},
+        {TELEM_CMD_CALIBRATE, 0, {0}},
+    };
+    for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
+        uint8_t buf[16];
+        size_t n = cmd_frame(buf, cmds[i].type, cmds[i].payload, cmds[i].len);
+        telem_cmd_t c = {0};
+        /* Noise before a frame is skipped: the parser finds A5 5A. */
+        static const uint8_t noise[5] = {0x00, 0xA5, 0x13, 0x5A, 0xFF};
+        assert_int_equal(feed(&t, noise, sizeof noise, 0u, &c), 0u);
+        assert_int_equal(feed(&t, buf, n, 0u, &c), 1u);
+        assert_int_equal(c.type, cmds[i].type);
+        if (cmds[i].len >= 1u) {
+            assert_int_equal(c.key, cmds[i].payload[0]);
+        }
+        if (cmds[i].type == TELEM_CMD_SET) {
+            assert_int_equal(c.value, 150u);
+        }
+    }
+    uint8_t ec[4], codes[4];
+    assert_int_equal(errors_sent(ec, codes, 4), 0u);
+    assert_int_equal(t.refused, 0u);
+}
+
+static void test_malformed_commands_are_refused(void **state)
+{
+    (void)state;
+    telem_t t;
+    telem_init(&t);
+    telem_cmd_t c;
+    uint8_t buf[300];
+    const uint8_t set[5] = {36, 0x96, 0, 0, 0};
+
+    /* A bad CRC. */
+    size_t n = cmd_frame(buf, TELEM_CMD_SET, set, 5u);
+    buf[n - 1] ^= 0x40u;
+    assert_int_equal(feed(&t, buf, n, 0u, &c), 0u);
+    /* A CRC-valid frame of the wrong length for its command. */
+    n = cmd_frame(buf, TELEM_CMD_SET, set, 4u);
+    assert_int_equal(feed(&t, buf, n, 0u, &c), 0u);
+    n = cmd_frame(buf, TELEM_CMD_START, set, 1u);
+    assert_int_equal(feed(&t, buf, n, 0u, &c), 0u);
+    /* Longer than any command: refused from its header, without waiting for the rest. */
+    static uint8_t big[200];
+    n = cmd_frame(buf, TELEM_CMD_SET, big, 200u);
+    assert_int_equal(feed(&t, buf, 4u, 0u, &c), 0u);
+    assert_int_equal(t.refused, 4u);
+    assert_int_equal(feed(&t, buf + 4, n - 4u, 0u, &c), 0u);
+    /* An unknown command, and a telemetry type sent the wrong way. */
+    n = cmd_frame(buf, 0x42u, NULL, 0u);
+    assert_int_equal(feed(&t, buf, n, 0u, &c), 0u);
+    n = cmd_frame(buf, TELEM_HELLO, NULL, 0u);
+    assert_int_equal(feed(&t, buf, n, 0u, &c), 0u);
+    /* A frame that stops coming: refused once TELEM_RX_TIMEOUT_TICKS have passed. */
+    n = cmd_frame(buf, TELEM_CMD_GET, set, 1u);
+    assert_int_equal(feed(&t, buf, n - 2u, 100u, &c), 0u);
+    telem_rx_expire(&t, 100u + TELEM_RX_TIMEOUT_TICKS - 1u);
+    assert_int_equal(t.refused, 6u);
+    telem_rx_expire(&t, 100u + TELEM_RX_TIMEOUT_TICKS);
+    assert_int_equal(t.refused, 7u);
+
+    uint8_t ec[8], codes[8];
+    assert_int_equal(errors_sent(ec, codes, 8), 7u);
+    static const uint8_t want_cmd[7] = {TELEM_CMD_SET, TELEM_CMD_SET, TELEM_CMD_START,
+                                        TELEM_CMD_SET, 0x42u, TELEM_HELLO, TELEM_CMD_GET};
+    static const uint8_t want_code[7] = {TELEM_ERR_CRC, TELEM_ERR_LENGTH, TELEM_ERR_LENGTH,
+                                         TELEM_ERR_LENGTH, TELEM_ERR_COMMAND, TELEM_ERR_COMMAND,
+                                         TELEM_ERR_LENGTH};
+    assert_memory_equal(ec, want_cmd, 7u);
+    assert_memory_equal(codes, want_code, 7u);
+
+    /* After all that, a good command still parses. */
+    n = cmd_frame(buf, TELEM_CMD_STOP, NULL, 0u);
+    assert_int_equal(feed(&t, buf, n, 200u, &c), 1u);
+    assert_int_equal(c.type, TELEM_CMD_STOP);
+}
+
+/* Random noise: never a command (a random frame would need the right CRC), and the parser
+ * never holds more than the longest command. */
+static void test_noise_never_makes_a_command(void **state)
+{
+    (void)state;
+    telem_t t;
+    telem_init(&t);
+    uint32_t x = 12345u;
+    unsigned got = 0;
+    for (unsigned i = 0; i < 200000u; i++) {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        /* Plenty of sync bytes, to exercise every state. */
+        uint8_t b = (x & 0x300u) == 0u ? 0xA5u : (x & 0x300u) == 0x100u ? 0x5Au : (uint8_t)x;
+        telem_cmd_t c;
+        got += telem_rx_byte(&t, b, i / 10u, &c);
+        assert_true(t.rx_len <= TELEM_CMD_FRAME_MAX);
+        if ((i & 63u) == 0u) {
+            fake_hal.uart_len = 0u; /* keep the fake UART from filling up */
+        }
+    }
+    assert_int_equal(got, 0u);
+    assert_true(t.refused > 1000u);
+}
+
+static void test_config_keys_get_and_set(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    /* Every key reads back its field; setting a live key to its own value is accepted. */
+    unsigned live = 0;
+    for (unsigned k = 1; k <= TELEM_CONFIG_KEY_MAX; k++) {
+        uint32_t v = 0;
+        assert_int_equal(telem_config_get(&c, (uint8_t)k, &v), 0);
+        int rc = telem_config_set(&c, (uint8_t)k, v);
+        assert_true(rc == 0 || rc == -(int)TELEM_ERR_FIXED);
+        live += rc == 0;
+    }
+    assert_int_equal(live, 30u);
+    slam_config_t d;
+    slam_config_default(&d);
+    assert_memory_equal(&c, &d, sizeof c);
+    uint32_t v;
+    assert_int_equal(telem_config_get(&c, 3u, &v), 0);
+    assert_int_equal(v, c.wheel_base_um);
+    assert_int_equal(telem_config_get(&c, 24u, &v), 0);
+    assert_int_equal(v, (uint32_t)c.mount_yaw_mdeg);
+    assert_int_equal(telem_config_get(&c, TELEM_KEY_EXPLORE_MODE, &v), 0);
+    assert_int_equal(v, c.explore_mode);
+    assert_int_equal(telem_config_get(&c, TELEM_KEY_EXPLORE_SEED, &v), 0);
+    assert_int_equal(v, c.explore_seed);
+    /* A signed field takes a two's complement value. */
+    assert_int_equal(telem_config_set(&c, 24u, (uint32_t)-5000), 0);
+    assert_int_equal(c.mount_yaw_mdeg, -5000);
+    assert_int_equal(telem_config_set(&c, 40u, 150u), 0);
+    assert_int_equal(c.cruise_mm_s, 150u);
+
+    /* Refused, and nothing changes. */
+    slam_config_t before = c;
+    assert_int_equal(telem_config_set(&c, 0u, 1u), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_set(&c, 51u, 1u), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_set(&c, 255u, 1u), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_get(&c, 51u, &v), -(int)TELEM_ERR_KEY);
+    assert_int_equal(telem_config_set(&c, 11u, 100000u), -(int)TELEM_ERR_FIXED); /* cell_um */
+    assert_int_equal(telem_config_set(&c, 39u, 5u), -(int)TELEM_ERR_RANGE);  /* no mode 5 */
+    assert_int_equal(telem_config_set(&c, 45u, 256u), -(int)TELEM_ERR_RANGE); /* u8 */
+    assert_int_equal(telem_config_set(&c, 40u, 65536u), -(int)TELEM_ERR_RANGE); /* u16 */
+    assert_int_equal(telem_config_set(&c, 40u, 5000u), -(int)TELEM_ERR_RANGE); /* > top speed */
+    assert_int_equal(telem_config_set(&c, 3u, 0u), -(int)TELEM_ERR_RANGE);
+    assert_int_equal(telem_config_set(&c, 5u, 0x7FFFFFFFu), -(int)TELEM_ERR_RANGE); /* cal */
+    assert_memory_equal(&c, &before, sizeof c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -236,6 +401,10 @@ int main(void)
         cmocka_unit_test_setup(test_ring_drops_when_full_and_counts, setup),
         cmocka_unit_test_setup(test_robot_stream_decodes, setup),
         cmocka_unit_test_setup(test_short_writes_are_counted_and_resynchronised, setup),
+        cmocka_unit_test_setup(test_every_command_parses, setup),
+        cmocka_unit_test_setup(test_malformed_commands_are_refused, setup),
+        cmocka_unit_test_setup(test_noise_never_makes_a_command, setup),
+        cmocka_unit_test_setup(test_config_keys_get_and_set, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

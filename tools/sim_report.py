@@ -269,6 +269,8 @@ def figure(args, res, group, base):
     ax.set_xticks([j + 0.19 for j in range(len(labels))])
     ax.set_xticklabels(["raw OM", "+threshold", "+template", "+insert", "tuned\nTH/K"])
     ax.set_ylim(0, 1)
+    ax.set_xlabel("post-processing step")
+    ax.set_ylabel("F1 (bars), precision (dots)")
     ax.set_title("post-processing at TH = 3 (mean of %d seeds)" % len(group("post-default")))
     ax.legend(fontsize=8, loc="lower left")
 
@@ -280,9 +282,9 @@ def figure(args, res, group, base):
             t, e = [], []
             with open(os.path.join(base, n, "trajectory.csv")) as f:
                 for row in csv.DictReader(f):
-                    t.append(float(row["t"]))
-                    e.append(((float(row["odom_x"]) - float(row["true_x"])) ** 2 +
-                              (float(row["odom_y"]) - float(row["true_y"])) ** 2) ** 0.5)
+                    t.append(float(row["t_s"]))
+                    e.append(((float(row["odom_x_m"]) - float(row["true_x_m"])) ** 2 +
+                              (float(row["odom_y_m"]) - float(row["true_y_m"])) ** 2) ** 0.5)
             ax.plot(t, e, color=color, lw=0.8,
                     label="%g m/s²" % (acc / 1000.0) if n.endswith("-1") else None)
     ax.set_xlabel("time [s]")

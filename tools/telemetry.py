@@ -1,139 +1,208 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Reads the robot's telemetry (firmware/include/slam/telemetry.h) from a serial port, a
-pseudo-terminal or a file, and prints it or draws the maps live.
+"""Talks to the robot over its telemetry link: prints or draws what it sends, turns a log
+into readings for host_sim --replay, and sends it commands.
 
 usage:
-  tools/telemetry.py dump SOURCE [--baud N]            one line per frame
-  tools/telemetry.py view SOURCE [--baud N] [--follow] [--png FILE]
-                                                       OM, TM and the path, updated live
+  tools/telemetry.py dump SOURCE [--follow]        one line per frame
+  tools/telemetry.py view SOURCE [--follow] [--png FILE [--every S]]
+                                                   OM, TM and the path, drawn as they grow
+  tools/telemetry.py to-readings LOG [--out DIR]   DIR/readings.csv and DIR/config.txt,
+                                                   for host_sim --replay DIR/readings.csv
+  tools/telemetry.py send PORT COMMAND [ARGS...] [--wait S] [--out DIR]
+                                                   send one command, print the answer
+  tools/telemetry.py frame COMMAND [ARGS...]       print a command's frame in hex
 
-SOURCE is a serial device (/dev/ttyUSB0, /dev/ttyAMA0, /dev/pts/N: needs python3-serial)
-or a file of raw bytes, such as host_sim --telemetry FILE writes; --follow keeps reading
-a file that is still growing (host_sim --realtime). --png draws the last state into FILE
-instead of opening a window.
+SOURCE is a serial device (/dev/ttyUSB0, /dev/ttyAMA0, a pseudo-terminal /dev/pts/N;
+needs python3-serial) or a file of raw bytes, such as `host_sim --telemetry FILE` writes.
+--follow keeps reading a file that is still growing (host_sim --realtime).
+
+view draws into a window; without a display, give --png FILE: the picture is written
+at the end, and rewritten every --every seconds (default 5) while --follow reads on.
+
+Commands: start, stop, mode off|random|tm|square, get KEY, set KEY VALUE, save, map,
+calibrate. KEY is a field of slam_config_t (firmware/include/slam/config.h); cal_left,
+cal_right and cal_base take decimal factors such as 0.9901. `send PORT map --out DIR`
+waits for both maps and writes them as DIR/om.pgm and DIR/tm.pgm with ROS YAML.
+
+Exit status: 0 done; 1 the robot refused a command or did not answer; 2 bad arguments,
+or a source with nothing valid in it.
 """
 import argparse
 import math
 import os
+import signal
 import stat
-import struct
 import sys
 import time
 
-SYNC = b"\xa5\x5a"
-HELLO, POSE, READING, MAP_ROW, STATUS = 1, 2, 3, 4, 5
-OUTCOMES = ("hit", "far", "near", "outside", "timeout")
-BAM = 2.0 * math.pi / 4294967296.0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import slamlink  # noqa: E402
+from slamlink import SYNC, Decoder, decode, reading_status  # noqa: E402,F401  (the API)
+
+BAM = slamlink.BAM
 
 
-def crc16(data):
-    """CRC-16/CCITT-FALSE, as the firmware computes it."""
-    crc = 0xFFFF
-    for b in data:
-        crc ^= b << 8
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
-    return crc
+class Fatal(Exception):
+    """A message for the user and an exit status; never a traceback."""
+
+    def __init__(self, msg, status=2):
+        super().__init__(msg)
+        self.status = status
 
 
-class Decoder:
-    """Feeds bytes, yields (type, payload) of every frame whose CRC checks out."""
-
-    def __init__(self):
-        self.buf = bytearray()
-        self.bad = 0
-
-    def feed(self, data):
-        self.buf += data
-        out = []
-        while True:
-            i = self.buf.find(SYNC)
-            if i < 0:
-                del self.buf[:max(0, len(self.buf) - 1)]
-                break
-            del self.buf[:i]
-            if len(self.buf) < 6:
-                break
-            n = self.buf[3]
-            if len(self.buf) < 6 + n:
-                break
-            body = bytes(self.buf[2:4 + n])
-            crc = self.buf[4 + n] | self.buf[5 + n] << 8
-            if crc != crc16(body):
-                self.bad += 1
-                del self.buf[:1]
-                continue
-            out.append((body[0], body[2:]))
-            del self.buf[:6 + n]
-        return out
+def open_port(path, baud):
+    try:
+        import serial
+    except ImportError:
+        raise Fatal("reading %s needs python3-serial (tools/install-deps.sh sim)" % path)
+    try:
+        return serial.Serial(path, baud, timeout=0.1)
+    except (serial.SerialException, OSError) as e:
+        raise Fatal("cannot open %s: %s" % (path, e))
 
 
-def decode(ftype, p):
-    """A frame as a dict."""
-    if ftype == HELLO:
-        v, a, b, cell, ox, oy, om_max, tm_max = struct.unpack("<BHHIiiBB", p)
-        return dict(type="hello", version=v, a=a, b=b, cell_um=cell, origin_x_um=ox,
-                    origin_y_um=oy, om_max=om_max, tm_max=tm_max)
-    if ftype == POSE:
-        t, x, y, h = struct.unpack("<IiiI", p)
-        return dict(type="pose", ticks=t, x_um=x, y_um=y, heading=h)
-    if ftype == READING:
-        t, stop, outcome, servo, rng, x, y, h = struct.unpack("<IBBiIiiI", p)
-        return dict(type="reading", ticks=t, stop=stop, outcome=outcome, servo_mdeg=servo,
-                    range_um=rng, x_um=x, y_um=y, heading=h)
-    if ftype == MAP_ROW:
-        which, row, first = struct.unpack("<BHH", p[:5])
-        return dict(type="map_row", map=which, row=row, first=first, cells=bytes(p[5:]))
-    if ftype == STATUS:
-        names = ("ticks", "pings", "echoes", "timeouts", "om_hits", "overruns", "saves", "drops")
-        return dict(zip(names, struct.unpack("<8I", p)), type="status")
-    return dict(type="unknown", code=ftype, length=len(p))
+class Source:
+    """Frames from a device or a file; counts what could not be read as frames."""
 
-
-def frames(path, baud, follow):
-    """Yields decoded frames from a device or a file."""
-    dec = Decoder()
-    mode = os.stat(path).st_mode
-    if stat.S_ISCHR(mode):
+    def __init__(self, path, baud=115200, follow=False):
         try:
-            import serial
-        except ImportError:
-            sys.exit("telemetry: reading a serial device needs python3-serial")
-        port = serial.Serial(path, baud, timeout=0.2)
-        read = lambda: port.read(4096)
-    else:
-        f = open(path, "rb")
-        read = lambda: f.read(65536)
-    while True:
-        data = read()
-        if not data:
-            if stat.S_ISCHR(mode) or follow:
-                time.sleep(0.05)
-                yield None
-                continue
-            return
-        for ftype, payload in dec.feed(data):
-            yield decode(ftype, payload)
-
-
-def dump(args):
-    for fr in frames(args.source, args.baud, args.follow):
-        if fr is None:
-            continue
-        if fr["type"] == "map_row":
-            print("map_row map=%s row=%d first=%d cells=%d" % (
-                "OM" if fr["map"] == 0 else "TM", fr["row"], fr["first"], len(fr["cells"])))
-        elif fr["type"] == "reading":
-            print("reading t=%.2f stop=%d servo=%.1f range=%.3f %s pose=(%.3f, %.3f, %.1f)" % (
-                fr["ticks"] / 100.0, fr["stop"], fr["servo_mdeg"] / 1000.0, fr["range_um"] * 1e-6,
-                OUTCOMES[fr["outcome"]] if fr["outcome"] < len(OUTCOMES) else fr["outcome"],
-                fr["x_um"] * 1e-6, fr["y_um"] * 1e-6, math.degrees(fr["heading"] * BAM)))
+            mode = os.stat(path).st_mode
+        except OSError as e:
+            raise Fatal("%s: %s" % (path, e.strerror))
+        if stat.S_ISDIR(mode):
+            raise Fatal("%s is a directory: give a serial device or a telemetry log file" % path)
+        self.path = path
+        self.device = stat.S_ISCHR(mode)
+        self.follow = follow
+        self.dec = Decoder()
+        self.frames = 0
+        self.malformed = 0
+        if self.device:
+            port = open_port(path, baud)
+            self.read = lambda: port.read(4096)
         else:
-            print(" ".join("%s=%s" % (k, v) for k, v in fr.items()))
+            try:
+                f = open(path, "rb")
+            except OSError as e:
+                raise Fatal("%s: %s" % (path, e.strerror))
+            self.read = lambda: f.read(65536)
+
+    def __iter__(self):
+        """Decoded frames; None now and then while waiting for more bytes."""
+        while True:
+            try:
+                data = self.read()
+            except OSError as e:
+                raise Fatal("reading %s: %s" % (self.path, e), 1)
+            if not data:
+                if self.device or self.follow:
+                    time.sleep(0.05)
+                    yield None
+                    continue
+                return
+            for ftype, payload in self.dec.feed(data):
+                fr = decode(ftype, payload)
+                if fr is None:
+                    self.malformed += 1
+                    continue
+                self.frames += 1
+                yield fr
+
+    @property
+    def bad(self):
+        return self.dec.bad + self.malformed
+
+    def summary(self, prog):
+        """A line on stderr: what was read; Fatal when nothing valid was."""
+        if self.frames == 0:
+            raise Fatal("%s holds no telemetry frame (%d bytes outside frames, %d frames "
+                        "with a bad CRC or length)" % (self.path, self.dec.skipped, self.bad))
+        if self.bad:
+            print("telemetry %s: %d frames read, %d bad frames skipped (bad CRC or length)"
+                  % (prog, self.frames, self.bad), file=sys.stderr)
+        if len(self.dec.buf) >= 2:
+            print("telemetry %s: the last %d bytes are a frame cut short" % (prog, len(self.dec.buf)),
+                  file=sys.stderr)
 
 
-def view(args):
+def cmd_dump(args):
+    src = Source(args.source, args.baud, args.follow)
+    for fr in src:
+        if fr is not None:
+            print(slamlink.describe(fr), flush=args.follow)
+    src.summary("dump")
+
+
+class Maps:
+    """OM, TM and the path as the frames tell them; rows that do not fit the grid the last
+    HELLO announced are counted, not drawn."""
+
+    def __init__(self, np):
+        self.np = np
+        self.geo = None
+        self.maps = None
+        self.path = []
+        self.status = {}
+        self.bad_rows = 0
+
+    def take(self, fr):
+        t = fr["type"]
+        if t == "hello":
+            if self.geo is None or (self.geo["a"], self.geo["b"]) != (fr["a"], fr["b"]):
+                self.maps = [self.np.zeros((fr["b"], fr["a"]), self.np.uint8) for _ in range(2)]
+            self.geo = fr
+        elif t == "pose":
+            self.path.append((fr["x_um"] * 1e-6, fr["y_um"] * 1e-6))
+        elif t == "map_row":
+            if (self.geo is None or fr["map"] > 1 or fr["row"] >= self.geo["b"]
+                    or fr["first"] + len(fr["cells"]) > self.geo["a"]):
+                self.bad_rows += 1
+                return
+            row = self.maps[fr["map"]][fr["row"]]
+            row[fr["first"]:fr["first"] + len(fr["cells"])] = list(fr["cells"])
+        elif t == "status":
+            self.status = fr
+
+
+def draw(fig, axes, m):
+    """Both maps with the path; titles say what and when, axes are in metres."""
+    if m.geo is None:
+        for ax in axes:
+            ax.set_title("waiting for a HELLO frame (the grid's geometry)")
+        return
+    g = m.geo
+    cell = g["cell_um"] * 1e-6
+    ox, oy = g["origin_x_um"] * 1e-6, g["origin_y_um"] * 1e-6
+    ext = [ox, ox + g["a"] * cell, oy, oy + g["b"] * cell]
+    t = m.status.get("ticks", 0) * slamlink.TICK_S
+    titles = ("OM, obstacle map: black occupied, white free, grey unknown (%d hits)"
+              % m.status.get("om_hits", 0), "TM, trajectory map: visits")
+    images = (slamlink.trinary(g["om_mode"], m.maps[0], m.maps[1]),
+              slamlink.counts_image(m.maps[1], g["tm_max"]))
+    for ax, img, title in zip(axes, images, titles):
+        ax.clear()
+        ax.imshow(img, origin="upper", extent=ext, cmap="gray", vmin=0, vmax=255,
+                  interpolation="nearest")
+        if m.path:
+            xs, ys = zip(*m.path)
+            ax.plot(xs, ys, "r-", lw=0.8, label="odometry path")
+            ax.plot(xs[-1:], ys[-1:], "ro", ms=4)
+            ax.set_xlim(min(xs) - 2, max(xs) + 2)
+            ax.set_ylim(min(ys) - 2, max(ys) + 2)
+            ax.legend(loc="lower right", fontsize=8)
+        ax.set_title(title)
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_aspect("equal")
+    fig.suptitle("robot telemetry at t = %.1f s (cells of %.0f mm)" % (t, cell * 1e3))
+
+
+INTERACTIVE = ("gtk3agg", "gtk4agg", "tkagg", "qtagg", "qt5agg", "wxagg", "macosx", "webagg",
+               "gtk3cairo", "gtk4cairo", "qtcairo", "tkcairo", "wxcairo", "nbagg")
+
+
+def cmd_view(args):
     try:
         import matplotlib
         if args.png:
@@ -141,85 +210,273 @@ def view(args):
         import matplotlib.pyplot as plt
         import numpy as np
     except ImportError as e:
-        sys.exit("telemetry: %s (tools/install-deps.sh sim)" % e)
-    geo = None
-    maps = None
-    path = []
-    hits = []
-    status = {}
-    fig, (ax_om, ax_tm) = plt.subplots(1, 2, figsize=(12, 6))
-    last_draw = 0.0
+        raise Fatal("%s (tools/install-deps.sh sim)" % e)
+    if not args.png and matplotlib.get_backend().lower() not in INTERACTIVE:
+        raise Fatal("no display to draw on (matplotlib backend '%s'%s). Draw into a "
+                    "picture instead: tools/telemetry.py view %s --png view.png%s"
+                    % (matplotlib.get_backend(), "" if os.environ.get("DISPLAY") else
+                       ", DISPLAY is not set", args.source,
+                       " --follow (rewritten every %g s)" % args.every if args.follow else ""))
+    src = Source(args.source, args.baud, args.follow)
+    m = Maps(np)
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
+    last = time.time()
 
-    def draw():
-        if geo is None:
-            return
-        cell = geo["cell_um"] * 1e-6
-        ox, oy = geo["origin_x_um"] * 1e-6, geo["origin_y_um"] * 1e-6
-        ext = [ox, ox + geo["a"] * cell, oy, oy + geo["b"] * cell]
-        for ax, m, vmax, title in ((ax_om, maps[0], geo["om_max"], "OM"),
-                                   (ax_tm, maps[1], geo["tm_max"], "TM")):
-            ax.clear()
-            ax.imshow(m, origin="lower", extent=ext, cmap="gray_r", vmin=0, vmax=vmax,
-                      interpolation="nearest")
-            if path:
-                xs, ys = zip(*path)
-                ax.plot(xs, ys, "r-", lw=0.8)
-            ax.set_title("%s   t = %.1f s, %d OM hits" % (title, status.get("ticks", 0) / 100.0,
-                                                          status.get("om_hits", 0)))
-            if path:
-                xs, ys = zip(*path)
-                ax.set_xlim(min(xs) - 2, max(xs) + 2)
-                ax.set_ylim(min(ys) - 2, max(ys) + 2)
-            ax.set_aspect("equal")
+    def save():
+        draw(fig, axes, m)
+        tmp = args.png + ".tmp.png"
+        fig.savefig(tmp, dpi=80)
+        os.replace(tmp, args.png)  # a viewer of the file never sees half a picture
 
     if not args.png:
         plt.ion()
         plt.show()
-    for fr in frames(args.source, args.baud, args.follow):
-        if fr is not None:
-            t = fr["type"]
-            if t == "hello":
-                if geo is None or (geo["a"], geo["b"]) != (fr["a"], fr["b"]):
-                    maps = [np.zeros((fr["b"], fr["a"]), np.uint8) for _ in range(2)]
-                geo = fr
-            elif t == "pose":
-                path.append((fr["x_um"] * 1e-6, fr["y_um"] * 1e-6))
-            elif t == "map_row" and maps is not None and fr["map"] < 2:
-                row = maps[fr["map"]][fr["row"]]
-                row[fr["first"]:fr["first"] + len(fr["cells"])] = list(fr["cells"])
-            elif t == "status":
-                status = fr
-        if not args.png and time.time() - last_draw > 0.5:
-            draw()
-            plt.pause(0.001)
-            last_draw = time.time()
-    draw()
+    try:
+        for fr in src:
+            if fr is not None:
+                m.take(fr)
+            now = time.time()
+            if not args.png and now - last > 0.5:
+                draw(fig, axes, m)
+                plt.pause(0.001)
+                last = now
+            elif args.png and args.follow and now - last > args.every:
+                save()
+                last = now
+    except KeyboardInterrupt:
+        pass
+    src.summary("view")
+    if m.bad_rows:
+        print("telemetry view: %d map rows outside the grid skipped" % m.bad_rows, file=sys.stderr)
     if args.png:
-        fig.savefig(args.png, dpi=80)
+        save()
+        print("telemetry view: wrote %s" % args.png)
     else:
+        draw(fig, axes, m)
         plt.ioff()
         plt.show()
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n".join(__doc__.strip().splitlines()[2:]))
-    ap.add_argument("command", choices=("dump", "view"))
-    ap.add_argument("source")
-    ap.add_argument("--baud", type=int, default=115200)
-    ap.add_argument("--follow", action="store_true")
-    ap.add_argument("--png")
-    args = ap.parse_args()
-    if not os.path.exists(args.source):
-        sys.exit("telemetry: %s does not exist" % args.source)
+def cmd_to_readings(args):
+    """READING frames as readings.csv rows, the HELLO's grid and sonar as config.txt."""
+    src = Source(args.log, args.baud, False)
+    if src.device:
+        raise Fatal("%s is a device: record a log first (cat %s > run.log, or "
+                    "host_sim --telemetry FILE)" % (args.log, args.log))
+    hello = None
+    changed = 0
+    rows = []
+    drops = 0
+    for fr in src:
+        if fr["type"] == "hello" and "confidence_radius_um" in fr:
+            same = dict(fr, type=None) == dict(hello, type=None) if hello else True
+            changed += not same
+            hello = hello or fr
+        elif fr["type"] == "reading":
+            rows.append(fr)
+        elif fr["type"] == "status":
+            drops = fr["drops"]
+    src.summary("to-readings")
+    if hello is None:
+        raise Fatal("%s has no HELLO frame with the sonar's settings (the firmware "
+                    "sends one every 5 s; a log from before telemetry version 2 lacks them)" % args.log)
+    if not rows:
+        raise Fatal("%s has no READING frame" % args.log)
+    out = args.out or os.path.splitext(args.log)[0] + "-readings"
     try:
-        (dump if args.command == "dump" else view)(args)
+        os.makedirs(out, exist_ok=True)
+        lines = ["t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad\n"]
+        for r in rows:
+            status = reading_status(r["outcome"])
+            rng = "" if status == "timeout" else "%.6f" % (r["range_um"] * 1e-6)
+            lines.append("%.2f,%.3f,%s,%s,%.6f,%.6f,%.10f\n" % (
+                r["ticks"] * slamlink.TICK_S, r["servo_mdeg"] / 1000.0, rng, status,
+                r["x_um"] * 1e-6, r["y_um"] * 1e-6, slamlink.wrap_rad(r["heading"])))
+        write_text(os.path.join(out, "readings.csv"), "".join(lines))
+        # The grid's origin is start - (cell (0, 0)) - half a cell: with the start in cell
+        # (0, 0), start = origin + half a cell, whatever the robot's own start cell was.
+        half = hello["cell_um"] // 2
+        cfg = [("cell_um", hello["cell_um"]), ("start_cell_a", 0), ("start_cell_b", 0),
+               ("start_x_um", hello["origin_x_um"] + half),
+               ("start_y_um", hello["origin_y_um"] + half),
+               ("om_max", hello["om_max"]), ("tm_max", hello["tm_max"]),
+               ("om_mode", hello["om_mode"])] + [
+               (k, hello[k]) for k in ("om_hit", "om_miss") if k in hello] + [
+               ("confidence_radius_um", hello["confidence_radius_um"]),
+               ("range_min_um", hello["range_min_um"]), ("mount_x_um", hello["mount_x_um"]),
+               ("mount_y_um", hello["mount_y_um"]), ("mount_yaw_mdeg", hello["mount_yaw_mdeg"])]
+        write_text(os.path.join(out, "config.txt"),
+                   "# the grid and the sonar as %s's HELLO frames tell them "
+                   "(host_sim --replay reads it)\n" % os.path.basename(args.log)
+                   + "".join("%s = %d\n" % kv for kv in cfg))
+    except OSError as e:
+        raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+    print("telemetry to-readings: %d readings into %s; the grid and sonar settings into %s"
+          % (len(rows), os.path.join(out, "readings.csv"), os.path.join(out, "config.txt")))
+    print("  replay: host_sim --replay %s --out %s" % (os.path.join(out, "readings.csv"),
+                                                       os.path.join(out, "replay")))
+    if changed:
+        print("telemetry to-readings: warning: the HELLO frames changed %d times (a SET of the sonar's "
+              "settings?); config.txt holds the first" % changed, file=sys.stderr)
+    if drops:
+        print("telemetry to-readings: warning: the robot dropped %d telemetry events: readings are "
+              "missing, and the replay will differ from the robot's map" % drops, file=sys.stderr)
+
+
+def write_text(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def write_pgm(out, name, img, geo, yaml):
+    """An image (first row the northern one) as the simulator writes it: PGM, and the ROS
+    YAML of a trinary map when yaml is set (TM has none: it is not a map to load)."""
+    h, w = img.shape
+    with open(os.path.join(out, name + ".pgm"), "wb") as f:
+        f.write(b"P5\n%d %d\n255\n" % (w, h) + img.tobytes())
+    if yaml:
+        write_text(os.path.join(out, name + ".yaml"), slamlink.MAP_YAML % (
+            name, slamlink.um_text(geo["cell_um"]), slamlink.um_text(geo["origin_x_um"]),
+            slamlink.um_text(geo["origin_y_um"])))
+
+
+def cmd_send(args):
+    try:
+        data = slamlink.command(args.words)
+    except slamlink.CommandError as e:
+        raise Fatal("%s" % e)
+    try:
+        mode = os.stat(args.port).st_mode
+    except OSError as e:
+        raise Fatal("%s: %s" % (args.port, e.strerror))
+    if not stat.S_ISCHR(mode):
+        raise Fatal("%s is not a serial device or a pseudo-terminal" % args.port)
+    port = open_port(args.port, args.baud)
+    port.write(data)
+    port.flush()
+    ctype = data[2]
+    dec = Decoder()
+    want_map = args.words[0] == "map" and args.out
+    answer = None
+    geo = None
+    rows = {}
+    deadline = time.time() + args.wait
+    while time.time() < deadline:
+        for ftype, payload in dec.feed(port.read(4096)):
+            fr = decode(ftype, payload)
+            if fr is None:
+                continue
+            if fr["type"] in ("ack", "error") and fr["command"] == ctype and answer is None:
+                answer = fr
+                print(slamlink.describe(fr))
+            elif fr["type"] == "config" and ctype in (0x13, 0x14) and answer is None:
+                answer = fr
+                print(slamlink.describe(fr))
+            elif want_map and answer and fr["type"] == "hello":
+                geo = fr
+            elif want_map and geo and fr["type"] == "map_row" and fr["map"] < 2:
+                rows[(fr["map"], fr["row"], fr["first"])] = fr["cells"]
+        if answer is not None and (not want_map or answer["type"] == "error"):
+            break
+        if want_map and geo and map_complete(rows, geo):
+            break
+    if answer is None:
+        raise Fatal("%s did not answer within %g s" % (args.port, args.wait), 1)
+    if answer["type"] == "error":
+        raise Fatal("the robot refused it: %s" % slamlink.ERROR_TEXT.get(
+            slamlink.ERRORS.get(answer["code"]), "code %d" % answer["code"]), 1)
+    if want_map:
+        if geo is None or not map_complete(rows, geo):
+            raise Fatal("the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
+        os.makedirs(args.out, exist_ok=True)
+        import numpy as np
+        grids = [np.zeros((geo["b"], geo["a"]), np.uint8) for _ in range(2)]
+        for (m, row, first), cells in rows.items():
+            if m in (0, 1) and row < geo["b"] and first + len(cells) <= geo["a"]:
+                grids[m][row, first:first + len(cells)] = np.frombuffer(cells, np.uint8)
+        write_pgm(args.out, "om", slamlink.trinary(geo["om_mode"], grids[0], grids[1]), geo, True)
+        write_pgm(args.out, "tm", slamlink.counts_image(grids[1], geo["tm_max"]), geo, False)
+        print("telemetry send: wrote %s/om.pgm (with its ROS .yaml) and %s/tm.pgm"
+              % (args.out, args.out))
+
+
+def map_complete(rows, geo):
+    """Every cell of both maps arrived."""
+    for which in (0, 1):
+        for row in range(geo["b"]):
+            have = sum(len(c) for (m, r, _), c in rows.items() if m == which and r == row)
+            if have < geo["a"]:
+                return False
+    return True
+
+
+def cmd_frame(args):
+    try:
+        print(slamlink.command(args.words).hex(" "))
+    except slamlink.CommandError as e:
+        raise Fatal("%s" % e)
+
+
+def main(argv=None):
+    doc = __doc__.strip().splitlines()
+    ap = argparse.ArgumentParser(prog="tools/telemetry.py", description=doc[0] + " " + doc[1],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="\n".join(doc[3:]))
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    p = sub.add_parser("dump", help="print one line per frame")
+    p.add_argument("source")
+    p.add_argument("--follow", action="store_true", help="keep reading a growing file")
+    p = sub.add_parser("view", help="draw OM, TM and the path")
+    p.add_argument("source")
+    p.add_argument("--follow", action="store_true", help="keep reading a growing file")
+    p.add_argument("--png", help="draw into this PNG file instead of a window")
+    p.add_argument("--every", type=float, default=5.0,
+                   help="with --png and --follow: rewrite the picture this often, s (default 5)")
+    p = sub.add_parser("to-readings", help="a log as readings.csv for host_sim --replay")
+    p.add_argument("log")
+    p.add_argument("--out", help="folder for readings.csv and config.txt (default: LOG "
+                                 "without its extension, plus -readings)")
+    p = sub.add_parser("send", help="send a command to the robot and print its answer")
+    p.add_argument("port")
+    p.add_argument("words", nargs="+", metavar="COMMAND")
+    p.add_argument("--wait", type=float, default=3.0, help="seconds to wait for the answer")
+    p.add_argument("--out", help="with `map`: write the maps into this folder")
+    p = sub.add_parser("frame", help="print a command's frame in hex")
+    p.add_argument("words", nargs="+", metavar="COMMAND")
+    for p in sub.choices.values():
+        p.add_argument("--baud", type=int, default=115200, help="serial speed (default 115200)")
+    args = ap.parse_args(argv)
+    if args.command == "view" and args.every <= 0:
+        ap.error("--every must be positive")
+    handlers = {"dump": cmd_dump, "view": cmd_view, "to-readings": cmd_to_readings,
+                "send": cmd_send, "frame": cmd_frame}
+    # SIGTERM (a service manager, kill) ends a --follow as Ctrl-C does: the picture is
+    # drawn a last time; and Ctrl-C works even where the shell started us with it ignored.
+    signal.signal(signal.SIGTERM, stop)
+    signal.signal(signal.SIGINT, stop)
+    try:
+        handlers[args.command](args)
+    except Fatal as e:
+        print("telemetry %s: %s" % (args.command, e), file=sys.stderr)
+        return e.status
     except KeyboardInterrupt:
-        pass
+        return 130
     except BrokenPipeError:
-        pass
+        return 0
+    return 0
+
+
+def stop(signum, frame):
+    raise KeyboardInterrupt
+
+
+def frames(path, baud=115200, follow=False):
+    """Decoded frames of a file or device (None while waiting), for other tools and tests."""
+    return iter(Source(path, baud, follow))
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -27,6 +27,9 @@ static const slam_config_t slam_config_defaults = {
     .start_cell_b = (uint16_t)(SLAM_GRID_B / 2u),
     .om_max = 9u,
     .tm_max = 30u,
+    .om_mode = OM_MODE_EVIDENCE,
+    .om_hit = 4u,
+    .om_miss = 1u,
     .confidence_radius_um = 1000000u,
     .range_min_um = 20000u,
     .sound_speed_mm_per_s = 343000u,
@@ -41,8 +44,9 @@ static const slam_config_t slam_config_defaults = {
     .ping_interval_ticks = 6u,
     .servo_pulse_0deg_us = 500u,
     .servo_pulse_180deg_us = 2500u,
-    .post_threshold = 3u,
-    .post_template_k = 1u,
+    .post_threshold = 0u,
+    .post_template_k = 0u,
+    .post_insert = 0u,
     .top_speed_mm_s = 300u,
     .accel_mm_s2 = 500u,
     .motion_kp_q8 = 64u,
@@ -57,11 +61,21 @@ static const slam_config_t slam_config_defaults = {
     .square_laps = 1u,
     .explore_seed = 1u,
     .save_period_s = 60u,
+    .localize = 1u,
 };
 
 void slam_config_default(slam_config_t *cfg)
 {
     memcpy(cfg, &slam_config_defaults, sizeof *cfg);
+}
+
+void slam_config_paper(slam_config_t *cfg)
+{
+    cfg->om_mode = OM_MODE_COUNT;
+    cfg->localize = 0u;
+    cfg->post_threshold = 3u;
+    cfg->post_template_k = 1u;
+    cfg->post_insert = 1u;
 }
 
 /* Position limits: a pose must stay far from the int32_t µm limits (±2147 m). */
@@ -131,6 +145,15 @@ static const char *first_bad_field(const slam_config_t *c)
     if (c->tm_max == 0u) {
         return "tm_max";
     }
+    if (c->om_mode >= OM_MODES) {
+        return "om_mode";
+    }
+    if (!in_range_u(c->om_hit, 1u, GRID_EVIDENCE_MAX)) {
+        return "om_hit";
+    }
+    if (!in_range_u(c->om_miss, 1u, GRID_EVIDENCE_MAX)) {
+        return "om_miss";
+    }
     if (!in_range_u(c->confidence_radius_um, 1u, 10000000u) ||
         c->confidence_radius_um <= c->range_min_um) {
         return "confidence_radius_um";
@@ -176,11 +199,14 @@ static const char *first_bad_field(const slam_config_t *c)
         c->servo_pulse_180deg_us == c->servo_pulse_0deg_us) {
         return "servo_pulse_180deg_us";
     }
-    if (c->post_threshold >= c->om_max) {
+    if (c->post_threshold >= (c->om_mode == OM_MODE_COUNT ? c->om_max : GRID_EVIDENCE_MAX)) {
         return "post_threshold";
     }
     if (c->post_template_k > 8u) {
         return "post_template_k";
+    }
+    if (c->post_insert > 1u) {
+        return "post_insert";
     }
     if (!in_range_u(c->top_speed_mm_s, 50u, 5000u)) {
         return "top_speed_mm_s";
@@ -217,6 +243,9 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->explore_seed == 0u) {
         return "explore_seed";
+    }
+    if (c->localize > 1u) {
+        return "localize";
     }
     return NULL;
 }

@@ -106,10 +106,9 @@ void explore_turn_by(explore_t *e, const odom_pose_t *pose, int32_t angle, explo
 /* A new trail position each EXPLORE_TRAIL_STEP_UM driven. */
 static bool trail_step(explore_t *e, const odom_pose_t *pose)
 {
-    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)e->trail_x_um[e->trail_head]);
-    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)e->trail_y_um[e->trail_head]);
-    int64_t step = EXPLORE_TRAIL_STEP_UM;
-    if ((int64_t)dx * dx + (int64_t)dy * dy < step * step) {
+    uint64_t step = EXPLORE_TRAIL_STEP_UM;
+    if (explore_dist2(pose, e->trail_x_um[e->trail_head], e->trail_y_um[e->trail_head]) <
+        step * step) {
         return false;
     }
     e->trail_head = (uint8_t)((e->trail_head + 1u) % EXPLORE_TRAIL);
@@ -212,13 +211,26 @@ static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
     target_mm_s[ODOM_RIGHT] = dir * speed;
 }
 
+/* The differences are taken modulo 2^32 (exact within 2 km, and defined after any
+ * encoder glitch); the squares fit 63 bits and their sum 64. */
+uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
+{
+    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)x_um);
+    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)y_um);
+    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
+}
+
+/* The squared distance from the start of the leg. */
+static uint64_t leg_dist2(const odom_pose_t *pose, const explore_t *e)
+{
+    return explore_dist2(pose, e->leg_x_um, e->leg_y_um);
+}
+
 static void square_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = e->cruise_mm_s;
-    int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
-    int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
     int64_t side = e->square_side_um;
-    if (dx * dx + dy * dy < side * side) {
+    if (leg_dist2(pose, e) < (uint64_t)(side * side)) {
         return;
     }
     e->leg++;
@@ -305,10 +317,8 @@ static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
  */
 static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
-    int64_t dx = (int64_t)pose->x_um - e->leg_x_um;
-    int64_t dy = (int64_t)pose->y_um - e->leg_y_um;
     int64_t back = EXPLORE_BACK_UM;
-    if (dx * dx + dy * dy >= back * back || e->ticks > EXPLORE_TURN_MAX_TICKS) {
+    if (leg_dist2(pose, e) >= (uint64_t)(back * back) || e->ticks > EXPLORE_TURN_MAX_TICKS) {
         e->decide = true; /* TM mode weighs the ways again */
         e->trail_len = 1u;
         e->trail_x_um[e->trail_head] = pose->x_um;
@@ -360,10 +370,10 @@ static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
 /* The background job of a tick without a reading, one at a time so that no tick carries
  * two: a reading's point into the memory, the walls mode's look at a trail step, or a
  * slice of the pass over the memory and the map. */
-static void job(explore_t *e, const odom_pose_t *pose, const mapper_t *m, const grid_t *g)
+static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
     if (e->pending != 0u) {
-        explore_remember(e, pose, m);
+        explore_remember(e, pose);
         return;
     }
     if (e->trail_due) {
@@ -395,12 +405,18 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     if (sw->reading_ready) {
         /* This tick maps the reading: only note it, and keep the wheels as they were. */
         e->look_readings++;
-        e->pending = sw->reading.echo ? 1u : 0u;
+        /* Its point is copied now: the background loop may map older readings, and
+         * change the mapper's last outcome, before the next tick. */
+        e->pending = sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)
+                         ? 1u
+                         : 0u;
+        e->pending_x_um = m->last_x_um;
+        e->pending_y_um = m->last_y_um;
         target_mm_s[ODOM_LEFT] = e->target_mm_s[ODOM_LEFT];
         target_mm_s[ODOM_RIGHT] = e->target_mm_s[ODOM_RIGHT];
         return;
     }
-    job(e, pose, m, g);
+    job(e, pose, g);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
     if (!stall(e, pose, stalled)) {
         switch (e->state) {

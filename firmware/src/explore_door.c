@@ -277,8 +277,6 @@ bool explore_door_nudge(explore_t *e, const odom_pose_t *pose)
 void explore_pass_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     int32_t ahead = explore_ahead_um(e, pose);
-    int64_t dx = (int64_t)pose->x_um - e->door_x_um;
-    int64_t dy = (int64_t)pose->y_um - e->door_y_um;
     int64_t through = (int64_t)e->follow_um + EXPLORE_PASS_BEYOND_UM;
     if (ahead < e->avoid_um) {
         e->narrow = false;
@@ -286,7 +284,7 @@ void explore_pass_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
         explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
         return;
     }
-    if (dx * dx + dy * dy >= through * through) {
+    if (explore_dist2(pose, e->door_x_um, e->door_y_um) >= (uint64_t)(through * through)) {
         e->narrow = false;
         explore_turn_by(e, pose, -(int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
         return;

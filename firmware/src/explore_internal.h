@@ -18,6 +18,9 @@ uint32_t explore_rng_below(explore_t *e, uint32_t n);
 /* The integer square root of v (below 2^30: the squares stay in 32 bits). */
 uint32_t explore_isqrt(uint32_t v);
 
+/* The squared distance from a pose to a world point, defined for any two positions. */
+uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um);
+
 /* Enter a state: its tick count and look count start again. */
 void explore_enter(explore_t *e, explore_state_t s);
 
@@ -32,8 +35,8 @@ void explore_decide(explore_t *e, uint8_t first, uint8_t span, explore_state_t t
 /* One tick of weighing (DECIDE). */
 void explore_decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g);
 
-/* The point of the last reading into the memory (in the tick after the reading). */
-void explore_remember(explore_t *e, const odom_pose_t *pose, const mapper_t *m);
+/* The point of the last reading, noted in its tick, into the memory (in the next tick). */
+void explore_remember(explore_t *e, const odom_pose_t *pose);
 
 /* One slice of the pass over the memory and the map's corridor. */
 void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g);

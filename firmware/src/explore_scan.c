@@ -10,19 +10,16 @@
 
 /* The point of the last reading, placed by the mapper inside the confidence sector, joins
  * the memory (in the tick after the reading: the mapper keeps it until the next one). */
-void explore_remember(explore_t *e, const odom_pose_t *pose, const mapper_t *m)
+void explore_remember(explore_t *e, const odom_pose_t *pose)
 {
     e->pending = 0u;
-    if (m->last != MAPPER_HIT && m->last != MAPPER_OUTSIDE) {
-        return;
-    }
     uint8_t i = e->next_point;
-    e->pt_x_um[i] = m->last_x_um;
-    e->pt_y_um[i] = m->last_y_um;
+    e->pt_x_um[i] = e->pending_x_um;
+    e->pt_y_um[i] = e->pending_y_um;
     e->pt_seen[i] = e->now;
     e->next_point = (uint8_t)((i + 1u) % EXPLORE_POINTS);
     if (e->state == EXPLORE_FOLLOW) {
-        explore_walls_point(e, pose, m->last_x_um, m->last_y_um);
+        explore_walls_point(e, pose, e->pending_x_um, e->pending_y_um);
     }
 }
 
@@ -134,7 +131,8 @@ int32_t explore_ahead_um(const explore_t *e, const odom_pose_t *pose)
      * at most |dx| + |dy| nearer. */
     int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)e->scan_ox_um);
     int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)e->scan_oy_um);
-    return ahead - (dx < 0 ? -dx : dx) - (dy < 0 ? -dy : dy);
+    int64_t left = (int64_t)ahead - (dx < 0 ? -(int64_t)dx : dx) - (dy < 0 ? -(int64_t)dy : dy);
+    return left < INT32_MIN ? INT32_MIN : (int32_t)left;
 }
 
 int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)

@@ -6,10 +6,15 @@
 
 #include "slam/error.h"
 
+#ifndef MAPPER_RAY_UM
+#define MAPPER_RAY_UM 500000u /* a beam clears the last 0.5 m before its echo, or rc */
+#endif
+
 void mapper_init(mapper_t *m, const slam_config_t *cfg)
 {
     memset(m, 0, sizeof *m);
     sonar_init(&m->sonar, cfg);
+    m->cell_um = cfg->cell_um;
     m->last = MAPPER_TIMEOUT;
 }
 
@@ -20,28 +25,100 @@ static void count(uint32_t *counter)
     }
 }
 
+static void count_n(uint32_t *counter, uint32_t n)
+{
+    *counter = *counter > UINT32_MAX - n ? UINT32_MAX : *counter + n;
+}
+
+mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
+{
+    if (range_um >= m->sonar.confidence_um) {
+        return MAPPER_FAR;
+    }
+    return range_um < m->sonar.range_min_um ? MAPPER_NEAR : MAPPER_HIT;
+}
+
+mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                             uint32_t range_um, int32_t *hit_x_um, int32_t *hit_y_um)
+{
+    mapper_outcome_t out = mapper_classify(m, range_um);
+    m->last = out;
+    if (out == MAPPER_NEAR) {
+        count(&m->near);
+        return out;
+    }
+    sonar_beam_t beam;
+    sonar_beam(&m->sonar, at_ping, servo, &beam);
+    if (out == MAPPER_HIT) {
+        sonar_beam_point(&beam, range_um, hit_x_um, hit_y_um);
+    } else {
+        count(&m->far);
+    }
+    if (g->mode == OM_MODE_EVIDENCE) {
+        /* Up to one cell short of the echo, or to rc for a far one, over the last
+         * MAPPER_RAY_UM: the cells nearer the robot are crossed by readings from farther
+         * away, and its own cell is free (the body is there). */
+        uint32_t reach = out == MAPPER_FAR ? m->sonar.confidence_um
+                         : range_um > m->cell_um ? range_um - m->cell_um : 0u;
+        int32_t xe;
+        int32_t ye;
+        sonar_beam_point(&beam, reach, &xe, &ye);
+        int32_t xs = at_ping->x_um;
+        int32_t ys = at_ping->y_um;
+        if (reach > MAPPER_RAY_UM) {
+            count_n(&m->cleared, grid_om_free(g, xs, ys) == SLAM_OK ? 1u : 0u);
+            sonar_beam_point(&beam, reach - MAPPER_RAY_UM, &xs, &ys);
+        }
+        count_n(&m->cleared, grid_om_ray(g, xs, ys, xe, ye));
+    }
+    return out;
+}
+
+mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um)
+{
+    m->last_x_um = x_um;
+    m->last_y_um = y_um;
+    if (grid_om_hit(g, x_um, y_um) == SLAM_OK) {
+        m->last = MAPPER_HIT;
+        count(&m->hits);
+    } else {
+        m->last = MAPPER_OUTSIDE;
+        count(&m->outside);
+    }
+    return m->last;
+}
+
 mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
                                 bam32_t servo, uint32_t range_um)
 {
-    mapper_outcome_t out;
-    if (range_um >= m->sonar.confidence_um) {
-        out = MAPPER_FAR;
-        count(&m->far);
-    } else if (range_um < m->sonar.range_min_um) {
-        out = MAPPER_NEAR;
-        count(&m->near);
-    } else {
-        sonar_obstacle(&m->sonar, at_ping, servo, range_um, &m->last_x_um, &m->last_y_um);
-        if (grid_om_hit(g, m->last_x_um, m->last_y_um) == SLAM_OK) {
-            out = MAPPER_HIT;
-            count(&m->hits);
-        } else {
-            out = MAPPER_OUTSIDE;
-            count(&m->outside);
-        }
+    int32_t x;
+    int32_t y;
+    if (mapper_free(m, g, at_ping, servo, range_um, &x, &y) != MAPPER_HIT) {
+        return m->last;
     }
-    m->last = out;
-    return out;
+    return mapper_hit(m, g, x, y);
+}
+
+void mapper_note(mapper_t *m, const odom_pose_t *at_ping, const sweep_reading_t *rd)
+{
+    if (!rd->echo) {
+        m->last = MAPPER_TIMEOUT;
+        return;
+    }
+    uint32_t range_um = sonar_range_um(&m->sonar, rd->echo_us);
+    m->last = mapper_classify(m, range_um);
+    if (m->last == MAPPER_HIT) {
+        sonar_obstacle(&m->sonar, at_ping, rd->servo, range_um, &m->last_x_um, &m->last_y_um);
+    }
+}
+
+void mapper_timeout(mapper_t *m, grid_t *g, const odom_pose_t *at_ping)
+{
+    m->last = MAPPER_TIMEOUT;
+    count(&m->timeouts);
+    if (g->mode == OM_MODE_EVIDENCE) {
+        count_n(&m->cleared, grid_om_free(g, at_ping->x_um, at_ping->y_um) == SLAM_OK ? 1u : 0u);
+    }
 }
 
 void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_out_t *sw)
@@ -57,8 +134,7 @@ void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_ou
             uint32_t d = sonar_range_um(&m->sonar, sw->reading.echo_us);
             (void)mapper_reading(m, g, &m->ping_pose, sw->reading.servo, d);
         } else {
-            m->last = MAPPER_TIMEOUT;
-            count(&m->timeouts);
+            mapper_timeout(m, g, &m->ping_pose);
         }
     }
     if (sw->trigger) {

@@ -8,6 +8,9 @@
 #include "hal/hal.h"
 #include "slam/error.h"
 
+/* tools/plot_run.py reads records from a dump: its header layout is this one. */
+_Static_assert(sizeof(mapstore_header_t) == 56u, "mapstore_header_t changed: update plot_run.py");
+
 /* CRC-32 with a 16-entry table: 64 bytes of flash, two lookups per byte. */
 static const uint32_t crc_nibble[16] = {
     0x00000000u, 0x1DB71064u, 0x3B6E20C8u, 0x26D930ACu, 0x76DC4190u, 0x6B6B51F4u,
@@ -85,6 +88,10 @@ void mapstore_begin(mapstore_t *s, const grid_t *g, const odom_pose_t *pose, uin
         .pose_x_um = pose->x_um,
         .pose_y_um = pose->y_um,
         .pose_heading = pose->heading,
+        .om_mode = g->mode,
+        .om_hit = g->hit,
+        .om_miss = g->miss,
+        .om_max = g->om_max,
     };
     s->slot = slot;
     s->offset = 0u;

@@ -90,12 +90,16 @@ void post_insert(uint8_t *map, size_t w, size_t h, uint8_t om_max, uint8_t *scra
 int post_run(const uint8_t *om, uint8_t *out, size_t w, size_t h, const post_params_t *p,
              uint8_t *scratch)
 {
-    if (w == 0u || h == 0u || p->k > 8u || p->om_max <= p->threshold) {
+    if (w == 0u || h == 0u || p->k > 8u || p->insert > 1u || p->om_max == 0u) {
         return SLAM_EINVAL;
     }
     memcpy(out, om, w * h);
     post_threshold(out, w, h, p->threshold, p->om_max);
-    post_template(out, w, h, p->k, scratch);
-    post_insert(out, w, h, p->om_max, scratch);
+    if (p->k > 0u) {
+        post_template(out, w, h, p->k, scratch);
+    }
+    if (p->insert != 0u) {
+        post_insert(out, w, h, p->om_max, scratch);
+    }
     return SLAM_OK;
 }

@@ -7,6 +7,11 @@
 
 #define ROBOT_POSE_EVERY 10u /* ticks between POSE telemetry events */
 
+/* Commands that wait for the robot to stand: re-initialise the modules the configuration
+ * feeds, and restart the exploration's random stream from the configured seed. */
+#define ROBOT_PENDING_RECONFIGURE 0x01u
+#define ROBOT_PENDING_RESEED 0x02u
+
 int robot_init(robot_t *r, const slam_config_t *cfg)
 {
     if (slam_config_check(cfg, NULL) != SLAM_OK) {
@@ -20,6 +25,7 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
               hal_encoder_count(HAL_WHEEL_RIGHT));
     sweep_init(&r->sweep, cfg);
     mapper_init(&r->mapper, cfg);
+    loc_init(&r->loc, cfg);
     explore_init(&r->explore, cfg);
     motion_init(&r->motion, cfg);
     grid_init(&r->grid, cfg);
@@ -32,8 +38,9 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     telem_init(&r->telem);
     r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
     r->save_requested = false;
-    r->hold = false;
+    r->hold = 0u;
     r->held = false;
+    r->pending = 0u;
     return SLAM_OK;
 }
 
@@ -56,9 +63,10 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
 
 void robot_tick(robot_t *r)
 {
-    /* Where are we: one odometry step (Eq. 8-12). */
+    /* Where are we: one odometry step (Eq. 8-12), and the correction against the map. */
     odom_step(&r->odom, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
-    r->pose = odom_pose(&r->odom);
+    odom_pose_t odom = odom_pose(&r->odom);
+    r->pose = r->loc.deferred ? loc_apply(&r->loc.tick_corr, &odom) : odom;
 
     /* What does the sonar say: one step of the sweep. */
     uint32_t echo_us;
@@ -71,8 +79,29 @@ void robot_tick(robot_t *r)
         r->ping_errors++;
     }
 
-    /* Algorithm C.1. */
-    mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
+    /* Algorithm C.1: here whole, or TM here and the reading handed to robot_idle(), which
+     * maps it (free-space evidence is too much work for a tick) and corrects the pose. */
+    if (!r->loc.deferred) {
+        mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
+    } else {
+        (void)grid_tm_visit(&r->grid, r->pose.x_um, r->pose.y_um);
+        if (r->last.reading_ready) {
+            const sweep_reading_t *rd = &r->last.reading;
+            /* Exploration remembers the obstacle at once, where the robot believes it. */
+            odom_pose_t at = loc_apply(&r->loc.tick_corr, &r->mapper.ping_pose);
+            mapper_note(&r->mapper, &at, rd);
+            const loc_reading_t q = {
+                .ping = r->mapper.ping_pose,
+                .range_um = rd->echo ? sonar_range_um(&r->mapper.sonar, rd->echo_us) : 0u,
+                .servo = rd->servo,
+                .echo = rd->echo,
+            };
+            (void)loc_post(&r->loc, &q);
+        }
+        if (r->last.trigger) {
+            r->mapper.ping_pose = odom; /* readings are logged and mapped from odometry */
+        }
+    }
 
     /* Telemetry: the pose ten times a second, and every reading. */
     if (r->ticks % ROBOT_POSE_EVERY == 0u) {
@@ -88,7 +117,7 @@ void robot_tick(robot_t *r)
     /* Where to go, and the wheel speeds that get us there. Under a hold the exploration
      * waits where it is and the robot comes to a stand. */
     int32_t target_mm_s[2] = {0, 0};
-    bool hold = r->hold;
+    bool hold = r->hold != 0u;
     if (!hold) {
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
                      motion_stalled(&r->motion), target_mm_s);
@@ -98,14 +127,145 @@ void robot_tick(robot_t *r)
     motion_step(&r->motion, &r->odom, duty);
     hal_motor_set(HAL_WHEEL_LEFT, duty[ODOM_LEFT]);
     hal_motor_set(HAL_WHEEL_RIGHT, duty[ODOM_RIGHT]);
-    r->held = hold && duty[ODOM_LEFT] == 0 && duty[ODOM_RIGHT] == 0;
+    r->held = hold && motion_at_rest(&r->motion);
 
     r->ticks++;
+}
+
+/* Set or clear one reason to hold the robot still (robot_idle() is the only writer). */
+static void robot_hold(robot_t *r, uint8_t why, bool on)
+{
+    r->hold = (uint8_t)(on ? r->hold | why : r->hold & ~why);
 }
 
 void robot_request_save(robot_t *r)
 {
     r->save_requested = true;
+}
+
+/* ---- commands over the telemetry link ----------------------------------------------------- */
+
+/* What the configuration feeds, set up again with the robot standing and the tick shut
+ * out: the odometry's gains (the pose stays), the sonar's limits, the speed control, and
+ * the exploration from where the robot stands (its counters stay). */
+static void robot_reconfigure(robot_t *r, bool reseed)
+{
+    hal_irq_state_t irq = hal_critical_enter();
+    odom_t keep = r->odom;
+    odom_init(&r->odom, &r->cfg, keep.last_count[ODOM_LEFT], keep.last_count[ODOM_RIGHT]);
+    r->odom.x_um = keep.x_um;
+    r->odom.y_um = keep.y_um;
+    r->odom.heading_q16 = keep.heading_q16;
+    sonar_init(&r->mapper.sonar, &r->cfg);
+    motion_init(&r->motion, &r->cfg);
+
+    slam_config_t here = r->cfg;
+    here.start_x_um = r->pose.x_um;
+    here.start_y_um = r->pose.y_um;
+    here.start_heading_mdeg = fix_bam_to_mdeg(r->pose.heading);
+    if (!reseed) {
+        here.explore_seed = r->explore.rng; /* the random stream goes on */
+    }
+    explore_t *e = &r->explore;
+    uint32_t turns = e->turns, avoidances = e->avoidances, stalls = e->stalls;
+    uint32_t leaves = e->leaves, doors = e->doors, seeks = e->seeks;
+    explore_init(e, &here);
+    e->turns = turns;
+    e->avoidances = avoidances;
+    e->stalls = stalls;
+    e->leaves = leaves;
+    e->doors = doors;
+    e->seeks = seeks;
+    hal_critical_exit(irq);
+}
+
+/* One well-formed command: answered, and done or left pending until the robot stands. */
+static void robot_command(robot_t *r, const telem_cmd_t *c)
+{
+    telem_t *t = &r->telem;
+    switch (c->type) {
+    case TELEM_CMD_START:
+        robot_hold(r, ROBOT_HOLD_STOP, false);
+        telem_send_ack(t, c->type);
+        break;
+    case TELEM_CMD_STOP:
+        robot_hold(r, ROBOT_HOLD_STOP, true);
+        telem_send_ack(t, c->type);
+        break;
+    case TELEM_CMD_GET: {
+        uint32_t v;
+        if (telem_config_get(&r->cfg, c->key, &v) != 0) {
+            telem_send_error(t, c->type, TELEM_ERR_KEY, c->key);
+        } else {
+            telem_send_config(t, &r->cfg, c->key);
+        }
+        break;
+    }
+    case TELEM_CMD_MODE:
+    case TELEM_CMD_SET:
+    case TELEM_CMD_CALIBRATE: {
+        uint8_t key = c->type == TELEM_CMD_SET ? c->key : (uint8_t)TELEM_KEY_EXPLORE_MODE;
+        uint32_t value = c->type == TELEM_CMD_SET    ? c->value
+                         : c->type == TELEM_CMD_MODE ? c->key
+                                                     : ROBOT_CALIBRATION_MODE;
+        int rc = telem_config_set(&r->cfg, key, value);
+        if (rc != 0) {
+            telem_send_error(t, c->type, (uint8_t)-rc, c->type == TELEM_CMD_MODE ? 0u : key);
+            break;
+        }
+        r->pending |= ROBOT_PENDING_RECONFIGURE;
+        if (key == TELEM_KEY_EXPLORE_SEED) {
+            r->pending |= ROBOT_PENDING_RESEED;
+        }
+        if (c->type == TELEM_CMD_SET) {
+            telem_send_config(t, &r->cfg, key);
+        } else {
+            if (c->type == TELEM_CMD_CALIBRATE) {
+                robot_hold(r, ROBOT_HOLD_STOP, false);
+            }
+            telem_send_ack(t, c->type);
+        }
+        break;
+    }
+    case TELEM_CMD_SAVE:
+        if (!r->store.available) {
+            telem_send_error(t, c->type, TELEM_ERR_UNSUPPORTED, 0u);
+        } else {
+            robot_request_save(r);
+            telem_send_ack(t, c->type);
+        }
+        break;
+    case TELEM_CMD_SEND_MAP:
+        telem_map_restart(t);
+        telem_send_ack(t, c->type);
+        break;
+    default:
+        telem_send_error(t, c->type, TELEM_ERR_COMMAND, 0u);
+        break;
+    }
+}
+
+/* Commands from the UART, then what waits for the robot to stand. Kept out of line, so
+ * its buffers are not on the stack while robot_idle() saves the maps. */
+__attribute__((noinline)) static void robot_commands(robot_t *r, uint32_t ticks)
+{
+    uint8_t rx[ROBOT_RX_BYTES];
+    size_t n = hal_uart_read(rx, sizeof rx);
+    telem_rx_expire(&r->telem, ticks);
+    for (size_t i = 0; i < n; i++) {
+        telem_cmd_t c;
+        if (telem_rx_byte(&r->telem, rx[i], ticks, &c)) {
+            robot_command(r, &c);
+        }
+    }
+    if (r->pending != 0u) {
+        robot_hold(r, ROBOT_HOLD_COMMAND, true);
+        if (r->held) {
+            robot_reconfigure(r, (r->pending & ROBOT_PENDING_RESEED) != 0u);
+            r->pending = 0u;
+            robot_hold(r, ROBOT_HOLD_COMMAND, false);
+        }
+    }
 }
 
 void robot_idle(robot_t *r)
@@ -116,12 +276,14 @@ void robot_idle(robot_t *r)
         r->idle_ticks = ticks;
         hal_watchdog_kick();
     }
+    robot_commands(r, ticks);
+    loc_idle(&r->loc, &r->mapper, &r->grid);
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;
     if (!r->store.active && r->store.available && (due || r->save_requested)) {
         /* Stop first: beginning a slot erases it, which may stall the CPU. */
-        r->hold = true;
+        robot_hold(r, ROBOT_HOLD_SAVE, true);
         if (r->held) {
             /* The pose is three words the tick rewrites: copy it in one piece. */
             hal_irq_state_t irq = hal_critical_enter();
@@ -130,7 +292,7 @@ void robot_idle(robot_t *r)
             r->save_requested = false;
             r->next_save = ticks + period;
             mapstore_begin(&r->store, &r->grid, &pose, ticks);
-            r->hold = false;
+            robot_hold(r, ROBOT_HOLD_SAVE, false);
         }
     }
     (void)mapstore_step(&r->store, &r->grid);
@@ -143,6 +305,9 @@ void robot_idle(robot_t *r)
         .om_hits = r->mapper.hits,
         .overruns = hal_tick_overruns(),
         .saves = r->store.saves,
+        .explore_mode = r->cfg.explore_mode,
+        .flags = (uint8_t)(((r->hold & ROBOT_HOLD_STOP) != 0u ? TELEM_FLAG_STOPPED : 0u) |
+                           (r->pending != 0u ? TELEM_FLAG_PENDING : 0u)),
     };
-    telem_idle(&r->telem, &r->grid, &st, ticks);
+    telem_idle(&r->telem, &r->grid, &r->cfg, &st, ticks);
 }

@@ -31,20 +31,39 @@ bam32_t sonar_bearing(const sonar_t *s, bam32_t heading, bam32_t servo)
     return heading + FIX_BAM_QUARTER - servo + s->mount_yaw;
 }
 
-void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
-                    uint32_t range_um, int32_t *x_um, int32_t *y_um)
+void sonar_origin(const sonar_t *s, const odom_pose_t *pose, int32_t *x_um, int32_t *y_um)
 {
     q1_30_t c = fix_cos(pose->heading);
     q1_30_t sn = fix_sin(pose->heading);
-    /* The servo axis in the world: the pose plus the mount offset turned by Ψ. The offset
-     * is within 1 m (slam_config_check), so the 32 x 32-bit products cannot overflow. */
+    /* The offset is within 1 m (slam_config_check), so the 32 x 32-bit products cannot
+     * overflow. */
     int64_t mx = s->mount_x_um;
     int64_t my = s->mount_y_um;
-    int64_t xs = (int64_t)pose->x_um + fix_round_shift(mx * c - my * sn, 30u);
-    int64_t ys = (int64_t)pose->y_um + fix_round_shift(mx * sn + my * c, 30u);
-    /* Eq. 4-5 along the bearing; d < 2^32 and |cos| <= 1, so the products fit. */
+    *x_um = fix_sat_i32((int64_t)pose->x_um + fix_round_shift(mx * c - my * sn, 30u));
+    *y_um = fix_sat_i32((int64_t)pose->y_um + fix_round_shift(mx * sn + my * c, 30u));
+}
+
+void sonar_beam(const sonar_t *s, const odom_pose_t *pose, bam32_t servo, sonar_beam_t *b)
+{
+    sonar_origin(s, pose, &b->x_um, &b->y_um);
     bam32_t theta = sonar_bearing(s, pose->heading, servo);
+    b->c = fix_cos(theta);
+    b->s = fix_sin(theta);
+}
+
+void sonar_beam_point(const sonar_beam_t *b, uint32_t range_um, int32_t *x_um, int32_t *y_um)
+{
+    /* d < 2^32 and |cos| <= 1, so the products fit; a point of the world (within 1 km,
+     * slam_config_check()) plus a sonar's range stays far inside int32_t. */
     int64_t d = range_um;
-    *x_um = fix_sat_i32(xs + fix_round_shift(d * fix_cos(theta), 30u));
-    *y_um = fix_sat_i32(ys + fix_round_shift(d * fix_sin(theta), 30u));
+    *x_um = (int32_t)(b->x_um + fix_round_shift(d * b->c, 30u));
+    *y_um = (int32_t)(b->y_um + fix_round_shift(d * b->s, 30u));
+}
+
+void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
+                    uint32_t range_um, int32_t *x_um, int32_t *y_um)
+{
+    sonar_beam_t b;
+    sonar_beam(s, pose, servo, &b);
+    sonar_beam_point(&b, range_um, x_um, y_um);
 }

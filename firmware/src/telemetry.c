@@ -69,7 +69,9 @@ static size_t wrap(uint8_t *frame, uint8_t type, size_t len)
 
 size_t telem_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len)
 {
-    memmove(buf + 4, payload, len);
+    if (len > 0u) { /* a command without a payload may pass NULL */
+        memmove(buf + 4, payload, len);
+    }
     return wrap(buf, type, len);
 }
 
@@ -161,7 +163,7 @@ static void send_event(telem_t *t, uint8_t *frame, const telem_event_t *e)
     send(t, frame, e->type, (size_t)(p - PAYLOAD(frame)));
 }
 
-static void send_hello(telem_t *t, uint8_t *frame, const grid_t *g)
+static void send_hello(telem_t *t, uint8_t *frame, const grid_t *g, const slam_config_t *cfg)
 {
     uint8_t *p = put8(PAYLOAD(frame), TELEM_VERSION);
     p = put16(p, SLAM_GRID_A);
@@ -171,17 +173,29 @@ static void send_hello(telem_t *t, uint8_t *frame, const grid_t *g)
     p = put32(p, (uint32_t)g->origin_y_um);
     p = put8(p, g->om_max);
     p = put8(p, g->tm_max);
+    p = put32(p, cfg->confidence_radius_um);
+    p = put32(p, cfg->range_min_um);
+    p = put32(p, (uint32_t)cfg->mount_x_um);
+    p = put32(p, (uint32_t)cfg->mount_y_um);
+    p = put32(p, (uint32_t)cfg->mount_yaw_mdeg);
+    p = put8(p, g->mode);
+    p = put8(p, g->hit);
+    p = put8(p, g->miss);
     send(t, frame, TELEM_HELLO, (size_t)(p - PAYLOAD(frame)));
 }
 
 static void send_status(telem_t *t, uint8_t *frame, const telem_status_t *st)
 {
-    const uint32_t v[8] = {st->ticks, st->pings, st->echoes, st->timeouts,
-                           st->om_hits, st->overruns, st->saves, t->dropped + t->short_writes};
+    const uint32_t v[10] = {st->ticks,    st->pings,    st->echoes,
+                            st->timeouts, st->om_hits,  st->overruns,
+                            st->saves,    t->dropped + t->short_writes,
+                            t->commands,  t->refused};
     uint8_t *p = PAYLOAD(frame);
-    for (unsigned i = 0; i < 8u; i++) {
+    for (unsigned i = 0; i < 10u; i++) {
         p = put32(p, v[i]);
     }
+    p = put8(p, st->explore_mode);
+    p = put8(p, st->flags);
     send(t, frame, TELEM_STATUS, (size_t)(p - PAYLOAD(frame)));
 }
 
@@ -206,7 +220,16 @@ static void send_map_row(telem_t *t, uint8_t *frame, const grid_t *g)
     }
 }
 
-void telem_idle(telem_t *t, const grid_t *g, const telem_status_t *st, uint32_t ticks)
+void telem_map_restart(telem_t *t)
+{
+    t->map = 0u;
+    t->row = 0u;
+    t->first = 0u;
+    t->hello_due = true;
+}
+
+void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
+                const telem_status_t *st, uint32_t ticks)
 {
     uint8_t frame[TELEM_FRAME_MAX];
     uint8_t tail = t->tail;
@@ -216,9 +239,10 @@ void telem_idle(telem_t *t, const grid_t *g, const telem_status_t *st, uint32_t 
         __atomic_store_n(&t->tail, tail, __ATOMIC_RELEASE);
         send_event(t, frame, &e);
     }
-    if (ticks - t->last_hello_tick >= 5u * TELEM_TICKS_PER_S) {
+    if (t->hello_due || ticks - t->last_hello_tick >= 5u * TELEM_TICKS_PER_S) {
+        t->hello_due = false;
         t->last_hello_tick = ticks;
-        send_hello(t, frame, g);
+        send_hello(t, frame, g, cfg);
     }
     if (ticks - t->last_status_tick >= TELEM_TICKS_PER_S) {
         t->last_status_tick = ticks;
@@ -228,4 +252,197 @@ void telem_idle(telem_t *t, const grid_t *g, const telem_status_t *st, uint32_t 
         t->last_row_tick = ticks;
         send_map_row(t, frame, g);
     }
+}
+
+/* ---- commands ------------------------------------------------------------------------- */
+
+/* Where each key's field lies in slam_config_t and how it is stored. */
+enum { KEY_U8 = 0u, KEY_U16 = 1u, KEY_U32 = 2u, KEY_I32 = 3u, KEY_SIZE = 3u };
+#define KEY_LIVE 0x40u  /* SET may change it while the robot runs */
+#define KEY_KNOWN 0x80u /* the id is in use */
+typedef struct {
+    uint8_t offset;
+    uint8_t flags;
+} config_key_t;
+
+_Static_assert(sizeof(slam_config_t) <= 255u, "key offsets are bytes");
+
+static const config_key_t config_keys[TELEM_CONFIG_KEY_MAX + 1u] = {
+#define KEY(id, field, type, live)                                                              \
+    [id] = {(uint8_t)offsetof(slam_config_t, field),                                            \
+            (uint8_t)(KEY_KNOWN | ((live) ? KEY_LIVE : 0u) | KEY_##type)},
+    TELEM_CONFIG_KEYS(KEY)
+#undef KEY
+};
+
+static const config_key_t *config_key(uint8_t key)
+{
+    if (key > TELEM_CONFIG_KEY_MAX || (config_keys[key].flags & KEY_KNOWN) == 0u) {
+        return NULL;
+    }
+    return &config_keys[key];
+}
+
+int telem_config_get(const slam_config_t *cfg, uint8_t key, uint32_t *value)
+{
+    const config_key_t *k = config_key(key);
+    if (k == NULL) {
+        return -(int)TELEM_ERR_KEY;
+    }
+    const uint8_t *field = (const uint8_t *)cfg + k->offset;
+    switch (k->flags & KEY_SIZE) {
+    case KEY_U8:
+        *value = *field;
+        break;
+    case KEY_U16: {
+        uint16_t v;
+        memcpy(&v, field, sizeof v);
+        *value = v;
+        break;
+    }
+    default:
+        memcpy(value, field, sizeof *value); /* an int32_t's bits are its two's complement */
+        break;
+    }
+    return 0;
+}
+
+int telem_config_set(slam_config_t *cfg, uint8_t key, uint32_t value)
+{
+    const config_key_t *k = config_key(key);
+    if (k == NULL) {
+        return -(int)TELEM_ERR_KEY;
+    }
+    if ((k->flags & KEY_LIVE) == 0u) {
+        return -(int)TELEM_ERR_FIXED;
+    }
+    slam_config_t c = *cfg;
+    uint8_t *field = (uint8_t *)&c + k->offset;
+    switch (k->flags & KEY_SIZE) {
+    case KEY_U8:
+        if (value > UINT8_MAX) {
+            return -(int)TELEM_ERR_RANGE;
+        }
+        *field = (uint8_t)value;
+        break;
+    case KEY_U16: {
+        if (value > UINT16_MAX) {
+            return -(int)TELEM_ERR_RANGE;
+        }
+        uint16_t v = (uint16_t)value;
+        memcpy(field, &v, sizeof v);
+        break;
+    }
+    default:
+        memcpy(field, &value, sizeof value);
+        break;
+    }
+    if (slam_config_check(&c, NULL) != 0) {
+        return -(int)TELEM_ERR_RANGE;
+    }
+    *cfg = c;
+    return 0;
+}
+
+/* The payload length of each command, from TELEM_CMD_START on. */
+static const uint8_t cmd_len[] = {0u, 0u, 1u, 1u, 5u, 0u, 0u, 0u};
+#define CMD_FIRST TELEM_CMD_START
+#define CMD_COUNT (sizeof cmd_len / sizeof cmd_len[0])
+
+/* A reply: a few bytes of payload, framed and written at once. */
+static void reply(telem_t *t, uint8_t type, const uint8_t *payload, uint8_t len)
+{
+    uint8_t frame[6u + TELEM_CMD_PAYLOAD_MAX];
+    memcpy(PAYLOAD(frame), payload, len);
+    send(t, frame, type, len);
+}
+
+void telem_send_ack(telem_t *t, uint8_t command)
+{
+    t->commands++;
+    reply(t, TELEM_ACK, &command, 1u);
+}
+
+void telem_send_error(telem_t *t, uint8_t command, uint8_t code, uint8_t key)
+{
+    t->refused++;
+    const uint8_t p[3] = {command, code, key};
+    reply(t, TELEM_ERROR, p, sizeof p);
+}
+
+void telem_send_config(telem_t *t, const slam_config_t *cfg, uint8_t key)
+{
+    uint32_t value = 0u;
+    (void)telem_config_get(cfg, key, &value);
+    uint8_t p[5];
+    put32(put8(p, key), value);
+    t->commands++;
+    reply(t, TELEM_CONFIG, p, sizeof p);
+}
+
+static void rx_drop(telem_t *t, uint8_t n)
+{
+    t->rx_len = (uint8_t)(t->rx_len - n);
+    memmove(t->rx, t->rx + n, t->rx_len);
+}
+
+bool telem_rx_byte(telem_t *t, uint8_t byte, uint32_t ticks, telem_cmd_t *cmd)
+{
+    if (t->rx_len == sizeof t->rx) {
+        rx_drop(t, 1u); /* cannot happen: a full buffer is always a whole frame */
+    }
+    t->rx[t->rx_len++] = byte;
+    t->rx_tick = ticks;
+    /* Resynchronise on A5 5A; a frame that cannot be a command is refused as soon as its
+     * header says so, so the buffer never needs more than the longest command. */
+    while (t->rx_len > 0u) {
+        if (t->rx[0] != TELEM_SYNC0 || (t->rx_len >= 2u && t->rx[1] != TELEM_SYNC1)) {
+            rx_drop(t, 1u);
+            continue;
+        }
+        if (t->rx_len < 4u) {
+            return false;
+        }
+        uint8_t type = t->rx[2];
+        uint8_t len = t->rx[3];
+        if (len > TELEM_CMD_PAYLOAD_MAX) {
+            telem_send_error(t, type, TELEM_ERR_LENGTH, 0u);
+            rx_drop(t, 2u);
+            continue;
+        }
+        uint8_t n = (uint8_t)(6u + len);
+        if (t->rx_len < n) {
+            return false;
+        }
+        uint16_t crc = (uint16_t)(t->rx[4u + len] | t->rx[5u + len] << 8);
+        bool crc_ok = crc == telem_crc16(t->rx + 2, len + 2u);
+        telem_cmd_t c = {.type = type, .key = len >= 1u ? t->rx[4] : 0u, .value = 0u};
+        if (len == 5u) {
+            c.value = (uint32_t)t->rx[5] | (uint32_t)t->rx[6] << 8 | (uint32_t)t->rx[7] << 16 |
+                      (uint32_t)t->rx[8] << 24;
+        }
+        rx_drop(t, n); /* the whole frame: a damaged one must not eat the next command */
+        if (!crc_ok) {
+            telem_send_error(t, type, TELEM_ERR_CRC, 0u);
+        } else if (type < CMD_FIRST || type >= CMD_FIRST + CMD_COUNT) {
+            telem_send_error(t, type, TELEM_ERR_COMMAND, 0u);
+        } else if (len != cmd_len[type - CMD_FIRST]) {
+            telem_send_error(t, type, TELEM_ERR_LENGTH, 0u);
+        } else {
+            *cmd = c;
+            return true;
+        }
+    }
+    return false;
+}
+
+void telem_rx_expire(telem_t *t, uint32_t ticks)
+{
+    if (t->rx_len == 0u || ticks - t->rx_tick < TELEM_RX_TIMEOUT_TICKS) {
+        return;
+    }
+    if (t->rx_len >= 3u) {
+        telem_send_error(t, t->rx[2], TELEM_ERR_LENGTH, 0u);
+    }
+    t->rx_len = 0u; /* a lone sync is noise: nothing to answer */
 }

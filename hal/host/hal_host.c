@@ -7,7 +7,8 @@
 #include "hal_common/trace.h"
 #include "host/sim.h"
 
-/* Bytes in each storage slot: OM and TM of a 160 x 160 grid with room to spare. */
+/* Bytes in each storage slot: OM and TM of a 160 x 160 grid with room to spare, the
+ * size of an MCU's flash sector; hal_host_storage_resize() makes room for larger grids. */
 #define HOST_STORAGE_SIZE (128u * 1024u)
 
 static struct {
@@ -16,23 +17,29 @@ static struct {
     void *ctx;
     uint64_t t0_us;      /* world time at hal_init() */
     FILE *uart;
+    uint8_t rx[HAL_HOST_UART_RX_BYTES]; /* received, not yet read: rx_head - rx_tail bytes */
+    size_t rx_head, rx_tail;
     FILE *trace;
     uint64_t trace_ticks;
     bool in_tick;
     trace_tick_t rec;    /* what the firmware saw in the tick under way */
-    uint8_t storage[HAL_STORAGE_SLOTS][HOST_STORAGE_SIZE];
+    uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
+    size_t storage_size; /* bytes of each slot in use; 0 until the first use */
     bool rewriting[HAL_STORAGE_SLOTS];
     bool storage_ready;
 } hh;
 
 static void storage_erase(uint8_t slot)
 {
-    memset(hh.storage[slot], 0xFF, HOST_STORAGE_SIZE); /* as erased flash reads */
+    memset(hh.storage[slot], 0xFF, HAL_HOST_STORAGE_MAX); /* as erased flash reads */
 }
 
 /* Storage starts erased, once per process: it outlives worlds and hal_init(). */
 static void storage_power_on(void)
 {
+    if (hh.storage_size == 0u) {
+        hh.storage_size = HOST_STORAGE_SIZE;
+    }
     if (!hh.storage_ready) {
         for (uint8_t i = 0; i < HAL_STORAGE_SLOTS; i++) {
             storage_erase(i);
@@ -48,11 +55,22 @@ void hal_host_attach(sim_t *s)
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
     hh.in_tick = false;
+    hh.rx_head = hh.rx_tail = 0u; /* nothing received survives a power-up */
 }
 
 void hal_host_uart_sink(FILE *f)
 {
     hh.uart = f;
+}
+
+size_t hal_host_uart_receive(const uint8_t *data, size_t len)
+{
+    size_t room = HAL_HOST_UART_RX_BYTES - (hh.rx_head - hh.rx_tail);
+    size_t n = len < room ? len : room;
+    for (size_t i = 0; i < n; i++) {
+        hh.rx[hh.rx_head++ % HAL_HOST_UART_RX_BYTES] = data[i];
+    }
+    return n;
 }
 
 void hal_host_trace(FILE *f)
@@ -192,21 +210,40 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
 
 size_t hal_uart_read(uint8_t *data, size_t len)
 {
-    (void)data;
-    (void)len;
-    return 0u;
+    size_t n = 0;
+    while (n < len && hh.rx_tail != hh.rx_head) {
+        data[n++] = hh.rx[hh.rx_tail++ % HAL_HOST_UART_RX_BYTES];
+    }
+    return n;
+}
+
+void hal_host_storage_resize(size_t bytes)
+{
+    hh.storage_size = bytes > HAL_HOST_STORAGE_MAX ? HAL_HOST_STORAGE_MAX : bytes;
+    hh.storage_ready = false;
+    storage_power_on();
+}
+
+const uint8_t *hal_host_storage_slot(uint8_t slot)
+{
+    if (slot >= HAL_STORAGE_SLOTS) {
+        return NULL;
+    }
+    storage_power_on();
+    return hh.storage[slot];
 }
 
 size_t hal_storage_size(void)
 {
-    return HOST_STORAGE_SIZE;
+    storage_power_on();
+    return hh.storage_size;
 }
 
 /* A range [offset, offset + len) inside a slot, without overflow. */
 static bool storage_range_ok(uint8_t slot, uint32_t offset, const void *data, size_t len)
 {
-    return slot < HAL_STORAGE_SLOTS && offset <= HOST_STORAGE_SIZE &&
-           len <= HOST_STORAGE_SIZE - offset && (data != NULL || len == 0u);
+    return slot < HAL_STORAGE_SLOTS && offset <= hh.storage_size &&
+           len <= hh.storage_size - offset && (data != NULL || len == 0u);
 }
 
 int hal_storage_begin(uint8_t slot)

@@ -33,8 +33,23 @@
 
 #define BOARD_NAME "generic-f405"
 
-/** The crystal: an even number of MHz from 4 to 26 (the PLL input is set to 2 MHz). */
+/* ---- chip and clocks --------------------------------------------------------------------- */
+
+/** The linker script of the chip (hal/stm32f4/): 1 MiB flash, 128 KiB SRAM. */
+#define BOARD_LINKER_SCRIPT "stm32f405rg.ld"
+
+/** The crystal, and the PLL's input divided down from it (1..2 MHz, dividing 16 MHz too). */
 #define BOARD_HSE_HZ 8000000u
+#define BOARD_PLL_IN_HZ 2000000u
+/** 168 MHz; APB1 at 42 MHz and APB2 at 84 MHz, their maxima (RM0090 §6.2). */
+#define BOARD_SYSCLK_HZ 168000000u
+#define BOARD_APB1_DIV 4u
+#define BOARD_APB2_DIV 2u
+#define BOARD_SYSCLK_MAX_HZ 168000000u
+#define BOARD_APB1_MAX_HZ 42000000u
+#define BOARD_APB2_MAX_HZ 84000000u
+/** Regulator scale 1, needed above 144 MHz. */
+#define BOARD_PWR_VOS STM32_PWR_CR_VOS_F405_SCALE1
 
 /* ---- pins ----------------------------------------------------------------------------- */
 

@@ -1,19 +1,33 @@
 /* SPDX-License-Identifier: MIT */
-/* The clock tree: HSE + PLL to 168 MHz, a timeout on every ready bit, HSI as the fallback. */
+/* The clock tree: HSE + PLL to the board's speed, a timeout on every ready bit, HSI as the fallback. */
 #include "board.h"
 #include "cortex_m.h"
 #include "stm32f4_port.h"
 
-#if BOARD_HSE_HZ % 2000000u != 0u || BOARD_HSE_HZ < 4000000u || BOARD_HSE_HZ > 26000000u
-#error "BOARD_HSE_HZ must be an even number of MHz from 4 to 26"
-#endif
-
+/* The board table gives the crystal, the PLL's input, the speed and the bus dividers; the
+ * PLL's factors follow, and every limit of the reference manuals is checked here. */
 #define HSI_HZ 16000000u
-#define PLL_IN_HZ 2000000u /* VCO input: 2 MHz keeps the jitter lowest (RM0090 §6.3.2) */
-#define PLL_N 168u         /* VCO 336 MHz */
-#define PLL_P 2u           /* SYSCLK 168 MHz */
-#define PLL_Q 7u           /* 48 MHz for USB/SDIO, should they be used */
-#define SYSCLK_PLL_HZ (PLL_IN_HZ * PLL_N / PLL_P)
+#define PLL_IN_HZ BOARD_PLL_IN_HZ /* VCO input: 2 MHz keeps the jitter lowest (RM0090 §6.3.2) */
+#define PLL_P 2u
+#define PLL_N (BOARD_SYSCLK_HZ / PLL_IN_HZ * PLL_P)
+#define PLL_VCO_HZ (PLL_IN_HZ * PLL_N)
+#define PLL_Q (PLL_VCO_HZ / 48000000u) /* 48 MHz for USB/SDIO, should they be used */
+#define SYSCLK_PLL_HZ (PLL_VCO_HZ / PLL_P)
+#define PCLK1_HZ (SYSCLK_PLL_HZ / BOARD_APB1_DIV)
+#define PCLK2_HZ (SYSCLK_PLL_HZ / BOARD_APB2_DIV)
+
+#if PLL_IN_HZ < 1000000u || PLL_IN_HZ > 2000000u || BOARD_HSE_HZ % PLL_IN_HZ != 0u || \
+    HSI_HZ % PLL_IN_HZ != 0u || BOARD_HSE_HZ / PLL_IN_HZ > 63u
+#error "BOARD_PLL_IN_HZ must be 1 to 2 MHz and divide both the crystal and the 16 MHz HSI"
+#endif
+#if SYSCLK_PLL_HZ != BOARD_SYSCLK_HZ || PLL_N < 50u || PLL_N > 432u || \
+    PLL_VCO_HZ < 100000000u || PLL_VCO_HZ > 432000000u || PLL_Q < 2u || PLL_Q > 15u
+#error "BOARD_SYSCLK_HZ is not reachable with this PLL input (VCO 100..432 MHz, N 50..432)"
+#endif
+#if BOARD_SYSCLK_HZ > BOARD_SYSCLK_MAX_HZ || PCLK1_HZ > BOARD_APB1_MAX_HZ || \
+    PCLK2_HZ > BOARD_APB2_MAX_HZ
+#error "a clock of the board table exceeds its chip's maximum"
+#endif
 
 /* How long to wait for a ready bit, in loops: about 60 ms at the 16 MHz of HSI, where a
  * crystal needs about 2 ms and the PLL 0.1 ms. A loop, because no timer runs yet; QEMU
@@ -61,10 +75,12 @@ void stm32_clock_init(void)
     run_on_hsi();
     (void)wait_bits(&rcc->CR, STM32_RCC_CR_PLLRDY, 0u);
 
-    /* Regulator scale 1, needed above 144 MHz (the reset value, set for certainty). */
+    /* The regulator's scale for this speed (F405: the reset value, set for certainty;
+     * F411: its reset value is too low for more than 84 MHz). The PLL is still off, as
+     * a change of scale requires. */
     rcc->APB1ENR |= STM32_RCC_APB1ENR_PWREN;
     (void)rcc->APB1ENR;
-    STM32_PWR->CR |= STM32_PWR_CR_VOS;
+    STM32_PWR->CR |= BOARD_PWR_VOS;
 
     uint32_t pll;
     rcc->CR |= STM32_RCC_CR_HSEON;
@@ -100,9 +116,9 @@ void stm32_clock_init(void)
         return;
     }
 
-    /* AHB 168 MHz, APB1 42 MHz (its maximum), APB2 84 MHz (its maximum). */
+    /* AHB at the full speed, the two APBs as the board divides them. */
     rcc->CFGR = (rcc->CFGR & ~STM32_RCC_CFGR_PRESCALERS_MASK) | STM32_RCC_CFGR_HPRE_DIV1 |
-                STM32_RCC_CFGR_PPRE1_DIV4 | STM32_RCC_CFGR_PPRE2_DIV2;
+                STM32_RCC_CFGR_PPRE1(BOARD_APB1_DIV) | STM32_RCC_CFGR_PPRE2(BOARD_APB2_DIV);
     rcc->CFGR = (rcc->CFGR & ~STM32_RCC_CFGR_SW_MASK) | STM32_RCC_CFGR_SW_PLL;
     if (!wait_bits(&rcc->CFGR, STM32_RCC_CFGR_SWS_MASK, STM32_RCC_CFGR_SWS_PLL)) {
         stm32_clocks.pll_timeout = true;
@@ -111,11 +127,11 @@ void stm32_clock_init(void)
         return;
     }
     stm32_clocks.sysclk_hz = SYSCLK_PLL_HZ;
-    stm32_clocks.pclk1_hz = SYSCLK_PLL_HZ / 4u;
-    stm32_clocks.pclk2_hz = SYSCLK_PLL_HZ / 2u;
+    stm32_clocks.pclk1_hz = PCLK1_HZ;
+    stm32_clocks.pclk2_hz = PCLK2_HZ;
     /* A timer on a divided APB runs at twice its bus clock (RM0090 §6.2). */
-    stm32_clocks.tim_apb1_hz = SYSCLK_PLL_HZ / 2u;
-    stm32_clocks.tim_apb2_hz = SYSCLK_PLL_HZ;
+    stm32_clocks.tim_apb1_hz = BOARD_APB1_DIV == 1u ? PCLK1_HZ : 2u * PCLK1_HZ;
+    stm32_clocks.tim_apb2_hz = BOARD_APB2_DIV == 1u ? PCLK2_HZ : 2u * PCLK2_HZ;
 }
 
 const char *stm32_clock_name(void)

@@ -52,6 +52,7 @@ void stm32_sonar_init(void)
     (BOARD_TRIG_CH <= 2u ? &trig->CCMR1 : &trig->CCMR2)[0] |=
         STM32_TIM_CCMR_CH(BOARD_TRIG_CH, STM32_TIM_CCMR_OCM_PWM2);
     trig->CCER = STM32_TIM_CCER_CCE(BOARD_TRIG_CH);
+    trig->BDTR = STM32_TIM_BDTR_MOE; /* an advanced timer (TIM1, TIM8) drives no pin without it */
     trig->CR1 = STM32_TIM_CR1_URS | STM32_TIM_CR1_OPM;
     trig->EGR = STM32_TIM_EGR_UG;
 

@@ -22,8 +22,8 @@
 /* ---- clocks (clock.c) ---------------------------------------------------------------- */
 
 typedef enum {
-    STM32_CLOCK_HSE_PLL = 0, /**< 168 MHz from the crystal: the normal case */
-    STM32_CLOCK_HSI_PLL,     /**< 168 MHz from the internal RC: the crystal did not start */
+    STM32_CLOCK_HSE_PLL = 0, /**< BOARD_SYSCLK_HZ from the crystal: the normal case */
+    STM32_CLOCK_HSI_PLL,     /**< the same from the internal RC: the crystal did not start */
     STM32_CLOCK_HSI,         /**< 16 MHz internal RC: the PLL did not lock (QEMU) */
 } stm32_clock_source_t;
 
@@ -43,7 +43,7 @@ typedef struct {
 extern stm32_clocks_t stm32_clocks;
 
 /**
- * HSE + PLL to 168 MHz; falls back to HSI + PLL, then to HSI alone. Every wait on a
+ * HSE + PLL to BOARD_SYSCLK_HZ; falls back to HSI + PLL, then to HSI alone. Every wait on a
  * ready bit has a timeout (QEMU does not emulate them). Call once, first thing.
  */
 void stm32_clock_init(void);

@@ -115,10 +115,10 @@ _Static_assert(offsetof(stm32_rcc_t, PLLI2SCFGR) == 0x84, "RCC_PLLI2SCFGR");
 #define STM32_RCC_CFGR_SWS_HSI (0u << 2)
 #define STM32_RCC_CFGR_SWS_PLL (2u << 2)
 #define STM32_RCC_CFGR_HPRE_DIV1 (0u << 4)
-#define STM32_RCC_CFGR_PPRE1_DIV1 (0u << 10)
-#define STM32_RCC_CFGR_PPRE1_DIV4 (5u << 10)
-#define STM32_RCC_CFGR_PPRE2_DIV1 (0u << 13)
-#define STM32_RCC_CFGR_PPRE2_DIV2 (4u << 13)
+/** APB prescaler field of a divider 1, 2, 4, 8 or 16: 0, then 4 + log2(div) - 1. */
+#define STM32_RCC_PPRE(div) ((div) == 1u ? 0u : (div) == 2u ? 4u : (div) == 4u ? 5u : (div) == 8u ? 6u : 7u)
+#define STM32_RCC_CFGR_PPRE1(div) (STM32_RCC_PPRE(div) << 10)
+#define STM32_RCC_CFGR_PPRE2(div) (STM32_RCC_PPRE(div) << 13)
 #define STM32_RCC_CFGR_PRESCALERS_MASK ((0xFu << 4) | (7u << 10) | (7u << 13))
 
 #define STM32_RCC_APB1ENR_PWREN (1u << 28)
@@ -140,7 +140,8 @@ typedef struct {
     volatile uint32_t CSR; /* 0x04 */
 } stm32_pwr_t;
 #define STM32_PWR ((stm32_pwr_t *)STM32_PWR_BASE)
-#define STM32_PWR_CR_VOS (1u << 14) /**< F405/407: regulator scale 1, needed for 168 MHz */
+#define STM32_PWR_CR_VOS_F405_SCALE1 (1u << 14) /**< F405/407: scale 1, needed above 144 MHz */
+#define STM32_PWR_CR_VOS_F411_SCALE1 (3u << 14) /**< F401/411: scale 1, needed above 84 MHz */
 
 /* ---- flash interface (RM0090 §3.9) --------------------------------------------------- */
 

@@ -6,7 +6,7 @@
 #include "stm32f4_port.h"
 
 typedef struct {
-    uint32_t ccr_index; /* CCR[] of the PWM channel */
+    volatile uint32_t *ccr; /* the PWM channel's compare register */
     uint32_t forward;   /* BSRR word for forward: IN1 high, IN2 low */
     uint32_t reverse;   /* BSRR word for reverse: IN1 low, IN2 high */
     uint32_t off;       /* BSRR word for coasting: both low */
@@ -18,13 +18,14 @@ typedef struct {
     .off = (1u << ((in1) + 16u)) | (1u << ((in2) + 16u))
 
 static const motor_t motors[2] = {
-    {.ccr_index = BOARD_MOTOR_LEFT_CH - 1u,
+    {.ccr = &STM32_TIM(BOARD_MOTOR_TIM)->CCR[BOARD_MOTOR_LEFT_CH - 1u],
      DIR_WORDS(BOARD_MOTOR_LEFT_IN1, BOARD_MOTOR_LEFT_IN2, BOARD_MOTOR_LEFT_INVERT)},
-    {.ccr_index = BOARD_MOTOR_RIGHT_CH - 1u,
+    {.ccr = &STM32_TIM(BOARD_MOTOR_TIM)->CCR[BOARD_MOTOR_RIGHT_CH - 1u],
      DIR_WORDS(BOARD_MOTOR_RIGHT_IN1, BOARD_MOTOR_RIGHT_IN2, BOARD_MOTOR_RIGHT_INVERT)},
 };
 
 static uint32_t motor_period; /* timer counts in one PWM period: full duty */
+static uint32_t motor_dir[2];  /* the BSRR word the direction pins were last given */
 
 static void encoder_setup(uint32_t base, bool invert)
 {
@@ -67,6 +68,8 @@ void stm32_wheels_init(void)
     tim->CR1 = STM32_TIM_CR1_ARPE | STM32_TIM_CR1_CEN;
 
     STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = motors[0].off | motors[1].off;
+    motor_dir[0] = motors[0].off;
+    motor_dir[1] = motors[1].off;
     stm32_gpio_write(BOARD_MOTOR_STBY_PORT, BOARD_MOTOR_STBY_PIN, true);
 }
 
@@ -78,17 +81,29 @@ uint16_t hal_encoder_count(hal_wheel_t wheel)
 
 void hal_motor_set(hal_wheel_t wheel, int16_t duty)
 {
-    const motor_t *m = &motors[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
+    unsigned i = (unsigned)wheel & 1u;
+    const motor_t *m = &motors[i];
     int32_t d = duty;
+    uint32_t dir = m->forward;
     if (d > HAL_DUTY_MAX) {
         d = HAL_DUTY_MAX;
-    } else if (d < -HAL_DUTY_MAX) {
-        d = -HAL_DUTY_MAX;
+    } else if (d < 0) {
+        d = d < -HAL_DUTY_MAX ? HAL_DUTY_MAX : -d;
+        dir = m->reverse;
+    } else if (d == 0) {
+        dir = m->off;
     }
-    uint32_t magnitude = (uint32_t)(d < 0 ? -d : d);
-    /* Direction first, in one BSRR write, then the duty (taken at the next PWM period). */
-    STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = d > 0 ? m->forward : d < 0 ? m->reverse : m->off;
-    STM32_TIM(BOARD_MOTOR_TIM)->CCR[m->ccr_index] = magnitude * motor_period / HAL_DUTY_MAX;
+    volatile uint32_t *ccr = m->ccr;
+    if (dir != motor_dir[i]) {
+        /* The duty in force was meant for the old direction, and a CCR write only takes
+         * effect at the end of the period: zero it and load it now (UG, which restarts the
+         * period of both channels), then turn, in one BSRR write. */
+        motor_dir[i] = dir;
+        *ccr = 0u;
+        STM32_TIM(BOARD_MOTOR_TIM)->EGR = STM32_TIM_EGR_UG;
+        STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = dir;
+    }
+    *ccr = (uint32_t)d * motor_period / HAL_DUTY_MAX; /* from the next period */
 }
 
 void stm32_safe_outputs(void)
@@ -98,5 +113,7 @@ void stm32_safe_outputs(void)
     tim->CCR[BOARD_MOTOR_RIGHT_CH - 1u] = 0u;
     tim->EGR = STM32_TIM_EGR_UG; /* now, not at the end of the period */
     STM32_GPIO(BOARD_MOTOR_DIR_PORT)->BSRR = motors[0].off | motors[1].off;
+    motor_dir[0] = motors[0].off;
+    motor_dir[1] = motors[1].off;
     stm32_gpio_write(BOARD_MOTOR_STBY_PORT, BOARD_MOTOR_STBY_PIN, false);
 }

@@ -2,6 +2,7 @@
 /* A scriptable HAL for unit tests: scripted inputs, recorded outputs, counted calls. */
 #include "fake_hal.h"
 
+#include <assert.h>
 #include <string.h>
 
 fake_hal_t fake_hal;
@@ -85,9 +86,18 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
 
 size_t hal_uart_read(uint8_t *data, size_t len)
 {
-    (void)data;
-    (void)len;
-    return 0u;
+    size_t n = fake_hal.rx_len - fake_hal.rx_pos;
+    n = n < len ? n : len;
+    memcpy(data, fake_hal.rx + fake_hal.rx_pos, n);
+    fake_hal.rx_pos += n;
+    return n;
+}
+
+void fake_hal_receive(const uint8_t *data, size_t len)
+{
+    assert(len <= sizeof fake_hal.rx - fake_hal.rx_len);
+    memcpy(fake_hal.rx + fake_hal.rx_len, data, len);
+    fake_hal.rx_len += len;
 }
 
 size_t hal_storage_size(void)

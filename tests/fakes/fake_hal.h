@@ -25,6 +25,9 @@ typedef struct {
     int trigger_result;               /**< what hal_sonar_trigger() returns */
     size_t storage_size;              /**< what hal_storage_size() returns */
     size_t uart_room;                 /**< bytes hal_uart_write() takes per call (0: all) */
+    uint8_t rx[4096];                 /**< bytes hal_uart_read() hands out, in order */
+    size_t rx_len;                    /**< bytes in rx */
+    size_t rx_pos;                    /**< bytes already read */
 
     /* Recorded from the firmware. */
     int16_t motor[2];                 /**< last duty per wheel */
@@ -50,5 +53,8 @@ extern fake_hal_t fake_hal;
 
 /** Forget everything: counters, recorded outputs and scripted inputs. */
 void fake_hal_reset(void);
+
+/** Queue bytes for hal_uart_read() (they must fit in rx). */
+void fake_hal_receive(const uint8_t *data, size_t len);
 
 #endif /* SLAM_TEST_FAKE_HAL_H */

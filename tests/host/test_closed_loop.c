@@ -78,10 +78,9 @@ static outcome_t run(const sim_errors_t *e, unsigned ticks)
     assert_int_equal(hal_tick_start(tick, &robot), HAL_OK);
     for (unsigned k = 0; k < ticks; k++) {
         hal_host_step();
-        if (k % 100u == 0u) {
-            robot_idle(&robot);
-        }
+        robot_idle(&robot); /* a robot's background loop runs between any two ticks */
     }
+    loc_flush(&robot.loc, &robot.mapper, &robot.grid);
     sim_truth_t t = sim_truth(s);
     assert_int_equal(t.collisions, 0u); /* the drive stays clear of the walls */
 
@@ -91,7 +90,7 @@ static outcome_t run(const sim_errors_t *e, unsigned ticks)
     outcome_t o = {0};
     for (uint32_t b = 0; b < SLAM_GRID_B; b++) {
         for (uint32_t a = 0; a < SLAM_GRID_A; a++) {
-            if (robot.grid.om[b * SLAM_GRID_A + a] == 0u) {
+            if (grid_state(&robot.grid, b * SLAM_GRID_A + a) != GRID_OCCUPIED) {
                 continue;
             }
             o.om_cells++;
@@ -123,9 +122,10 @@ static void test_perfect_robot_maps_the_walls(void **state)
     assert_true(o.om_cells > 30u);
     assert_true(o.odom_err < 0.005);
     /* What is left is the sonar's own geometry: the nearest surface anywhere in the 15°
-       cone is mapped on the beam's axis, which puts oblique walls up to ~10 % short. */
-    assert_true(o.near[1] >= o.om_cells * 85u / 100u);
-    assert_true(o.near[2] >= o.om_cells * 97u / 100u);
+       cone is mapped on the beam's axis, which puts oblique walls up to ~10 % short; the
+       free-space evidence of later beams takes most of those cells back. */
+    assert_true(o.near[1] >= o.om_cells * 88u / 100u);
+    assert_true(o.near[2] >= o.om_cells * 98u / 100u);
 }
 
 static void test_default_errors_still_map_the_walls(void **state)
@@ -141,7 +141,7 @@ static void test_default_errors_still_map_the_walls(void **state)
     /* The odometry drifts (E_d, E_b, slip, noise): the map moves with it, by about the
        position error at the time of the readings; ghosts land anywhere. */
     assert_true(o.odom_err > 0.01 && o.odom_err < 0.3);
-    assert_true(o.near[4] >= o.om_cells * 75u / 100u);
+    assert_true(o.near[4] >= o.om_cells * 90u / 100u);
 }
 
 int main(void)

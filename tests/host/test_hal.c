@@ -223,6 +223,7 @@ static void traced_run(const char *path, uint64_t seed, unsigned ticks, slam_con
 {
     boot(seed);
     slam_config_default(cfg);
+    slam_config_paper(cfg); /* the replay below runs the tick's own Algorithm C.1 */
     cfg->start_x_um = (int32_t)lround(room.start_x * 1e6);
     cfg->start_y_um = (int32_t)lround(room.start_y * 1e6);
     FILE *f = fopen(path, "w");

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include "lhal/gpio_if.h"
@@ -27,6 +28,7 @@ typedef struct {
     bool requested;
     bool output;
     bool edges;
+    bool kill_reader;
     int value;
     unsigned rises;
     char busy_user[32];
@@ -36,11 +38,30 @@ typedef struct {
     size_t n;
 } fake_line_t;
 
-static pthread_mutex_t fake_lock = PTHREAD_MUTEX_INITIALIZER;
-static fake_line_t fake_lines[FAKE_GPIO_LINES];
+/* In memory shared with the processes forked from here, so a test can watch the lines of a
+ * program it runs in a child. The lock is robust: a child that ends holding it (killed by
+ * a signal) does not leave it held. */
+typedef struct {
+    pthread_mutex_t lock;
+    fake_line_t lines[FAKE_GPIO_LINES];
+    bool chip_missing;
+} fake_shared_t;
+
+static fake_shared_t *fake;
 static struct gpio_line fake_handles[FAKE_GPIO_LINES];
 static struct gpio_chip fake_chip;
-static bool fake_chip_missing;
+
+static void fake_lock(void)
+{
+    if (pthread_mutex_lock(&fake->lock) == EOWNERDEAD) {
+        pthread_mutex_consistent(&fake->lock);
+    }
+}
+
+static void fake_unlock(void)
+{
+    pthread_mutex_unlock(&fake->lock);
+}
 
 static void fake_close_pipes(fake_line_t *l)
 {
@@ -54,43 +75,57 @@ static void fake_close_pipes(fake_line_t *l)
 
 void fake_gpio_reset(void)
 {
-    pthread_mutex_lock(&fake_lock);
-    for (unsigned i = 0u; i < FAKE_GPIO_LINES; i++) {
-        if (fake_lines[i].requested) {
-            fake_close_pipes(&fake_lines[i]);
+    if (fake == NULL) {
+        fake = mmap(NULL, sizeof *fake, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (fake == MAP_FAILED) {
+            perror("fake_gpio: mmap");
+            abort();
         }
-        memset(&fake_lines[i], 0, sizeof fake_lines[i]);
-        fake_lines[i].pipe[0] = fake_lines[i].pipe[1] = -1;
+        pthread_mutexattr_t a;
+        pthread_mutexattr_init(&a);
+        pthread_mutexattr_setpshared(&a, PTHREAD_PROCESS_SHARED);
+        pthread_mutexattr_setrobust(&a, PTHREAD_MUTEX_ROBUST);
+        pthread_mutex_init(&fake->lock, &a);
+        pthread_mutexattr_destroy(&a);
+        for (unsigned i = 0u; i < FAKE_GPIO_LINES; i++) {
+            fake->lines[i].pipe[0] = fake->lines[i].pipe[1] = -1;
+        }
+    }
+    fake_lock();
+    for (unsigned i = 0u; i < FAKE_GPIO_LINES; i++) {
+        fake_close_pipes(&fake->lines[i]);
+        memset(&fake->lines[i], 0, sizeof fake->lines[i]);
+        fake->lines[i].pipe[0] = fake->lines[i].pipe[1] = -1;
         fake_handles[i].offset = i;
     }
-    fake_chip_missing = false;
-    pthread_mutex_unlock(&fake_lock);
+    fake->chip_missing = false;
+    fake_unlock();
 }
 
 void fake_gpio_no_chip(void)
 {
-    fake_chip_missing = true;
+    fake->chip_missing = true;
 }
 
 void fake_gpio_busy(unsigned offset, const char *user)
 {
-    pthread_mutex_lock(&fake_lock);
-    snprintf(fake_lines[offset].busy_user, sizeof fake_lines[offset].busy_user, "%s", user);
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    snprintf(fake->lines[offset].busy_user, sizeof fake->lines[offset].busy_user, "%s", user);
+    fake_unlock();
 }
 
 void fake_gpio_level(unsigned offset, bool high)
 {
-    pthread_mutex_lock(&fake_lock);
-    fake_lines[offset].value = high;
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    fake->lines[offset].value = high;
+    fake_unlock();
 }
 
 void fake_gpio_edges(const fake_edge_t *edges, unsigned n)
 {
-    pthread_mutex_lock(&fake_lock);
+    fake_lock();
     for (unsigned i = 0u; i < n; i++) {
-        fake_line_t *l = &fake_lines[edges[i].offset];
+        fake_line_t *l = &fake->lines[edges[i].offset];
         if (l->requested && l->edges && l->n < FAKE_EDGES_MAX) {
             l->queue[(l->head + l->n) % FAKE_EDGES_MAX] =
                 (edgeq_edge_t){.ts_ns = edges[i].ts_ns, .rising = edges[i].rising};
@@ -100,13 +135,13 @@ void fake_gpio_edges(const fake_edge_t *edges, unsigned n)
     }
     /* Wake the reader only when everything is queued. */
     for (unsigned i = 0u; i < n; i++) {
-        fake_line_t *l = &fake_lines[edges[i].offset];
+        fake_line_t *l = &fake->lines[edges[i].offset];
         if (l->requested && l->edges) {
             const char byte = 1;
             (void)!write(l->pipe[1], &byte, 1u);
         }
     }
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
 }
 
 void fake_gpio_edge(unsigned offset, uint64_t ts_ns, bool rising)
@@ -117,44 +152,51 @@ void fake_gpio_edge(unsigned offset, uint64_t ts_ns, bool rising)
 
 bool fake_gpio_requested(unsigned offset)
 {
-    pthread_mutex_lock(&fake_lock);
-    bool v = fake_lines[offset].requested;
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    bool v = fake->lines[offset].requested;
+    fake_unlock();
     return v;
 }
 
 bool fake_gpio_is_output(unsigned offset)
 {
-    pthread_mutex_lock(&fake_lock);
-    bool v = fake_lines[offset].requested && fake_lines[offset].output;
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    bool v = fake->lines[offset].requested && fake->lines[offset].output;
+    fake_unlock();
     return v;
 }
 
 int fake_gpio_value(unsigned offset)
 {
-    pthread_mutex_lock(&fake_lock);
-    int v = fake_lines[offset].value;
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    int v = fake->lines[offset].value;
+    fake_unlock();
     return v;
 }
 
 unsigned fake_gpio_rises(unsigned offset)
 {
-    pthread_mutex_lock(&fake_lock);
-    unsigned v = fake_lines[offset].rises;
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    unsigned v = fake->lines[offset].rises;
+    fake_unlock();
     return v;
+}
+
+void fake_gpio_kill_reader(unsigned offset)
+{
+    fake_lock();
+    fake->lines[offset].kill_reader = true;
+    fake_unlock();
 }
 
 unsigned fake_gpio_requested_count(void)
 {
     unsigned n = 0u;
-    pthread_mutex_lock(&fake_lock);
+    fake_lock();
     for (unsigned i = 0u; i < FAKE_GPIO_LINES; i++) {
-        n += fake_lines[i].requested ? 1u : 0u;
+        n += fake->lines[i].requested ? 1u : 0u;
     }
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
     return n;
 }
 
@@ -162,7 +204,7 @@ unsigned fake_gpio_requested_count(void)
 
 int gpio_chip_open(const char *name, gpio_chip_t **chip, char *err, size_t errlen)
 {
-    if (fake_chip_missing) {
+    if (fake->chip_missing) {
         snprintf(err, errlen, "cannot open GPIO chip '%s': No such file or directory", name);
         errno = ENOENT;
         return -1;
@@ -188,16 +230,16 @@ void gpio_chip_close(gpio_chip_t *chip)
     if (chip == NULL) {
         return;
     }
-    pthread_mutex_lock(&fake_lock);
+    fake_lock();
     for (unsigned i = 0u; i < FAKE_GPIO_LINES; i++) {
-        fake_line_t *l = &fake_lines[i];
+        fake_line_t *l = &fake->lines[i];
         if (l->requested) {
             fake_close_pipes(l);
             l->requested = false;
             l->n = 0u;
         }
     }
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
 }
 
 static int fake_request(unsigned offset, bool output, int value, gpio_line_t **line, char *err,
@@ -208,8 +250,8 @@ static int fake_request(unsigned offset, bool output, int value, gpio_line_t **l
         errno = EINVAL;
         return -1;
     }
-    pthread_mutex_lock(&fake_lock);
-    fake_line_t *l = &fake_lines[offset];
+    fake_lock();
+    fake_line_t *l = &fake->lines[offset];
     int rc = 0;
     if (l->busy_user[0] != '\0' || l->requested) {
         snprintf(err, errlen, "line %u is in use by '%s'", offset,
@@ -228,7 +270,7 @@ static int fake_request(unsigned offset, bool output, int value, gpio_line_t **l
         }
         *line = &fake_handles[offset];
     }
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
     return rc;
 }
 
@@ -249,13 +291,13 @@ int gpio_line_edges(gpio_chip_t *chip, unsigned offset, lconf_bias_t bias, gpio_
 
 int gpio_line_set(gpio_line_t *line, int value)
 {
-    pthread_mutex_lock(&fake_lock);
-    fake_line_t *l = &fake_lines[line->offset];
+    fake_lock();
+    fake_line_t *l = &fake->lines[line->offset];
     if (l->value == 0 && value != 0) {
         l->rises++;
     }
     l->value = value != 0;
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
     return 0;
 }
 
@@ -266,16 +308,21 @@ int gpio_line_get(gpio_line_t *line)
 
 int gpio_line_fd(gpio_line_t *line)
 {
-    pthread_mutex_lock(&fake_lock);
-    int fd = fake_lines[line->offset].pipe[0];
-    pthread_mutex_unlock(&fake_lock);
+    fake_lock();
+    int fd = fake->lines[line->offset].pipe[0];
+    fake_unlock();
     return fd;
 }
 
 int gpio_line_read_edges(gpio_line_t *line, uint8_t src, edgeq_edge_t *out, size_t max)
 {
-    pthread_mutex_lock(&fake_lock);
-    fake_line_t *l = &fake_lines[line->offset];
+    fake_lock();
+    fake_line_t *l = &fake->lines[line->offset];
+    if (l->kill_reader) {
+        l->kill_reader = false;
+        fake_unlock();
+        pthread_exit(NULL);
+    }
     size_t n = 0u;
     char drain[FAKE_EDGES_MAX];
     while (n < max && l->n > 0u) {
@@ -288,6 +335,6 @@ int gpio_line_read_edges(gpio_line_t *line, uint8_t src, edgeq_edge_t *out, size
     if (n > 0u) {
         (void)!read(l->pipe[0], drain, n);
     }
-    pthread_mutex_unlock(&fake_lock);
+    fake_unlock();
     return (int)n;
 }

@@ -4,7 +4,9 @@
  * A fake of lhal/gpio_if.h for tests: one chip of FAKE_GPIO_LINES lines whose inputs the
  * test drives (levels, timestamped edges) and whose outputs it reads back. Edge lines have
  * a real pipe as their descriptor, so the backend's events thread polls them as it polls
- * the kernel's. Thread-safe; fake_gpio_reset() before each test.
+ * the kernel's. Thread-safe, and shared with child processes forked after the first
+ * fake_gpio_reset(), so a test sees the lines of a program it runs in a child; reset
+ * before each test.
  */
 #ifndef TEST_FAKE_GPIO_H
 #define TEST_FAKE_GPIO_H
@@ -53,5 +55,8 @@ unsigned fake_gpio_rises(unsigned offset);
 
 /** How many lines are requested now. */
 unsigned fake_gpio_requested_count(void);
+
+/** The next thread that reads this edge line's events ends there (pthread_exit). */
+void fake_gpio_kill_reader(unsigned offset);
 
 #endif /* TEST_FAKE_GPIO_H */

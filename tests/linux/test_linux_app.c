@@ -16,10 +16,12 @@
 #include <cmocka.h>
 
 #include "fake_gpio.h"
+#include "hal_common/mapexport.h"
 #include "lhal/app.h"
 #include "lhal/lhal.h"
 #include "slam/grid.h"
 #include "tmptree.h"
+#include "wiring.h"
 
 enum { TRIG = 5, L_IN1 = 7 };
 
@@ -40,25 +42,8 @@ static int setup(void **state)
     fake_gpio_reset();
     lhal_set_clock(frozen_clock);
     tmptree_make(root, "app");
-    tmptree_pwm_channel(root, 0u, 0u);
-    tmptree_pwm_channel(root, 0u, 1u);
-    tmptree_pwm_channel(root, 1u, 0u);
     snprintf(conf, sizeof conf, "%s/robot.conf", root);
-    char text[2048];
-    snprintf(text, sizeof text,
-             "# the fake chip's lines\n"
-             "gpio_chip = fakechip0\n"
-             "encoder_left_a = 1\nencoder_left_b = 2\nencoder_right_a = 3\nencoder_right_b = 4\n"
-             "sonar_trigger = 5\nsonar_echo = 6\n"
-             "motor_left_in1 = 7\nmotor_left_in2 = 8\nmotor_right_in1 = 9\nmotor_right_in2 = 10\n"
-             "pwm_root = %s\n"
-             "servo_pwm_chip = 1\nservo_pwm_channel = 0\n"
-             "motor_left_pwm_chip = 0\nmotor_left_pwm_channel = 0\n"
-             "motor_right_pwm_chip = 0\nmotor_right_pwm_channel = 1\n"
-             "storage_dir = %s/maps\n"
-             "tick_priority = 0\n",
-             root, root);
-    tmptree_file(root, "robot.conf", text);
+    wiring_conf_file(root, "");
     return 0;
 }
 
@@ -198,10 +183,36 @@ static void test_run_drives_the_firmware_and_stops_the_motors(void **state)
     unsigned b0 = SLAM_GRID_B / 2u;
     assert_int_equal(pgm_cell("maps/tm.pgm", a0, b0), 0);
     assert_int_equal(pgm_cell("maps/tm.pgm", a0 + 5u, b0), 255);
-    assert_int_equal(pgm_cell("maps/om.pgm", a0, b0), 255);
+    /* The robot's own cell is known free; far from it nothing was seen. */
+    assert_int_equal(pgm_cell("maps/om.pgm", a0, b0), MAPX_FREE);
+    assert_int_equal(pgm_cell("maps/om.pgm", a0 + 40u, b0 + 40u), MAPX_UNKNOWN);
     assert_true(tmptree_exists(root, "maps/om_post.pgm"));
-    assert_true(tmptree_exists(root, "maps/tm.yaml"));
+    assert_true(tmptree_exists(root, "maps/om.yaml"));
+    assert_false(tmptree_exists(root, "maps/tm.yaml"));
     assert_non_null(strstr(out_buf, "sonar: 1 pings"));
+}
+
+/* The background loop reads what the tick writes: the tick count, the hold and held flags,
+ * the sweep's counters for STATUS frames, and the grid, which telemetry streams and the
+ * map store saves. On Linux they are two threads, and every such read happens inside the
+ * background loop's turn: in the ThreadSanitizer build (host-tsan) this run is clean. */
+static void test_run_saves_and_streams_while_the_tick_runs(void **state)
+{
+    (void)state;
+    char text[4096];
+    snprintf(text, sizeof text, "%s", tmptree_read(root, "robot.conf"));
+    strcat(text, "telemetry = pty\nsave_period_s = 1\n");
+    tmptree_file(root, "robot.conf", text);
+    assert_int_equal(run("--config", conf, "--ticks", "250", NULL), APP_EXIT_OK);
+    assert_non_null(strstr(out_buf, "telemetry on /dev/pts/"));
+    /* Saved after 100 ticks (a save takes some 200 calls of robot_idle()), the robot
+     * standing as it looks round. */
+    assert_true(tmptree_exists(root, "maps/slot0.bin") || tmptree_exists(root, "maps/slot1.bin"));
+    unsigned long long sent = 0;
+    const char *at = strstr(out_buf, "telemetry: ");
+    assert_non_null(at);
+    assert_int_equal(sscanf(at, "telemetry: %llu bytes sent", &sent), 1);
+    assert_true(sent > 1000u);
 }
 
 static void test_io_fault_stops_for_safety(void **state)
@@ -256,6 +267,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_check, setup, teardown),
         cmocka_unit_test_setup_teardown(test_hardware_failure_exits_1, setup, teardown),
         cmocka_unit_test_setup_teardown(test_run_drives_the_firmware_and_stops_the_motors, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_run_saves_and_streams_while_the_tick_runs, setup, teardown),
         cmocka_unit_test_setup_teardown(test_io_fault_stops_for_safety, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sigterm_stops_cleanly, setup, teardown),
     };

@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include <cmocka.h>
 
@@ -73,6 +74,13 @@ static int teardown(void **state)
 static const char *pwm(const char *rel)
 {
     return tmptree_read(root, rel);
+}
+
+/* The output thread writes what hal.h posted: wait until it has. */
+static void written(void)
+{
+    lhal_stats_t st;
+    WAIT_UNTIL((lhal_stats(&st), st.outputs_written == st.outputs_posted));
 }
 
 static void test_init_requests_every_line_with_the_motors_stopped(void **state)
@@ -143,9 +151,11 @@ static void test_sonar_pulse_and_echo_width(void **state)
 {
     (void)state;
     assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    written();
     assert_int_equal(fake_gpio_rises(TRIG), 1);
     assert_int_equal(fake_gpio_value(TRIG), 0);
     assert_int_equal(hal_sonar_trigger(), HAL_EBUSY);
+    written();
     assert_int_equal(fake_gpio_rises(TRIG), 1); /* no second pulse */
 
     const fake_edge_t echo[] = {{ECHO, 70000000u, true}, {ECHO, 70000000u + 5831000u, false}};
@@ -191,27 +201,32 @@ static void test_motor_direction_duty_and_standby(void **state)
 {
     (void)state;
     hal_motor_set(HAL_WHEEL_LEFT, 500);
+    written();
     assert_int_equal(fake_gpio_value(L_IN1), 1);
     assert_int_equal(fake_gpio_value(L_IN2), 0);
     assert_int_equal(fake_gpio_value(STBY), 1);
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "25000\n");
 
     hal_motor_set(HAL_WHEEL_LEFT, -2000); /* clamped to full reverse */
+    written();
     assert_int_equal(fake_gpio_value(L_IN1), 0);
     assert_int_equal(fake_gpio_value(L_IN2), 1);
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "50000\n");
 
     /* The right motor is inverted: forward drives IN2. */
     hal_motor_set(HAL_WHEEL_RIGHT, 300);
+    written();
     assert_int_equal(fake_gpio_value(R_IN1), 0);
     assert_int_equal(fake_gpio_value(R_IN2), 1);
     assert_string_equal(pwm("pwmchip0/pwm1/duty_cycle"), "15000\n");
 
     hal_motor_set(HAL_WHEEL_LEFT, 0);
+    written();
     assert_int_equal(fake_gpio_value(L_IN1), 0);
     assert_int_equal(fake_gpio_value(L_IN2), 0);
     assert_int_equal(fake_gpio_value(STBY), 1); /* the right motor still runs */
     hal_motor_set(HAL_WHEEL_RIGHT, 0);
+    written();
     assert_int_equal(fake_gpio_value(STBY), 0);
     assert_string_equal(pwm("pwmchip0/pwm1/duty_cycle"), "0\n");
 }
@@ -220,12 +235,15 @@ static void test_servo_starts_at_its_first_command_and_clamps(void **state)
 {
     (void)state;
     hal_servo_set_pulse(1500);
+    written();
     assert_string_equal(pwm("pwmchip1/pwm0/period"), "20000000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "1500000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
     hal_servo_set_pulse(3000);
+    written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "2600000\n");
     hal_servo_set_pulse(100);
+    written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "400000\n");
 }
 
@@ -235,7 +253,9 @@ static void test_shutdown_stops_and_releases_everything(void **state)
     hal_motor_set(HAL_WHEEL_LEFT, 800);
     hal_motor_set(HAL_WHEEL_RIGHT, -800);
     hal_servo_set_pulse(1000);
-    lhal_shutdown();
+    written();
+    assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
+    assert_true(lhal_shutdown());
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_string_equal(pwm("pwmchip0/pwm0/enable"), "0\n");
     assert_string_equal(pwm("pwmchip0/pwm1/duty_cycle"), "0\n");
@@ -252,10 +272,16 @@ static void test_emergency_stop_holds(void **state)
 {
     (void)state;
     hal_motor_set(HAL_WHEEL_LEFT, 600);
+    written();
+    assert_int_equal(fake_gpio_value(L_IN1), 1);
+    assert_int_equal(fake_gpio_value(STBY), 1);
     lhal_emergency_stop();
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_string_equal(pwm("pwmchip0/pwm0/enable"), "0\n");
+    assert_int_equal(fake_gpio_value(L_IN1), 0);
+    assert_int_equal(fake_gpio_value(STBY), 0);
     hal_motor_set(HAL_WHEEL_LEFT, 700);
+    written();
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_int_equal(fake_gpio_value(L_IN1), 0);
     assert_int_equal(fake_gpio_value(STBY), 0);
@@ -326,6 +352,9 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     (void)state;
     atomic_store(&ticks, 0u);
     hal_motor_set(HAL_WHEEL_LEFT, 900);
+    written();
+    assert_int_equal(fake_gpio_value(L_IN1), 1);
+    assert_int_equal(fake_gpio_value(STBY), 1);
     assert_int_equal(hal_tick_start(tick_cb, &ticks), HAL_OK);
     WAIT_UNTIL(atomic_load(&ticks) >= 2u);
     atomic_store(&block_tick, true);
@@ -341,7 +370,11 @@ static void test_watchdog_stops_the_motors_when_the_tick_stalls(void **state)
     char msg[256];
     assert_int_equal(lhal_fault(msg, sizeof msg), LHAL_FAULT_WATCHDOG);
     assert_non_null(strstr(msg, "no control tick for 101 ms"));
-    /* Stopped without the tick's lock, which the stuck tick still holds. */
+    /* Stopped before the fault was reported, without the tick's lock, which the stuck tick
+     * still holds: the lines, then the PWM. */
+    assert_int_equal(fake_gpio_value(L_IN1), 0);
+    assert_int_equal(fake_gpio_value(L_IN2), 0);
+    assert_int_equal(fake_gpio_value(STBY), 0);
     assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_string_equal(pwm("pwmchip0/pwm0/enable"), "0\n");
     atomic_store(&block_tick, false);
@@ -396,6 +429,33 @@ static void test_kicks_keep_the_background_watchdog_quiet(void **state)
 }
 
 /* ---- failures and --check ------------------------------------------------------------- */
+
+/* poll() of the events thread fails when the process may have fewer descriptors than it
+ * polls (EINVAL). That thread ended quietly: the counts froze while the motors ran on, and
+ * the speed control wound up to full duty. Now it is a fault: the motors stop, the lines
+ * go low at once, and the PWM goes off as soon as the files can be opened again. */
+static void test_events_thread_failure_stops_the_motors(void **state)
+{
+    (void)state;
+    hal_motor_set(HAL_WHEEL_LEFT, 800);
+    written();
+    assert_int_equal(fake_gpio_value(L_IN1), 1);
+    assert_int_equal(fake_gpio_value(STBY), 1);
+    struct rlimit old;
+    assert_int_equal(getrlimit(RLIMIT_NOFILE, &old), 0);
+    struct rlimit low = {.rlim_cur = 5u, .rlim_max = old.rlim_max}; /* the events thread polls 6 */
+    assert_int_equal(setrlimit(RLIMIT_NOFILE, &low), 0);
+    WAIT_UNTIL(lhal_fault(NULL, 0) != LHAL_FAULT_NONE);
+    char msg[256];
+    lhal_fault_t f = lhal_fault(msg, sizeof msg);
+    assert_int_equal(setrlimit(RLIMIT_NOFILE, &old), 0);
+    assert_int_equal(f, LHAL_FAULT_IO);
+    assert_non_null(strstr(msg, "the events thread stopped: poll: Invalid argument"));
+    assert_int_equal(fake_gpio_value(L_IN1), 0);
+    assert_int_equal(fake_gpio_value(STBY), 0);
+    WAIT_UNTIL(strcmp(pwm("pwmchip0/pwm0/enable"), "0\n") == 0);
+    assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
+}
 
 static void test_busy_line_fails_init_naming_the_key(void **state)
 {
@@ -473,6 +533,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_watchdog_stops_the_motors_when_the_tick_stalls, setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_watchdog_watches_the_background_loop, setup, teardown),
         cmocka_unit_test_setup_teardown(test_kicks_keep_the_background_watchdog_quiet, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_events_thread_failure_stops_the_motors, setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_busy_line_fails_init_naming_the_key, setup, teardown),
         cmocka_unit_test_setup_teardown(test_missing_pwm_chip_fails_init_naming_the_key, setup, teardown),
         cmocka_unit_test_setup_teardown(test_missing_chip_fails_init, setup, teardown),

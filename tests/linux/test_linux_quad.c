@@ -95,6 +95,63 @@ static void test_repeated_edge_is_counted_as_lost(void **state)
     assert_int_equal(q.count, 2);
 }
 
+/* Ten encoder cycles, forward or backward, with edge `drop` missing (-1: none). */
+static quad_t run_cycles(bool backward, bool invert, int drop)
+{
+    quad_t q;
+    quad_init(&q, false, false, invert);
+    for (int i = 0; i < 40; i++) {
+        int k = backward ? 3 - i % 4 : i % 4;
+        bool level = backward ? !forward[k].level : forward[k].level;
+        if (i != drop) {
+            quad_edge(&q, forward[k].line, level);
+        }
+    }
+    return q;
+}
+
+/* The kernel's queue of a line overflowed and one edge is gone: the other line's next edge
+ * must not count backwards from the stale level (ten cycles used to count 36). Any edge
+ * followed by another edge of its line is reconstructed: the run counts 40. */
+static void test_a_lost_edge_is_put_back(void **state)
+{
+    (void)state;
+    for (int backward = 0; backward < 2; backward++) {
+        for (int invert = 0; invert < 2; invert++) {
+            int sign = (backward ? -1 : 1) * (invert ? -1 : 1);
+            for (int drop = 0; drop < 38; drop++) {
+                quad_t q = run_cycles(backward, invert, drop);
+                if (q.count != (uint16_t)(sign * 40) || q.illegal != 1u) {
+                    fail_msg("backward %d invert %d, edge %d dropped: count %d, %u lost", backward,
+                             invert, drop, (int16_t)q.count, (unsigned)q.illegal);
+                }
+            }
+            quad_t q = run_cycles(backward, invert, -1);
+            assert_int_equal(q.count, (uint16_t)(sign * 40));
+            assert_int_equal(q.illegal, 0);
+        }
+    }
+}
+
+/* Between the lost edge and its line's next edge the other line's edge has counted from
+ * the stale level; the next edge corrects it, and nothing ever ran backwards overall. */
+static void test_the_correction_comes_with_the_next_edge_of_the_line(void **state)
+{
+    (void)state;
+    quad_t q;
+    quad_init(&q, false, false, false);
+    assert_int_equal(quad_edge(&q, QUAD_A, true), 1);  /* 00 -> 10 */
+    assert_int_equal(quad_edge(&q, QUAD_B, true), 1);  /* 10 -> 11 */
+    /* A falls, lost. B falls: from the stale 11 that reads as backward. */
+    assert_int_equal(quad_edge(&q, QUAD_B, false), -1);
+    /* A rises: A's fall was lost. The B edge is counted again, the two A edges added. */
+    assert_int_equal(quad_edge(&q, QUAD_A, true), 4);
+    assert_int_equal(q.count, 5);
+    assert_int_equal(q.illegal, 1);
+    assert_int_equal(quad_edge(&q, QUAD_B, true), 1);
+    assert_int_equal(q.count, 6);
+}
+
 static void test_start_state_comes_from_the_lines(void **state)
 {
     (void)state;
@@ -261,6 +318,8 @@ int main(void)
         cmocka_unit_test(test_every_transition_of_the_table),
         cmocka_unit_test(test_inverted_wheel_counts_the_other_way),
         cmocka_unit_test(test_repeated_edge_is_counted_as_lost),
+        cmocka_unit_test(test_a_lost_edge_is_put_back),
+        cmocka_unit_test(test_the_correction_comes_with_the_next_edge_of_the_line),
         cmocka_unit_test(test_start_state_comes_from_the_lines),
         cmocka_unit_test(test_counter_wraps_at_16_bits),
         cmocka_unit_test(test_queue_orders_by_timestamp_and_holds_back),

@@ -98,36 +98,84 @@ static void test_fault_total_saturates(void **state)
 
 /* ---- watchdog ------------------------------------------------------------------------ */
 
+/* Every stamp fresh at `now`, then one of them moved back. */
+static wdog_stamps_t stamps(uint64_t now)
+{
+    return (wdog_stamps_t){.tick_ns = now, .events_ns = now, .output_ns = now, .kick_ns = now};
+}
+
 static void test_watchdog_trips_only_beyond_100_ms(void **state)
 {
     (void)state;
     const wdog_t w = {.tick_limit_ns = WDOG_TICK_LIMIT_NS, .idle_limit_ns = 0u};
     uint64_t age = 0u;
     assert_int_equal(WDOG_TICK_LIMIT_NS, 100u * MS);
-    assert_int_equal(wdog_check(&w, T0 + 100u * MS, T0, 0u, &age), WDOG_OK);
+    wdog_stamps_t s = stamps(T0);
+    s.kick_ns = 0u;
+    assert_int_equal(wdog_check(&w, T0 + 100u * MS, &s, &age), WDOG_OK);
     assert_int_equal(age, 100u * MS);
-    assert_int_equal(wdog_check(&w, T0 + 100u * MS + 1u, T0, 0u, &age), WDOG_TICK_STALL);
+    s.events_ns = s.output_ns = T0 + 100u * MS;
+    assert_int_equal(wdog_check(&w, T0 + 100u * MS + 1u, &s, &age), WDOG_TICK_STALL);
     assert_int_equal(age, 100u * MS + 1u);
     /* A stamp newer than "now" (written between the two reads) is fresh. */
-    assert_int_equal(wdog_check(&w, T0, T0 + 5u, 0u, &age), WDOG_OK);
+    s = stamps(T0 + 5u);
+    assert_int_equal(wdog_check(&w, T0, &s, &age), WDOG_OK);
     assert_int_equal(age, 0u);
+}
+
+/* The stamp at `field` of wdog_stamps_t is fresh at exactly `limit` old and stale (the
+ * verdict, with its age) one nanosecond later, the others fresh. */
+static void assert_stale_beyond(const wdog_t *w, size_t field, uint64_t limit, wdog_verdict_t v)
+{
+    uint64_t age = 0u;
+    uint64_t now = T0 + 5000u * MS;
+    wdog_stamps_t s = stamps(now);
+    uint64_t *stamp = (uint64_t *)(void *)((char *)&s + field);
+    *stamp = now - limit;
+    assert_int_equal(wdog_check(w, now, &s, &age), WDOG_OK);
+    (*stamp)--;
+    assert_int_equal(wdog_check(w, now, &s, &age), v);
+    assert_int_equal(age, limit + 1u);
+}
+
+/* A thread that is stuck (a write that never returns) or dead stamps no more. */
+static void test_watchdog_watches_every_thread(void **state)
+{
+    (void)state;
+    const wdog_t w = {.tick_limit_ns = 100u * MS, .idle_limit_ns = 0u};
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, events_ns), 100u * MS, WDOG_EVENTS_STALL);
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, output_ns), 100u * MS, WDOG_OUTPUT_STALL);
+    /* The tick is named first, then the events thread, then the output thread. */
+    uint64_t age = 0u;
+    uint64_t now = T0 + 5000u * MS;
+    wdog_stamps_t s = stamps(now);
+    s.output_ns = now - 150u * MS;
+    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_OUTPUT_STALL);
+    s.events_ns = now - 120u * MS;
+    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_EVENTS_STALL);
+    s.tick_ns = now - 101u * MS;
+    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_TICK_STALL);
+    assert_int_equal(age, 101u * MS);
 }
 
 static void test_watchdog_watches_the_kicks_when_asked(void **state)
 {
     (void)state;
     const wdog_t w = {.tick_limit_ns = 100u * MS, .idle_limit_ns = 2000u * MS};
+    assert_stale_beyond(&w, offsetof(wdog_stamps_t, kick_ns), 2000u * MS, WDOG_IDLE_STALL);
+    /* A stalled tick is the first thing said. */
     uint64_t age = 0u;
     uint64_t now = T0 + 5000u * MS;
-    assert_int_equal(wdog_check(&w, now, now, now - 2000u * MS, &age), WDOG_OK);
-    assert_int_equal(wdog_check(&w, now, now, now - 2000u * MS - 1u, &age), WDOG_IDLE_STALL);
-    assert_int_equal(age, 2000u * MS + 1u);
-    /* A stalled tick is the first thing said. */
-    assert_int_equal(wdog_check(&w, now, now - 200u * MS, now - 3000u * MS, &age), WDOG_TICK_STALL);
+    wdog_stamps_t s = stamps(now);
+    s.tick_ns = now - 200u * MS;
+    s.kick_ns = now - 3000u * MS;
+    assert_int_equal(wdog_check(&w, now, &s, &age), WDOG_TICK_STALL);
     assert_int_equal(age, 200u * MS);
     /* With no idle limit the kicks are ignored. */
     const wdog_t off = {.tick_limit_ns = 100u * MS, .idle_limit_ns = 0u};
-    assert_int_equal(wdog_check(&off, now, now, 0u, &age), WDOG_OK);
+    s = stamps(now);
+    s.kick_ns = 0u;
+    assert_int_equal(wdog_check(&off, now, &s, &age), WDOG_OK);
 }
 
 int main(void)
@@ -139,6 +187,7 @@ int main(void)
         cmocka_unit_test(test_missed_expirations_are_counted_and_the_schedule_kept),
         cmocka_unit_test(test_fault_total_saturates),
         cmocka_unit_test(test_watchdog_trips_only_beyond_100_ms),
+        cmocka_unit_test(test_watchdog_watches_every_thread),
         cmocka_unit_test(test_watchdog_watches_the_kicks_when_asked),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -33,3 +33,26 @@ void wiring_lconf(lconf_t *c, const char *chip, int32_t first_line, const char *
     c->tick_priority = 0u;
     c->watchdog_idle_ms = 0u;
 }
+
+void wiring_conf_file(const char *root, const char *extra)
+{
+    tmptree_pwm_channel(root, 0u, 0u);
+    tmptree_pwm_channel(root, 0u, 1u);
+    tmptree_pwm_channel(root, 1u, 0u);
+    char text[2048];
+    snprintf(text, sizeof text,
+             "# the fake chip's lines\n"
+             "gpio_chip = fakechip0\n"
+             "encoder_left_a = 1\nencoder_left_b = 2\nencoder_right_a = 3\nencoder_right_b = 4\n"
+             "sonar_trigger = 5\nsonar_echo = 6\n"
+             "motor_left_in1 = 7\nmotor_left_in2 = 8\nmotor_right_in1 = 9\nmotor_right_in2 = 10\n"
+             "pwm_root = %s\n"
+             "servo_pwm_chip = 1\nservo_pwm_channel = 0\n"
+             "motor_left_pwm_chip = 0\nmotor_left_pwm_channel = 0\n"
+             "motor_right_pwm_chip = 0\nmotor_right_pwm_channel = 1\n"
+             "storage_dir = %s/maps\n"
+             "tick_priority = 0\n"
+             "%s",
+             root, root, extra);
+    tmptree_file(root, "robot.conf", text);
+}

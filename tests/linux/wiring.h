@@ -21,4 +21,11 @@
 /** Fill @p c as above and make the PWM tree under @p root. */
 void wiring_lconf(lconf_t *c, const char *chip, int32_t first_line, const char *root);
 
+/**
+ * The same robot as ROOT/robot.conf for the program, on fakechip0 from line 1, without the
+ * standby line, storage in ROOT/maps; the PWM tree is made too. The file has 21 lines, then
+ * @p extra (more `key = value` lines, or "").
+ */
+void wiring_conf_file(const char *root, const char *extra);
+
 #endif /* TEST_WIRING_H */

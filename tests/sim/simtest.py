@@ -7,6 +7,8 @@ import subprocess
 import sys
 import tempfile
 
+import schema
+
 
 class Sim:
     """host_sim in a scratch folder; argv[1] is the binary, argv[2] the source tree."""
@@ -28,7 +30,17 @@ class Sim:
         if p.returncode != expect:
             fail("%s exited %d, expected %d\n%s%s" % (" ".join(cmd), p.returncode, expect,
                                                       p.stdout, p.stderr))
+        if expect == 0 and "--out" in cmd and "--replay" not in cmd:
+            self.check_metrics(cmd[cmd.index("--out") + 1])
         return p
+
+    def check_metrics(self, out):
+        """Every run's metrics.json must follow host_sim/metrics.schema.json exactly."""
+        with open(os.path.join(self.src, "host_sim", "metrics.schema.json")) as f:
+            sch = json.load(f)
+        errors = schema.validate(self.metrics(out), sch)
+        if errors:
+            fail("%s/metrics.json does not follow the schema:\n  %s" % (out, "\n  ".join(errors)))
 
     def out(self, name):
         return os.path.join(self.work, name)

@@ -17,7 +17,7 @@ for name, seed in [("a", 3), ("b", 3), ("c", 4)]:
 
 files = sorted(f for f in os.listdir(runs["a"]) if f != "timing.json")
 expected = ["config.txt", "metrics.json", "readings.csv", "trajectory.csv"] + [
-    m + ext for m in ("om", "om_post", "om_ideal", "tm", "truth") for ext in (".pgm", ".yaml")]
+    m + ext for m in ("om", "om_post", "om_ideal", "truth") for ext in (".pgm", ".yaml")] + ["tm.pgm"]
 check(sorted(expected) == files, "the run wrote its files: " + " ".join(files))
 same, diff, errors = filecmp.cmpfiles(runs["a"], runs["b"], files, shallow=False)
 check(not diff and not errors, "seed 3 twice: all %d files byte-identical (differ: %s)" % (len(files), diff))

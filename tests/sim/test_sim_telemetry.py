@@ -32,25 +32,26 @@ check(len(readings) == len(rows) and len(rows) > 500,
       "one READING frame per logged reading (%d)" % len(rows))
 mismatch = 0
 for fr, row in zip(readings, rows):
-    same = (abs(fr["ticks"] / 100.0 - float(row["t"])) < 1e-9 and
+    same = (abs(fr["ticks"] / 100.0 - float(row["t_s"])) < 1e-9 and
             fr["servo_mdeg"] == round(float(row["servo_deg"]) * 1000) and
-            fr["x_um"] == round(float(row["odom_x"]) * 1e6) and
-            fr["y_um"] == round(float(row["odom_y"]) * 1e6) and
-            abs(math.remainder(fr["heading"] * telemetry.BAM - float(row["odom_th"]), 2 * math.pi)) < 1e-8)
-    if row["status"] == "ok":
+            fr["x_um"] == round(float(row["odom_x_m"]) * 1e6) and
+            fr["y_um"] == round(float(row["odom_y_m"]) * 1e6) and
+            abs(math.remainder(fr["heading"] * telemetry.BAM - float(row["odom_th_rad"]), 2 * math.pi)) < 1e-8)
+    if row["status"] != "timeout":
         same = same and fr["range_um"] == round(float(row["range_m"]) * 1e6)
+        same = same and telemetry.reading_status(fr["outcome"]) == row["status"]
     else:
         same = same and fr["outcome"] == 4 and fr["range_um"] == 0
     mismatch += not same
 check(mismatch == 0, "every READING frame matches its readings.csv row")
 
 with open(os.path.join(run, "trajectory.csv")) as f:
-    traj = {round(float(r["t"]) * 100): r for r in csv.DictReader(f)}
+    traj = {round(float(r["t_s"]) * 100): r for r in csv.DictReader(f)}
 poses = [f for f in frames if f["type"] == "pose"]
 check(len(poses) == 600, "600 POSE frames in 60 s")
 matched = [p for p in poses if p["ticks"] in traj]
 bad = sum(1 for p in matched
-          if abs(p["x_um"] * 1e-6 - float(traj[p["ticks"]]["odom_x"])) > 1e-6 or
-          abs(p["y_um"] * 1e-6 - float(traj[p["ticks"]]["odom_y"])) > 1e-6)
+          if abs(p["x_um"] * 1e-6 - float(traj[p["ticks"]]["odom_x_m"])) > 1e-6 or
+          abs(p["y_um"] * 1e-6 - float(traj[p["ticks"]]["odom_y_m"])) > 1e-6)
 check(len(matched) == 600 and bad == 0, "POSE frames match the odometry in trajectory.csv")
 sim.done()

@@ -2,11 +2,14 @@
 # SPDX-License-Identifier: MIT
 """Tests the STM32F4 drivers' own code against models of their registers.
 
-usage: tests/stm32f4/drivers_model_test.py DRIVER_IMAGE_ELF
+usage: tests/stm32f4/drivers_model_test.py DRIVER_IMAGE_ELF [--board NAME]
+
+NAME is the board table the image was built for (hal/stm32f4/board_NAME.h; default
+generic_f405): its pins, timers, storage sectors and clock tree are what is expected.
 
 QEMU emulates neither the flash interface nor the IWDG, nor encoder mode, captures or
 GPIO, so the test image's functions (every driver linked) run in python3-unicorn here.
-Flash and IWDG are models written from RM0090: the flash key sequence and LOCK, sector
+Flash and IWDG are models written from RM0090 (RM0383 for the F411, the same interface): the flash key sequence and LOCK, sector
 erase (SER, SNB, STRT), programming only with PG set and at the PSIZE width, bits that
 only go from 1 to 0, BSY for a while after every operation, rc_w1 error flags; the IWDG
 key register, PR/RLR writable only after 0x5555, reloads. Timers, SysTick and GPIO are
@@ -22,11 +25,30 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "stm32f4"))
 from elf32 import Elf  # noqa: E402
-from tick_unicorn import Machine  # noqa: E402
+from tick_unicorn import Machine, unicorn  # noqa: E402
 
 FLASH_BASE = 0x08000000
-STORAGE = 0x080C0000            # sectors 10 and 11
 SECTOR_BYTES = 128 * 1024
+
+# What each board table puts where, and the clock tree it asks for.
+BOARDS = {
+    "generic_f405": dict(
+        storage=0x080C0000, sectors=(10, 11),
+        time_cnt=0x40000024, echo_sr=0x40000C10, echo_ccr2=0x40000C38, echo_irq="TIM5_IRQHandler",
+        trig_cr1=0x40014000, motor_ccr=(0x4000043C, 0x40000440), enc_cnt=(0x40010024, 0x40010424),
+        dir_bsrr=0x40020818, dir_pins=(0, 1, 2, 3), stby_pin=4, port="PC",
+        clocks=(168000000, 42000000, 84000000, 84000000, 168000000), crystal_mhz=8,
+        pll=(4, 168, 7), hsi_m=8, wait_states=5, apb=(4, 2), vos=1),
+    "blackpill_f411": dict(
+        storage=0x08040000, sectors=(6, 7),
+        time_cnt=0x40000C24, echo_sr=0x40000010, echo_ccr2=0x40000038, echo_irq="TIM2_IRQHandler",
+        trig_cr1=0x40010000, motor_ccr=(0x40014034, 0x40014038), enc_cnt=(0x40000424, 0x40000824),
+        dir_bsrr=0x40020418, dir_pins=(12, 13, 14, 15), stby_pin=10, port="PB",
+        clocks=(96000000, 48000000, 96000000, 96000000, 96000000), crystal_mhz=25,
+        pll=(25, 192, 4), hsi_m=16, wait_states=3, apb=(2, 1), vos=3),
+}
+BOARD = BOARDS["generic_f405"]
+PPRE = {1: 0, 2: 4, 4: 5, 8: 6, 16: 7}
 KEY1, KEY2 = 0x45670123, 0xCDEF89AB
 HAL_OK, HAL_EINVAL, HAL_EIO = 0, -1 & 0xFFFFFFFF, -2 & 0xFFFFFFFF
 SCRATCH = 0x2001E000            # test buffers in RAM, below the call stack
@@ -106,14 +128,14 @@ class FlashModel:
                 snb = (value >> 3) & 0xF
                 self.erased.append(snb)
                 self.erase_timeouts.append(self.wd.timeout_s(LSI_MAX))
-                if snb not in (10, 11):
+                if snb not in BOARD["sectors"]:
                     raise AssertionError("the driver erased sector %d, which holds code" % snb)
                 self.busy_reads = 3
                 if self.fail_next_erase:
                     self.sr |= self.fail_next_erase
                     self.fail_next_erase = 0
                     return
-                start = (snb - 10) * SECTOR_BYTES
+                start = (snb - BOARD["sectors"][0]) * SECTOR_BYTES
                 self.mem[start:start + SECTOR_BYTES] = b"\xff" * SECTOR_BYTES
             return
         self.page[off:off + size] = value.to_bytes(size, "little")
@@ -183,7 +205,7 @@ class Rig:
         self.flash = FlashModel(self.wd)
         mmio = [(0x40023000, 0x1000, self.flash.read, self.flash.write),
                 (0x40003000, 0x1000, self.wd.read, self.wd.write),
-                (STORAGE, 2 * SECTOR_BYTES, self.flash.mem_read, self.flash.mem_write)]
+                (BOARD["storage"], 2 * SECTOR_BYTES, self.flash.mem_read, self.flash.mem_write)]
         self.m = Machine(Elf(elf_path), mmio)
 
     def call(self, name, *args):
@@ -207,10 +229,20 @@ def check(cond, what):
 
 
 def main(argv):
-    if len(argv) != 2:
+    global BOARD
+    args = argv[1:]
+    board = "generic_f405"
+    if "--board" in args:
+        i = args.index("--board")
+        board = args[i + 1] if i + 1 < len(args) else ""
+        del args[i:i + 2]
+    if len(args) != 1 or board not in BOARDS:
         print(__doc__.strip())
+        print("boards: %s" % ", ".join(BOARDS))
         return 2
-    r = Rig(argv[1])
+    BOARD = BOARDS[board]
+    print("drivers_model_test: %s, board %s" % (args[0], board))
+    r = Rig(args[0])
     f = r.flash
     check(r.call("hal_storage_size") == SECTOR_BYTES, "a slot is 128 KiB")
     check(r.call("hal_storage_write", 0, 0, r.buffer(b"x"), 1) == HAL_EINVAL,
@@ -222,7 +254,8 @@ def main(argv):
     check(0.2 <= normal <= 0.3, "the watchdog runs at 250 ms nominal (%.3f s)" % normal)
 
     check(r.call("hal_storage_begin", 0) == HAL_OK, "begin(0) erases and verifies slot 0")
-    check(f.erased == [10], "only sector 10 was erased (%s)" % f.erased)
+    s0, s1 = BOARD["sectors"]
+    check(f.erased == [s0], "only sector %d was erased (%s)" % (s0, f.erased))
     check(f.erase_timeouts and f.erase_timeouts[0] > 2.0,
           "the watchdog allows more than the 2 s erase even with the fastest LSI (%.2f s)"
           % f.erase_timeouts[0])
@@ -260,15 +293,15 @@ def main(argv):
     check(r.call("hal_storage_begin", 1) == HAL_EIO, "an erase that ends in WRPERR fails with EIO")
     check(r.call("hal_storage_write", 1, 0, r.buffer(b"q"), 1) == HAL_EINVAL,
           "and leaves the slot closed")
-    check(r.call("hal_storage_begin", 1) == HAL_OK and f.erased[-1] == 11,
-          "a second begin(1) clears the stale flag and erases sector 11")
+    check(r.call("hal_storage_begin", 1) == HAL_OK and f.erased[-1] == s1,
+          "a second begin(1) clears the stale flag and erases sector %d" % s1)
     f.fail_program = SR_PGPERR
     check(r.call("hal_storage_write", 1, 0, r.buffer(b"abcd"), 4) == HAL_EIO,
           "a programming error fails with EIO")
     f.fail_program = 0
     check(r.call("hal_storage_write", 1, 8, r.buffer(b"abcd"), 4) == HAL_OK,
           "the next write after a programming error works")
-    check(set(f.erased) <= {10, 11}, "no sector below 10 was ever erased")
+    check(set(f.erased) <= {s0, s1}, "no sector below %d was ever erased" % s0)
 
     r.wd.reloads = 0
     r.call("hal_watchdog_kick")
@@ -330,13 +363,7 @@ def test_tick(r):
     check(r.call("hal_tick_overruns") == 3, "a tick both late and overrunning counts once")
 
 
-TIM2_CNT = 0x40000024
-TIM5_SR, TIM5_CCR2 = 0x40000C10, 0x40000C38
-TIM9_CR1 = 0x40014000
 TIM10_CCR1 = 0x40014434
-TIM3_CCR3, TIM3_CCR4 = 0x4000043C, 0x40000440
-TIM1_CNT, TIM8_CNT = 0x40010024, 0x40010424
-GPIOC_BSRR = 0x40020818
 ECHO_OUT = 0x2001E900
 IDLE, BUSY, ECHO, TIMEOUT = 0, 1, 2, 3
 
@@ -348,12 +375,12 @@ def test_sonar(r):
 
     def advance(us):
         now[0] += us
-        m.write32(TIM2_CNT, now[0])
+        m.write32(BOARD["time_cnt"], now[0])
 
     def echo(width):
-        m.write32(TIM5_CCR2, width)
-        m.write32(TIM5_SR, 1 << 2)                 # CC2IF: the falling edge was captured
-        r.call("TIM5_IRQHandler")
+        m.write32(BOARD["echo_ccr2"], width)
+        m.write32(BOARD["echo_sr"], 1 << 2)        # CC2IF: the falling edge was captured
+        r.call(BOARD["echo_irq"])
 
     def poll():
         m.write32(ECHO_OUT, 0xDEAD)
@@ -361,9 +388,9 @@ def test_sonar(r):
 
     advance(0)
     check(poll()[0] == IDLE, "no ping, the sonar is idle")
-    m.write32(TIM9_CR1, 0)
+    m.write32(BOARD["trig_cr1"], 0)
     check(r.call("hal_sonar_trigger") == HAL_OK, "a ping goes out")
-    check(m.read32(TIM9_CR1) & 0x9 == 0x9, "by starting the one-pulse trigger timer (OPM, CEN)")
+    check(m.read32(BOARD["trig_cr1"]) & 0x9 == 0x9, "by starting the one-pulse trigger timer (OPM, CEN)")
     check(signed(r.call("hal_sonar_trigger")) == -3, "a second ping while the first is out is busy")
     advance(3000)
     check(poll()[0] == BUSY, "no echo yet: busy")
@@ -386,8 +413,8 @@ def test_sonar(r):
     check(poll()[0] == BUSY, "the new ping does not take the old echo")
     echo(1500)
     check(poll() == (ECHO, 1500), "but its own")
-    m.write32(TIM5_SR, 1 << 9)                     # a stray CC1 flag, no capture on CH2
-    r.call("TIM5_IRQHandler")
+    m.write32(BOARD["echo_sr"], 1 << 9)            # a stray CC1 flag, no capture on CH2
+    r.call(BOARD["echo_irq"])
     check(poll()[0] == IDLE, "an interrupt without a CH2 capture posts nothing")
 
     for pulse, want in ((100, 400), (1500, 1500), (3000, 2600)):
@@ -401,27 +428,99 @@ def test_wheels(r):
 
     def motor(wheel, duty):
         r.call("hal_motor_set", wheel, duty)  # AAPCS: sign-extended
-        return m.read32(TIM3_CCR3 if wheel == 0 else TIM3_CCR4), m.read32(GPIOC_BSRR)
+        return m.read32(BOARD["motor_ccr"][wheel]), m.read32(BOARD["dir_bsrr"])
 
-    check(motor(0, 500) == (period // 2, (1 << 0) | (1 << 17)), "left half forward: PC0 high, PC1 low")
-    check(motor(0, -1000) == (period, (1 << 1) | (1 << 16)), "left full reverse: PC1 high, PC0 low")
-    check(motor(0, 0) == (0, (1 << 16) | (1 << 17)), "left stop: both low, no PWM")
-    check(motor(1, 250) == (period // 4, (1 << 3) | (1 << 18)),
-          "right quarter forward, wired inverted: PC3 high, PC2 low")
+    l1, l2, r1, r2 = BOARD["dir_pins"]
+    pin = lambda n: "%s%d" % (BOARD["port"], n)
+    check(motor(0, 500) == (period // 2, (1 << l1) | (1 << (l2 + 16))),
+          "left half forward: %s high, %s low" % (pin(l1), pin(l2)))
+    check(motor(0, -1000) == (period, (1 << l2) | (1 << (l1 + 16))),
+          "left full reverse: %s high, %s low" % (pin(l2), pin(l1)))
+    check(motor(0, 0) == (0, (1 << (l1 + 16)) | (1 << (l2 + 16))), "left stop: both low, no PWM")
+    check(motor(1, 250) == (period // 4, (1 << r2) | (1 << (r1 + 16))),
+          "right quarter forward, wired inverted: %s high, %s low" % (pin(r2), pin(r1)))
     check(motor(1, 30000)[0] == period, "a duty beyond full scale is clamped")
     check(motor(1, -30000)[0] == period, "in both directions")
-    m.write32(TIM1_CNT, 0x1234)
-    m.write32(TIM8_CNT, 0xFFFF)
+    m.write32(BOARD["enc_cnt"][0], 0x1234)
+    m.write32(BOARD["enc_cnt"][1], 0xFFFF)
     check(r.call("hal_encoder_count", 0) == 0x1234 and r.call("hal_encoder_count", 1) == 0xFFFF,
           "the encoders read their timers' 16-bit counters")
+    test_wheels_never_reverse_at_the_old_duty(r, motor)
     motor(0, 700)
     r.call("stm32_safe_outputs")
-    check(m.read32(TIM3_CCR3) == 0 and m.read32(TIM3_CCR4) == 0, "the safe state stops both PWMs")
-    check(m.read32(GPIOC_BSRR) == 1 << (4 + 16), "and puts the driver in standby (PC4 low)")
+    check(m.read32(BOARD["motor_ccr"][0]) == 0 and m.read32(BOARD["motor_ccr"][1]) == 0,
+          "the safe state stops both PWMs")
+    check(m.read32(BOARD["dir_bsrr"]) == 1 << (BOARD["stby_pin"] + 16),
+          "and puts the driver in standby (%s low)" % pin(BOARD["stby_pin"]))
 
+
+
+def test_wheels_never_reverse_at_the_old_duty(r, motor):
+    """TIM3 as RM0090 has it with OCxPE: a CCR write goes to the preload register, which
+    the timer takes at the end of the PWM period or at once on an update (EGR.UG). The pins
+    change with the BSRR write. A reversal must never let the bridge drive the new direction
+    while the duty commanded for the old one is still in force."""
+    uc = r.m.uc
+    base = BOARD["motor_ccr"][0] & ~0x3FF        # the motors' timer
+    ccr = {BOARD["motor_ccr"][0] - base: 0, BOARD["motor_ccr"][1] - base: 1}  # left, right
+    bsrr = BOARD["dir_bsrr"]
+    pin_of = BOARD["dir_pins"]
+    pins = {"now": 0}
+    pre, pre_dir, act, act_dir = [0, 0], [0, 0], [0, 0], [0, 0]
+    bad = []
+
+    def drive(p, wheel):                         # +1, -1 or 0 (coast): IN1 minus IN2
+        in1, in2 = pin_of[0:2] if wheel == 0 else pin_of[2:4]
+        return (p >> in1 & 1) - (p >> in2 & 1)
+
+    def tim(_uc, _access, addr, _size, value, _data):
+        off = addr - base
+        if off in ccr:
+            w = ccr[off]
+            pre[w], pre_dir[w] = value, drive(pins["now"], w)
+        elif off == 0x14 and value & 1:
+            update()
+
+    def gpio(_uc, _access, _addr, _size, value, _data):
+        p = (pins["now"] | (value & 0xFFFF)) & ~(value >> 16)
+        for w in (0, 1):
+            d = drive(p, w)
+            if d != 0 and act[w] != 0 and act_dir[w] != 0 and d != act_dir[w]:
+                bad.append("wheel %d drives %+d at the duty %d commanded for %+d"
+                           % (w, d, act[w], act_dir[w]))
+        pins["now"] = p
+
+    def update():                                # the end of a PWM period, or UG
+        act[:], act_dir[:] = pre, pre_dir
+
+    hooks = [uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, tim, begin=base, end=base + 0x3FF),
+             uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, gpio, begin=bsrr, end=bsrr + 3)]
+    uc.ctl_flush_tb()
+    for w in (0, 1):
+        motor(w, 0)
+    update()
+    for w in (0, 1):
+        for a, b in ((700, -700), (-1000, 1000), (300, -1), (1, -1000)):
+            motor(w, a)
+            update()
+            motor(w, b)
+            update()
+    motor(0, 900)
+    motor(1, -900)
+    update()
+    motor(0, -900)                               # both reverse within one period
+    motor(1, 900)
+    update()
+    for h in hooks:
+        uc.hook_del(h)
+    check(not bad, "a reversal zeroes the duty in force before the pins turn (%s)"
+          % ("; ".join(bad[:3]) or "no reverse drive at an old duty"))
+    check(drive(pins["now"], 0) == -1 and act[0] == pre[0] == 16000000 // 20000 * 900 // 1000,
+          "and the new duty follows")
 
 
 FLASH_ACR = 0x40023C00
+PWR_CR = 0x40007000
 
 
 def test_clock(r):
@@ -435,20 +534,29 @@ def test_clock(r):
         m.write32(base + RCC_PLLCFGR, 0x24003010)
         m.write32(base + RCC_CFGR, 0)
         m.write32(FLASH_ACR, 0)
+        m.write32(PWR_CR, 0x8000 if BOARD["vos"] == 3 else 0x4000)  # reset values
         r.call("stm32_clock_init")
         return [m.read32(clocks + 4 * i) for i in range(6)], m.read32(base + RCC_PLLCFGR)
 
+    want = BOARD["clocks"]
+    mhz = tuple(v // 1000000 for v in want)
     (src, sys_hz, p1, p2, t1, t2), pll = run(True, True)
-    check((src, sys_hz, p1, p2, t1, t2) == (0, 168000000, 42000000, 84000000, 84000000, 168000000),
-          "crystal and PLL: 168 MHz, APB1 42 MHz, APB2 84 MHz, timers 84 and 168 MHz")
-    check(pll == 0x20000000 | (1 << 22) | 4 | (168 << 6) | (7 << 24),
-          "PLL from the 8 MHz crystal: M 4, N 168, P 2, Q 7, reserved bits kept (0x%08x)" % pll)
-    check(m.read32(FLASH_ACR) & 7 == 5, "five flash wait states before the switch")
-    check(m.read32(base + RCC_CFGR) & 0xFCF3 == (5 << 10) | (4 << 13) | 2,
-          "AHB /1, APB1 /4, APB2 /2, PLL selected")
+    check((src, sys_hz, p1, p2, t1, t2) == (0,) + want,
+          "crystal and PLL: %d MHz, APB1 %d MHz, APB2 %d MHz, timers %d and %d MHz" % mhz)
+    pm, pn, pq = BOARD["pll"]
+    check(pll == 0x20000000 | (1 << 22) | pm | (pn << 6) | (pq << 24),
+          "PLL from the %d MHz crystal: M %d, N %d, P 2, Q %d, reserved bits kept (0x%08x)"
+          % (BOARD["crystal_mhz"], pm, pn, pq, pll))
+    vos = (m.read32(PWR_CR) >> 14) & 3
+    check(vos == BOARD["vos"], "the regulator's scale for this speed (PWR_CR VOS %d)" % vos)
+    ws = BOARD["wait_states"]
+    check(m.read32(FLASH_ACR) & 7 == ws, "%d flash wait states before the switch" % ws)
+    a1, a2 = BOARD["apb"]
+    check(m.read32(base + RCC_CFGR) & 0xFCF3 == (PPRE[a1] << 10) | (PPRE[a2] << 13) | 2,
+          "AHB /1, APB1 /%d, APB2 /%d, PLL selected" % (a1, a2))
     (src, sys_hz, *_), pll = run(False, True)
-    check((src, sys_hz) == (1, 168000000) and pll & 0x3F == 8 and not pll & (1 << 22),
-          "no crystal: 168 MHz from HSI through the PLL (M 8)")
+    check((src, sys_hz) == (1, want[0]) and pll & 0x3F == BOARD["hsi_m"] and not pll & (1 << 22),
+          "no crystal: %d MHz from HSI through the PLL (M %d)" % (mhz[0], BOARD["hsi_m"]))
     (src, sys_hz, p1, p2, t1, t2), _ = run(False, False)
     check((src, sys_hz, p1, t2) == (2, 16000000, 16000000, 16000000)
           and m.read32(base + RCC_CFGR) & 3 == 0 and not m.read32(base + RCC_CR) & PLLON,

@@ -46,6 +46,17 @@ static void move(void)
     pth += dth;
 }
 
+/* OM bytes that grid_state() reads as occupied and as free in the grid's mode. */
+static inline uint8_t ew_om_occupied(void)
+{
+    return grid.mode == OM_MODE_EVIDENCE ? (uint8_t)(GRID_EVIDENCE_ZERO + 72u) : 1u;
+}
+
+static inline uint8_t ew_om_free(void)
+{
+    return grid.mode == OM_MODE_EVIDENCE ? (uint8_t)(GRID_EVIDENCE_ZERO - 28u) : 0u;
+}
+
 static void setup_mode(uint8_t mode)
 {
     slam_config_default(&cfg);

@@ -5,7 +5,9 @@
 #
 #   tools/stm32f4/flash.sh [IMAGE.elf]      (make flash)
 #
-# Only the sectors the image occupies are erased: maps saved in sectors 10 and 11 survive.
+# Only the sectors the image occupies are erased: the maps saved in the storage sectors
+# (10 and 11 of an F405, 6 and 7 of an F411) survive. OpenOCD's stm32f4x target and
+# st-flash serve every STM32F4, the F411 "Black Pill" included.
 set -eu
 
 ELF=${1:-build/stm32f4/hal/stm32f4/sonarslam_stm32f4.elf}
@@ -36,4 +38,5 @@ else
     echo "         sudo apt-get install stlink-tools     (st-flash)" >&2
     exit 1
 fi
-echo "flash: done; the robot prints its banner on USART1 (PB6, 115200 8N1)"
+echo "flash: done; the robot prints its banner on its telemetry UART (115200 8N1; the pins"
+echo "       are in hal/stm32f4/README.md)"

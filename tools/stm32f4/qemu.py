@@ -92,6 +92,10 @@ def parse_report(text, who):
         f = l.split()
         if len(f) >= 2 and f[0] == "cost" and f[1] == "nop":
             summary["nop"] = int(f[2])
+        elif len(f) >= 3 and f[0] == "cost" and f[1] == "idle":
+            summary["idle_worst"] = int(f[3])
+        elif len(f) >= 3 and f[0] == "cost" and f[1] == "reading":
+            summary.update(reading_worst=int(f[3]), reading_mean=int(f[5]))
         elif len(f) >= 2 and f[0] == "cost" and f[1] == "ticks":
             summary.update(ticks=int(f[2]), sum=int(f[4]), worst=int(f[6]), at=int(f[8]))
         elif len(f) >= 2 and f[0] == "cost":

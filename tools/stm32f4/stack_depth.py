@@ -15,7 +15,8 @@ unbounded size is an error. An exception entry stacks 32 bytes (8 words, no FPU 
 plus up to 4 of alignment; roots that are handlers get those added.
 
 Without --root it reports the robot image's interrupt nesting: Reset_Handler (main),
-USART1, SysTick (the tick), the echo capture and a fault, each preempting the one before.
+the UART, SysTick (the tick), the echo capture (whichever timer the board table uses) and
+a fault, each preempting the one before.
 """
 import json
 import os
@@ -231,9 +232,16 @@ def main(argv):
     g = Graph(elf, indirect)
     nesting = not roots
     if nesting:
-        # The fault handler is naked assembly that branches to stm32_fault_report.
-        roots = ["Reset_Handler", "USART1_IRQHandler", "SysTick_Handler", "TIM5_IRQHandler",
-                 "stm32_fault_report"]
+        # Every interrupt handler the image defines (those that are not the weak default),
+        # in priority order as the board tables give it: the UART (lowest), the tick, the
+        # echo capture; then a fault, whose naked handler branches to stm32_fault_report.
+        syms = Elf(elf).symbols
+        default = syms["stm32_default_handler"][0] if "stm32_default_handler" in syms else None
+        irqs = sorted(n for n, v in syms.items()
+                      if n.endswith("_IRQHandler") and v[0] != default)
+        uart = [n for n in irqs if "USART" in n or "UART" in n]
+        roots = (["Reset_Handler"] + uart + ["SysTick_Handler"] +
+                 [n for n in irqs if n not in uart] + ["stm32_fault_report"])
     result = {}
     total = 0
     failed = False

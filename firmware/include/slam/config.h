@@ -25,6 +25,13 @@
 /** The most servo stops a sweep may have. */
 #define SLAM_SWEEP_STOPS_MAX 16u
 
+/** What an OM cell holds (grid.h). */
+typedef enum {
+    OM_MODE_COUNT = 0,    /**< the paper's Eq. 6: hits counted up to OMmax, nothing else */
+    OM_MODE_EVIDENCE = 1, /**< a log-odds byte: hits raise it, beams that pass lower it */
+    OM_MODES
+} om_mode_t;
+
 /** How the robot explores (explore.h). */
 typedef enum {
     EXPLORE_OFF = 0,    /**< stand still; the map still updates */
@@ -55,8 +62,11 @@ typedef struct {
     uint32_t cell_um;      /**< L, the side of a square cell; 50 mm */
     uint16_t start_cell_a; /**< the cell (a, b) whose centre is the start pose; */
     uint16_t start_cell_b; /**< the centre of the grid by default */
-    uint8_t om_max;        /**< OMmax, Eq. 6; 9 */
+    uint8_t om_max;        /**< OMmax, Eq. 6 (OM_MODE_COUNT); 9 */
     uint8_t tm_max;        /**< TMmax, Eq. 7; 30 */
+    uint8_t om_mode;       /**< an om_mode_t; OM_MODE_EVIDENCE (the best F1, measured) */
+    uint8_t om_hit;        /**< OM_MODE_EVIDENCE: log-odds added by a hit; 4 */
+    uint8_t om_miss;       /**< OM_MODE_EVIDENCE: log-odds taken by a beam passing; 1 */
 
     /* Sonar (Eq. 3-5). */
     uint32_t confidence_radius_um; /**< rc: readings with d >= rc never touch OM; 1 m */
@@ -72,17 +82,17 @@ typedef struct {
     uint8_t sweep_stops;            /**< 6 (18° apart) */
     uint8_t settle_ticks;           /**< servo travel + settle before the ping; 3 (30 ms) */
     uint8_t echo_timeout_ticks;     /**< give up on an echo after this; 4 (40 ms >= 38 ms) */
-    uint8_t ping_interval_ticks;    /**< least time from one trigger to the next; 6 (60 ms, the
-                                         HC-SR04 datasheet's measurement cycle: sooner, the
-                                         late echo of one ping is read as the next) */
     uint16_t servo_pulse_0deg_us;   /**< servo pulse at 0°; 500 µs (SG90) */
     uint16_t servo_pulse_180deg_us; /**< servo pulse at 180°; 2500 µs (SG90) */
 
-    /* Post-processing (§II.D). */
-    uint8_t post_threshold;  /**< TH: OM <= TH is free; 3 */
-    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are freed;
-                                  1 (isolated cells go): the best F1 of the templates that
-                                  remove anything, measured in the simulator */
+    /* Post-processing (§II.D). The defaults are those of OM_MODE_EVIDENCE, where every
+     * step lowered the measured F1: TH 0, no template, no insert. The paper's are TH 3,
+     * K 1 (K 4 erases thin walls) and insert on. */
+    uint8_t post_threshold;  /**< TH: OM <= TH is free (OM_MODE_COUNT), log-odds <= TH is
+                                  free (OM_MODE_EVIDENCE); 0 */
+    uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are
+                                  freed; 0 = off; 0 */
+    uint8_t post_insert;     /**< 1: free cells between two occupied ones are filled; 0 */
 
     /* Motion (§III.B). */
     uint16_t top_speed_mm_s; /**< wheel speed at full duty (feed-forward); 300 */
@@ -97,18 +107,36 @@ typedef struct {
     uint16_t turn_mm_s;      /**< wheel speed when turning in place; 100 */
     uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
     uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
-    uint32_t follow_um;      /**< walls mode: distance from the axle to what it follows;
-                                  300 mm */
     uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
     uint8_t square_laps;     /**< laps of the square, then stop; 0 = go on forever; 1 */
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
 
     /* Persistence (mapstore.h). */
     uint16_t save_period_s;  /**< save the maps this often from robot_idle(); 0 = never; 60 */
+
+    /* Localization (localize.h). */
+    uint8_t localize;        /**< 1: correct the pose against OM; 0: odometry alone (the
+                                  paper's); 1 */
+
+    /* Sonar timing and the walls mode (after the rest: the telemetry keys follow the
+     * fields' order and never change their ids). */
+    uint8_t ping_interval_ticks; /**< least time from one trigger to the next; 6 (60 ms, the
+                                      HC-SR04 datasheet's measurement cycle: sooner, the
+                                      late echo of one ping is read as the next) */
+    uint32_t follow_um;          /**< walls mode: distance from the axle to what it follows;
+                                      300 mm */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */
 void slam_config_default(slam_config_t *cfg);
+
+/**
+ * Turn a configuration to the paper's method, leaving the robot's geometry alone: the pose
+ * is odometry alone, OM counts hits (Eq. 6, OM_MODE_COUNT) and post-processing is the
+ * paper's threshold TH 3, template (K 1: the paper's four neighbours erase one-cell walls)
+ * and insert.
+ */
+void slam_config_paper(slam_config_t *cfg);
 
 /**
  * Check every field of a configuration against its valid range.

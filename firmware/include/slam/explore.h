@@ -145,6 +145,7 @@ typedef struct {
     uint32_t now;        /**< ticks since init */
     bam32_t target_heading;    /**< TURN: where to */
     int32_t leg_x_um, leg_y_um; /**< SQUARE: where the current leg began */
+    int32_t pending_x_um, pending_y_um; /**< the point of the reading that waits */
     int32_t pt_x_um[EXPLORE_POINTS]; /**< obstacle memory, world µm */
     int32_t pt_y_um[EXPLORE_POINTS];
     uint32_t pt_seen[EXPLORE_POINTS]; /**< `now` when seen; 0 = empty */

@@ -12,9 +12,19 @@
  * Storage is row by row of constant y: cell (a, b) is at index b·A + a, so a dump of the
  * array is an image with x to the right and y downwards (flip it for a map).
  *
- * OM counts sonar hits and saturates at OMmax (Eq. 6); TM counts control periods spent in
- * a cell and saturates at TMmax (Eq. 7). Neither ever decrements. A point outside the grid
- * is rejected and counted; nothing is ever written outside the arrays.
+ * What an OM cell holds depends on the configured om_mode:
+ * - OM_MODE_COUNT, the paper's Eq. 6: the number of sonar hits, saturating at OMmax; 0 is
+ *   a cell never hit, and nothing ever decrements.
+ * - OM_MODE_EVIDENCE: a cell holds v = GRID_EVIDENCE_ZERO + L, L a log-odds of occupancy
+ *   in [−127, 127]; every cell starts at L = 0, unknown. A hit adds om_hit, a beam that
+ *   passes through (or the robot standing on the cell) takes om_miss, both saturating.
+ *   L > 0 is occupied, L < 0 free, L = 0 unknown (never seen, or as much evidence for as
+ *   against). With hit 4 and miss 1 a cell stays occupied until four beams have passed
+ *   through it for every hit.
+ *
+ * TM counts control periods spent in a cell and saturates at TMmax (Eq. 7); it never
+ * decrements. A point outside the grid is rejected and counted; nothing is ever written
+ * outside the arrays.
  */
 #ifndef SLAM_GRID_H
 #define SLAM_GRID_H
@@ -35,6 +45,10 @@
 #error "SLAM_GRID_A and SLAM_GRID_B must be between 3 and 4096"
 #endif
 
+/** OM_MODE_EVIDENCE: the byte of log-odds 0, and the largest |log-odds|. */
+#define GRID_EVIDENCE_ZERO 128u
+#define GRID_EVIDENCE_MAX 127u
+
 /** A cell index: a along x, b along y. */
 typedef struct {
     uint16_t a;
@@ -48,13 +62,16 @@ typedef struct {
     uint32_t cell_um;    /**< L */
     uint8_t om_max;      /**< OMmax */
     uint8_t tm_max;      /**< TMmax */
+    uint8_t mode;        /**< an om_mode_t */
+    uint8_t hit;         /**< OM_MODE_EVIDENCE: log-odds step of a hit */
+    uint8_t miss;        /**< OM_MODE_EVIDENCE: log-odds step of a pass */
     uint32_t rejected;   /**< points that fell outside the grid (saturating) */
     uint8_t om[SLAM_GRID_CELLS]; /**< obstacle map, index b·A + a */
     uint8_t tm[SLAM_GRID_CELLS]; /**< trajectory map, index b·A + a */
 } grid_t;
 
 /**
- * Clear both maps and set the geometry from the configuration (L, start pose, start
+ * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the configuration (L, start pose, start
  * cell, OMmax, TMmax). The configuration must have passed slam_config_check().
  */
 void grid_init(grid_t *g, const slam_config_t *cfg);
@@ -70,12 +87,30 @@ void grid_init(grid_t *g, const slam_config_t *cfg);
 int grid_cell_of(const grid_t *g, int32_t x_um, int32_t y_um, grid_cell_t *cell);
 
 /**
- * One sonar hit at a world point: OM of its cell += 1 up to OMmax (Eq. 6).
- * @retval SLAM_OK        the cell was updated (or was already at OMmax)
+ * One sonar hit at a world point: OM of its cell += 1 up to OMmax (Eq. 6), or, in
+ * OM_MODE_EVIDENCE, its log-odds += om_hit up to +127.
+ * @retval SLAM_OK        the cell was updated (or was already saturated)
  * @retval SLAM_EOUTSIDE  the point is outside; g->rejected counts it, no cell changes
  * ISR-safe, O(1).
  */
 int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um);
+
+/**
+ * OM_MODE_EVIDENCE: free-space evidence at one world point (the robot stands there):
+ * its cell's log-odds −= om_miss down to −127. Nothing in OM_MODE_COUNT.
+ * Return values as grid_om_hit(). ISR-safe, O(1).
+ */
+int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um);
+
+/**
+ * OM_MODE_EVIDENCE: free-space evidence along a beam: the log-odds of every cell on the
+ * line from the cell of (x0, y0) to the cell of (x1, y1), both included, −= om_miss.
+ * The line is walked one cell a step along its longer axis (Bresenham between the cell
+ * centres), so it touches max(|Δa|, |Δb|) + 1 cells; it stops where it leaves the grid
+ * (the start must be inside). Nothing in OM_MODE_COUNT. ISR-safe.
+ * @return the cells lowered
+ */
+uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int32_t y1_um);
 
 /**
  * One control period spent at a world point: TM of its cell += 1 up to TMmax (Eq. 7).
@@ -92,22 +127,47 @@ static inline uint32_t grid_index(grid_cell_t c)
 /** What the maps say of a cell. */
 typedef enum {
     GRID_UNKNOWN = 0, /**< nothing has been seen there */
-    GRID_FREE,        /**< known free: the robot has been there */
+    GRID_FREE,        /**< known free */
     GRID_OCCUPIED,    /**< OM holds obstacle evidence */
 } grid_state_t;
 
 /**
- * What OM and TM say of the cell at an array index: GRID_OCCUPIED when OM holds any
- * obstacle evidence (OM >= 1, the raw map of Eq. 6), else GRID_FREE when the robot has
- * been there (TM > 0), else GRID_UNKNOWN. Exploration, the map exports and the scoring all
- * read cells through this one rule. ISR-safe, O(1).
+ * What the maps say of a cell, from its OM and TM bytes in a mode. Exploration, the map
+ * exports and the scoring all read cells through this one rule. ISR-safe, O(1).
+ * - OM_MODE_COUNT: GRID_OCCUPIED when OM >= 1 (the raw map of Eq. 6), else GRID_FREE
+ *   when the robot has been there (TM > 0), else GRID_UNKNOWN.
+ * - OM_MODE_EVIDENCE: from OM alone (the robot's own cells get free-space evidence at
+ *   every reading): GRID_OCCUPIED when the log-odds is > 0, GRID_FREE when < 0, else
+ *   GRID_UNKNOWN.
  */
-static inline grid_state_t grid_state(const grid_t *g, uint32_t index)
+static inline grid_state_t grid_state_of(uint8_t mode, uint8_t om, uint8_t tm)
 {
-    if (g->om[index] != 0u) {
+    if (mode == OM_MODE_EVIDENCE) {
+        if (om > GRID_EVIDENCE_ZERO) {
+            return GRID_OCCUPIED;
+        }
+        return om < GRID_EVIDENCE_ZERO ? GRID_FREE : GRID_UNKNOWN;
+    }
+    if (om != 0u) {
         return GRID_OCCUPIED;
     }
-    return g->tm[index] != 0u ? GRID_FREE : GRID_UNKNOWN;
+    return tm != 0u ? GRID_FREE : GRID_UNKNOWN;
+}
+
+/** grid_state_of() for the cell at an array index of a grid. */
+static inline grid_state_t grid_state(const grid_t *g, uint32_t index)
+{
+    return grid_state_of(g->mode, g->om[index], g->tm[index]);
+}
+
+/**
+ * The OM byte at and below which post_threshold() frees a cell, for threshold TH in a
+ * mode: TH itself in OM_MODE_COUNT, log-odds TH in OM_MODE_EVIDENCE (unknown cells are
+ * always at or below it).
+ */
+static inline uint8_t grid_threshold_byte(uint8_t mode, uint8_t th)
+{
+    return mode == OM_MODE_EVIDENCE ? (uint8_t)(GRID_EVIDENCE_ZERO + th) : th;
 }
 
 #endif /* SLAM_GRID_H */

@@ -7,7 +7,7 @@
  * Linux). A save goes to the slot that does not hold the newest good record, so a power
  * cut in the middle of a save never loses the last good map. A record is
  *
- *     header (mapstore_header_t, 48 bytes) | OM (A·B bytes) | TM (A·B bytes)
+ *     header (mapstore_header_t, 56 bytes) | OM (A·B bytes) | TM (A·B bytes)
  *
  * The data is written first, the header last; the header carries a CRC-32 of the data
  * and one of itself, and a sequence number that grows with every save. A slot is good
@@ -28,7 +28,7 @@
 #include "slam/odometry.h"
 
 #define MAPSTORE_MAGIC 0x4D414C53u /**< "SLAM" in a little-endian dump */
-#define MAPSTORE_VERSION 1u
+#define MAPSTORE_VERSION 2u
 #define MAPSTORE_CHUNK 256u        /**< bytes written per mapstore_step() */
 
 /** The header at the start of a slot (all fields little-endian on every target). */
@@ -45,6 +45,10 @@ typedef struct {
     int32_t pose_x_um;     /**< the robot's pose when the save began */
     int32_t pose_y_um;
     uint32_t pose_heading; /**< binary angle */
+    uint8_t om_mode;       /**< what an OM cell holds (om_mode_t), so a reader can tell */
+    uint8_t om_hit;        /**< OM_MODE_EVIDENCE: the log-odds steps */
+    uint8_t om_miss;
+    uint8_t om_max;        /**< OM_MODE_COUNT: OMmax */
     uint32_t data_crc;     /**< CRC-32 (IEEE) of OM then TM */
     uint32_t header_crc;   /**< CRC-32 of the header bytes before this field */
 } mapstore_header_t;

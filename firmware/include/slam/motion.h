@@ -72,4 +72,14 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2]);
 /** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
 bool motion_stalled(const motion_t *m);
 
+/**
+ * Whether both ramps are at rest: set speeds zero, so motion_step() returns zero duties
+ * from now until a target changes. A zero duty alone is not rest (the PI part can cancel
+ * the feed-forward for a tick while the ramp still asks for speed). ISR-safe, O(1).
+ */
+static inline bool motion_at_rest(const motion_t *m)
+{
+    return (m->set_um_tick[0] | m->set_um_tick[1]) == 0;
+}
+
 #endif /* SLAM_MOTION_H */

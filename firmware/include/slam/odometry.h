@@ -21,6 +21,11 @@
  * fraction bits, so 10 ms steps of a slow robot never truncate; the pose seen by the rest
  * of the core is whole micrometres (odom_pose()). The gains per encoder count are exact
  * rationals of the configuration, computed once at odom_init().
+ *
+ * Positions wrap as the heading does: modulo 2^64 inside and modulo 2^32 µm (±2147 m) in
+ * the pose, so differences of nearby poses stay exact and no encoder glitch, however
+ * large or long, leads to undefined behaviour; a pose beyond ±2147 m reappears on the
+ * other side, far outside any grid.
  */
 #ifndef SLAM_ODOMETRY_H
 #define SLAM_ODOMETRY_H

@@ -27,9 +27,12 @@
 
 /** Parameters of the chain. */
 typedef struct {
-    uint8_t threshold; /**< TH */
+    uint8_t threshold; /**< the OM byte at and below which a cell is free: TH in
+                            OM_MODE_COUNT; grid_threshold_byte() gives it in any mode */
     uint8_t om_max;    /**< value of an occupied cell after thresholding */
-    uint8_t k;         /**< template: minimum occupied 8-neighbours to stay occupied, 0..8 */
+    uint8_t k;         /**< template: minimum occupied 8-neighbours to stay occupied, 0..8
+                            (0: the template changes nothing) */
+    uint8_t insert;    /**< 1: run the insert step; 0: skip it */
 } post_params_t;
 
 /** Step 1 in place: OM <= TH becomes 0, anything else om_max. */
@@ -48,12 +51,13 @@ void post_template(uint8_t *map, size_t w, size_t h, uint8_t k, uint8_t *scratch
 void post_insert(uint8_t *map, size_t w, size_t h, uint8_t om_max, uint8_t *scratch);
 
 /**
- * The whole chain on a copy: out = insert(template(threshold(om))).
+ * The whole chain on a copy: out = insert(template(threshold(om))), insert only when
+ * p->insert is set.
  * @param om       the live obstacle map, w·h cells; only read
  * @param out      w·h cells, the result (may not overlap om)
  * @param scratch  2·w bytes owned by the caller
  * @retval SLAM_OK      done
- * @retval SLAM_EINVAL  k > 8, a zero size, or om_max <= threshold; out is untouched
+ * @retval SLAM_EINVAL  k > 8, insert > 1, a zero size, or om_max == 0; out is untouched
  */
 int post_run(const uint8_t *om, uint8_t *out, size_t w, size_t h, const post_params_t *p,
              uint8_t *scratch);

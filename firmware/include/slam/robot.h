@@ -20,6 +20,7 @@
 #include "slam/config.h"
 #include "slam/explore.h"
 #include "slam/grid.h"
+#include "slam/localize.h"
 #include "slam/mapper.h"
 #include "slam/mapstore.h"
 #include "slam/motion.h"
@@ -33,6 +34,7 @@ typedef struct {
     odom_t odom;           /**< pose tracking */
     sweep_t sweep;         /**< servo sweep */
     mapper_t mapper;       /**< Algorithm C.1 */
+    loc_t loc;             /**< pose correction; readings mapped by robot_idle() */
     explore_t explore;     /**< where to go */
     motion_t motion;       /**< wheel speed control */
     grid_t grid;           /**< OM and TM */
@@ -44,10 +46,24 @@ typedef struct {
     mapstore_t store;      /**< map saves, run by robot_idle() */
     uint32_t next_save;    /**< the tick count at which the next periodic save begins */
     volatile bool save_requested; /**< robot_request_save() was called */
-    volatile bool hold;    /**< robot_idle() asks the tick to stop the robot */
+    volatile uint8_t hold; /**< why robot_idle() asks the tick to stop the robot
+                                (ROBOT_HOLD_* bits); 0: drive */
     volatile bool held;    /**< the tick says the robot stands still under hold */
+    uint8_t pending;       /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
     telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
+
+/** Reasons to hold the robot still: a save beginning, a command waiting to be applied,
+ *  and STOP (until START; the sweep goes on mapping). Written by robot_idle() only. */
+#define ROBOT_HOLD_SAVE 0x01u
+#define ROBOT_HOLD_COMMAND 0x02u
+#define ROBOT_HOLD_STOP 0x04u
+
+/**
+ * What the calibration run (the CALIBRATE command) drives: the square of square_side_um
+ * and square_laps, counter-clockwise, from where the robot stands.
+ */
+#define ROBOT_CALIBRATION_MODE EXPLORE_SQUARE
 
 /**
  * Check the configuration and start the robot: motors off, pose at the configured start,
@@ -63,12 +79,19 @@ void robot_tick(robot_t *r);
 
 /**
  * Background work, from the main loop; never called from the tick: feeds the watchdog
- * while ticks progress, sends telemetry, and saves the maps (every save_period_s, and on
- * request) a chunk per call. A save begins only once the tick has brought the robot to a
+ * while ticks progress, takes commands from the UART (telemetry.h: at most
+ * ROBOT_RX_BYTES a call, each answered), sends telemetry, and saves the maps (every
+ * save_period_s, and on request) a chunk per call. A command that changes the
+ * configuration or the exploration mode waits until the tick has brought the robot to a
+ * stand, then re-initialises what the configuration feeds (odometry gains, keeping the
+ * pose; the sonar's limits; motion; exploration, from the pose where it stands). A save begins only once the tick has brought the robot to a
  * stand: beginning a slot erases it, and on an MCU that stalls the CPU, ticks included,
  * for up to two seconds.
  */
 void robot_idle(robot_t *r);
+
+/** Received bytes robot_idle() takes per call at most. */
+#define ROBOT_RX_BYTES 32u
 
 /** Ask robot_idle() to save the maps as soon as it can. ISR-safe. */
 void robot_request_save(robot_t *r);

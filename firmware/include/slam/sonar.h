@@ -53,8 +53,29 @@ bool sonar_in_confidence(const sonar_t *s, uint32_t range_um);
 /** World bearing of the beam (Eq. 3) for robot heading Ψ and servo angle θo. */
 bam32_t sonar_bearing(const sonar_t *s, bam32_t heading, bam32_t servo);
 
+/** A reading's beam in the world: where it starts and its direction. */
+typedef struct {
+    int32_t x_um;  /**< the servo axis */
+    int32_t y_um;
+    q1_30_t c;     /**< cos and sin of the bearing θ (Eq. 3) */
+    q1_30_t s;
+} sonar_beam_t;
+
+/** The beam of a reading from a pose at a servo angle (Eq. 3 and the mount). O(1). */
+void sonar_beam(const sonar_t *s, const odom_pose_t *pose, bam32_t servo, sonar_beam_t *b);
+
+/** The point at a distance along a beam (Eq. 4-5), saturated at the int32_t limits. */
+void sonar_beam_point(const sonar_beam_t *b, uint32_t range_um, int32_t *x_um, int32_t *y_um);
+
 /**
- * The obstacle point of a reading (Eq. 4-5 with the mount offset). ISR-safe, O(1).
+ * The servo axis in the world: the pose plus the mount offset turned by Ψ. ISR-safe, O(1).
+ * @param x_um, y_um  out: where every beam of this pose starts, µm
+ */
+void sonar_origin(const sonar_t *s, const odom_pose_t *pose, int32_t *x_um, int32_t *y_um);
+
+/**
+ * The obstacle point of a reading (Eq. 4-5 with the mount offset): sonar_beam_point() of
+ * its sonar_beam(). ISR-safe, O(1).
  * @param pose      robot pose at the moment of the ping
  * @param servo     servo angle θo of the reading
  * @param range_um  d

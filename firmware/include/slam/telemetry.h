@@ -12,30 +12,57 @@
  * payload, low byte first. All payload integers are little-endian.
  *
  *   HELLO   1: version u8, a u16, b u16, cell_um u32, origin_x_um i32, origin_y_um i32,
- *              om_max u8, tm_max u8                                    (19 bytes)
+ *              om_max u8, tm_max u8, then what a replay of the readings needs:
+ *              confidence_radius_um u32, range_min_um u32, mount_x_um i32,
+ *              mount_y_um i32, mount_yaw_mdeg i32, then what an OM cell holds:
+ *              om_mode u8, om_hit u8, om_miss u8 (grid.h)               (42 bytes)
  *   POSE    2: ticks u32, x_um i32, y_um i32, heading u32 (binary angle)  (16 bytes)
  *   READING 3: ticks u32, stop u8, outcome u8 (mapper_outcome_t), servo_mdeg i32,
  *              range_um u32 (0 on a timeout), then the pose of the ping:
  *              x_um i32, y_um i32, heading u32                          (26 bytes)
  *   MAP_ROW 4: map u8 (0 OM, 1 TM), row u16 (b), first u16 (a), then the cells
  *   STATUS  5: ticks, pings, echoes, timeouts, om_hits, tick_overruns, saves,
- *              telemetry drops, each u32                                (32 bytes)
+ *              telemetry drops, commands taken, commands refused, each u32; then
+ *              explore_mode u8, flags u8 (TELEM_FLAG_*)                 (42 bytes)
+ *   ACK     6: command u8: a command was taken                          (1 byte)
+ *   ERROR   7: command u8 (the type received), code u8 (telem_error_t), key u8 (GET and
+ *              SET; else 0): a command was refused and changed nothing  (3 bytes)
+ *   CONFIG  8: key u8, value u32: a configuration value in force, the answer to GET
+ *              and to SET                                               (5 bytes)
+ *
+ * Commands come the other way, framed the same way, and are parsed by the background
+ * loop (never the tick). Each is answered: ACK, CONFIG or ERROR.
+ *
+ *   START     0x10: (no payload) drive again after STOP
+ *   STOP      0x11: (none) stand still; the sweep goes on mapping
+ *   MODE      0x12: explore_mode u8; exploration restarts from the pose where it stands
+ *   GET       0x13: key u8 (TELEM_CONFIG_KEYS)
+ *   SET       0x14: key u8, value u32 (two's complement for a signed field); checked with
+ *                   the whole configuration, applied once the robot stands
+ *   SAVE      0x15: (none) save the maps now
+ *   SEND_MAP  0x16: (none) a HELLO, then OM and TM again from their first row
+ *   CALIBRATE 0x17: (none) the calibration run (robot.h), from where the robot stands
  *
  * A receiver resynchronises on A5 5A and drops frames whose CRC fails; a frame the UART
- * could only take in part is counted (short_writes) and left to that check.
+ * could only take in part is counted (short_writes) and left to that check. A command
+ * with a bad CRC, a length other than its own, an unknown type, an unknown key or a value
+ * out of range is answered with ERROR and changes nothing; so is a frame that stops
+ * arriving for TELEM_RX_TIMEOUT_TICKS before it is complete.
  */
 #ifndef SLAM_TELEMETRY_H
 #define SLAM_TELEMETRY_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
+#include "slam/config.h"
 #include "slam/grid.h"
 #include "slam/odometry.h"
 
 #define TELEM_SYNC0 0xA5u
 #define TELEM_SYNC1 0x5Au
-#define TELEM_VERSION 1u
+#define TELEM_VERSION 3u
 #define TELEM_RING 8u               /**< events the tick may post before idle drains them */
 #define TELEM_MAP_CELLS 200u        /**< cells per MAP_ROW frame at most */
 #define TELEM_FRAME_MAX (4u + 255u + 2u)
@@ -47,7 +74,107 @@ typedef enum {
     TELEM_READING = 3,
     TELEM_MAP_ROW = 4,
     TELEM_STATUS = 5,
+    TELEM_ACK = 6,
+    TELEM_ERROR = 7,
+    TELEM_CONFIG = 8,
 } telem_type_t;
+
+/** Command types (host to robot). */
+typedef enum {
+    TELEM_CMD_START = 0x10,
+    TELEM_CMD_STOP = 0x11,
+    TELEM_CMD_MODE = 0x12,
+    TELEM_CMD_GET = 0x13,
+    TELEM_CMD_SET = 0x14,
+    TELEM_CMD_SAVE = 0x15,
+    TELEM_CMD_SEND_MAP = 0x16,
+    TELEM_CMD_CALIBRATE = 0x17,
+} telem_cmd_type_t;
+
+/** Why a command was refused (the code of an ERROR frame). */
+typedef enum {
+    TELEM_ERR_CRC = 1,         /**< the CRC does not match */
+    TELEM_ERR_LENGTH = 2,      /**< the length is not the command's, or the frame ended early */
+    TELEM_ERR_COMMAND = 3,     /**< no such command */
+    TELEM_ERR_KEY = 4,         /**< no such configuration key */
+    TELEM_ERR_RANGE = 5,       /**< the value is out of range: the configuration would not
+                                    pass slam_config_check() */
+    TELEM_ERR_FIXED = 6,       /**< the key takes effect only at start (grid, sweep, start pose) */
+    TELEM_ERR_UNSUPPORTED = 7, /**< not on this robot (SAVE without storage) */
+} telem_error_t;
+
+/** STATUS flags. */
+#define TELEM_FLAG_STOPPED 0x01u /**< STOP is in force */
+#define TELEM_FLAG_PENDING 0x02u /**< a command waits for the robot to stand */
+
+#define TELEM_CMD_PAYLOAD_MAX 5u                          /**< SET: key, value */
+#define TELEM_CMD_FRAME_MAX (6u + TELEM_CMD_PAYLOAD_MAX)
+#define TELEM_RX_TIMEOUT_TICKS 20u /**< a command frame incomplete this long is refused */
+
+/**
+ * The configuration keys GET and SET address: X(id, field of slam_config_t, type, live).
+ * type is how the value is stored (cal_* are I32: raw Q1.30); live 0 marks a key that
+ * takes effect only at robot_init() (SET answers TELEM_ERR_FIXED). The ids are the
+ * protocol: never renumber one, add new keys at the end.
+ */
+#define TELEM_CONFIG_KEYS(X)                                                                    \
+    X(1, wheel_diameter_left_um, U32, 1)                                                        \
+    X(2, wheel_diameter_right_um, U32, 1)                                                       \
+    X(3, wheel_base_um, U32, 1)                                                                 \
+    X(4, encoder_counts_per_rev, U32, 1)                                                        \
+    X(5, cal_left, I32, 1)                                                                      \
+    X(6, cal_right, I32, 1)                                                                     \
+    X(7, cal_base, I32, 1)                                                                      \
+    X(8, start_x_um, I32, 0)                                                                    \
+    X(9, start_y_um, I32, 0)                                                                    \
+    X(10, start_heading_mdeg, I32, 0)                                                           \
+    X(11, cell_um, U32, 0)                                                                      \
+    X(12, start_cell_a, U16, 0)                                                                 \
+    X(13, start_cell_b, U16, 0)                                                                 \
+    X(14, om_max, U8, 0)                                                                        \
+    X(15, tm_max, U8, 0)                                                                        \
+    X(16, om_mode, U8, 0)                                                                       \
+    X(17, om_hit, U8, 0)                                                                        \
+    X(18, om_miss, U8, 0)                                                                       \
+    X(19, confidence_radius_um, U32, 1)                                                         \
+    X(20, range_min_um, U32, 1)                                                                 \
+    X(21, sound_speed_mm_per_s, U32, 1)                                                         \
+    X(22, mount_x_um, I32, 1)                                                                   \
+    X(23, mount_y_um, I32, 1)                                                                   \
+    X(24, mount_yaw_mdeg, I32, 1)                                                               \
+    X(25, sweep_first_mdeg, I32, 0)                                                             \
+    X(26, sweep_last_mdeg, I32, 0)                                                              \
+    X(27, sweep_stops, U8, 0)                                                                   \
+    X(28, settle_ticks, U8, 0)                                                                  \
+    X(29, echo_timeout_ticks, U8, 0)                                                            \
+    X(30, servo_pulse_0deg_us, U16, 0)                                                          \
+    X(31, servo_pulse_180deg_us, U16, 0)                                                        \
+    X(32, post_threshold, U8, 1)                                                                \
+    X(33, post_template_k, U8, 1)                                                               \
+    X(34, post_insert, U8, 1)                                                                   \
+    X(35, top_speed_mm_s, U16, 1)                                                               \
+    X(36, accel_mm_s2, U16, 1)                                                                  \
+    X(37, motion_kp_q8, U16, 1)                                                                 \
+    X(38, motion_ki_q8, U16, 1)                                                                 \
+    X(39, explore_mode, U8, 1)                                                                  \
+    X(40, cruise_mm_s, U16, 1)                                                                  \
+    X(41, turn_mm_s, U16, 1)                                                                    \
+    X(42, avoid_um, U32, 1)                                                                     \
+    X(43, clearance_um, U32, 1)                                                                 \
+    X(44, square_side_um, U32, 1)                                                               \
+    X(45, square_laps, U8, 1)                                                                   \
+    X(46, explore_seed, U32, 1)                                                                 \
+    X(47, save_period_s, U16, 1)                                                                \
+    X(48, localize, U8, 0)                                                                      \
+    X(49, ping_interval_ticks, U8, 0)                                                           \
+    X(50, follow_um, U32, 1)
+
+/** The highest key id. */
+#define TELEM_CONFIG_KEY_MAX 50u
+/** Keys the robot itself sets: MODE and CALIBRATE set explore_mode; a new explore_seed
+ *  restarts the exploration's random stream. */
+#define TELEM_KEY_EXPLORE_MODE 39u
+#define TELEM_KEY_EXPLORE_SEED 46u
 
 /** An event posted by the tick. */
 typedef struct {
@@ -60,7 +187,14 @@ typedef struct {
     uint32_t range_um;  /**< READING; 0 on a timeout */
 } telem_event_t;
 
-/** Telemetry state: the event ring and the progress of the map rows. */
+/** A command as received: its type and, for MODE, GET and SET, its key and value. */
+typedef struct {
+    uint8_t type;   /**< a telem_cmd_type_t */
+    uint8_t key;    /**< GET, SET: the key; MODE: the mode */
+    uint32_t value; /**< SET: the value */
+} telem_cmd_t;
+
+/** Telemetry state: the event ring, the progress of the map rows, the command parser. */
 typedef struct {
     telem_event_t ring[TELEM_RING];
     uint8_t head;            /**< next slot the tick writes (only the tick changes it) */
@@ -71,14 +205,22 @@ typedef struct {
     uint32_t last_row_tick;  /**< when the last map row went out */
     uint32_t last_hello_tick;
     uint32_t last_status_tick;
+    bool hello_due;          /**< SEND_MAP: a HELLO at the next telem_idle() */
     uint32_t frames;         /**< frames written */
     uint32_t dropped;        /**< events lost because the ring was full */
     uint32_t short_writes;   /**< frames the UART took only in part */
+    uint8_t rx[TELEM_CMD_FRAME_MAX]; /**< a command frame being received */
+    uint8_t rx_len;          /**< its bytes so far */
+    uint32_t rx_tick;        /**< when its last byte came */
+    uint32_t commands;       /**< commands taken */
+    uint32_t refused;        /**< commands refused (ERROR frames sent) */
 } telem_t;
 
-/** Counters the STATUS frame reports. */
+/** What the STATUS frame reports besides the telemetry's own counters. */
 typedef struct {
     uint32_t ticks, pings, echoes, timeouts, om_hits, overruns, saves;
+    uint8_t explore_mode;
+    uint8_t flags; /**< TELEM_FLAG_* */
 } telem_status_t;
 
 void telem_init(telem_t *t);
@@ -93,15 +235,63 @@ void telem_post_reading(telem_t *t, uint32_t ticks, uint8_t stop, uint8_t outcom
 /**
  * Background work: frame and write every posted event, then at most one map row segment
  * (one every TELEM_ROW_TICKS), a STATUS every second and a HELLO every five. Not ISR-safe.
+ * @param cfg  the configuration in force (HELLO carries the sonar's part of it)
  */
-void telem_idle(telem_t *t, const grid_t *g, const telem_status_t *st, uint32_t ticks);
+void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
+                const telem_status_t *st, uint32_t ticks);
+
+/** SEND_MAP: a HELLO at the next telem_idle(), then the map rows from OM's first row. */
+void telem_map_restart(telem_t *t);
+
+/* ---- commands (background loop only) -------------------------------------------------- */
+
+/**
+ * Take one received byte. A frame with a bad CRC, a wrong length or an unknown type is
+ * answered with ERROR here and dropped.
+ * @param ticks  the tick count now (for TELEM_RX_TIMEOUT_TICKS)
+ * @param cmd    out: the command, when one is complete
+ * @return true when @p cmd holds a complete, well-formed command
+ */
+bool telem_rx_byte(telem_t *t, uint8_t byte, uint32_t ticks, telem_cmd_t *cmd);
+
+/** Refuse (ERROR, TELEM_ERR_LENGTH) a command frame no byte has come for in
+ *  TELEM_RX_TIMEOUT_TICKS. */
+void telem_rx_expire(telem_t *t, uint32_t ticks);
+
+/** Answer a command: ACK. */
+void telem_send_ack(telem_t *t, uint8_t command);
+
+/** Refuse a command: ERROR with a telem_error_t and the key (0 when none). */
+void telem_send_error(telem_t *t, uint8_t command, uint8_t code, uint8_t key);
+
+/** Answer GET or SET: CONFIG with the value of @p key in @p cfg (a known key). */
+void telem_send_config(telem_t *t, const slam_config_t *cfg, uint8_t key);
+
+/**
+ * A configuration value by key id, widened to 32 bits (sign-extended when signed).
+ * @retval 0               *value holds it
+ * @retval -TELEM_ERR_KEY  no such key
+ */
+int telem_config_get(const slam_config_t *cfg, uint8_t key, uint32_t *value);
+
+/**
+ * Set one configuration value by key id, keeping the configuration valid.
+ * @retval 0                   set; @p cfg passes slam_config_check()
+ * @retval -TELEM_ERR_KEY      no such key
+ * @retval -TELEM_ERR_FIXED    the key takes effect only at robot_init()
+ * @retval -TELEM_ERR_RANGE    the value does not fit the field, or the configuration
+ *                             would fail slam_config_check()
+ * On error @p cfg is unchanged.
+ */
+int telem_config_set(slam_config_t *cfg, uint8_t key, uint32_t value);
 
 /** Ticks between map row frames (bandwidth: about 6 kB/s with 160-cell rows). */
 #define TELEM_ROW_TICKS 3u
 
 /**
  * Build one frame.
- * @param buf  at least TELEM_FRAME_MAX bytes
+ * @param buf      at least TELEM_FRAME_MAX bytes
+ * @param payload  len bytes (may be NULL when len is 0); it may lie at buf + 4
  * @return the frame length
  */
 size_t telem_frame(uint8_t *buf, uint8_t type, const uint8_t *payload, uint8_t len);

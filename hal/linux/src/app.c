@@ -11,8 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "hal/hal.h"
+#include "hal_common/mapexport.h"
 #include "lhal/lconf.h"
 #include "lhal/lhal.h"
 #include "lhal/mapfile.h"
@@ -26,9 +28,16 @@
 static robot_t app_robot;
 static volatile sig_atomic_t app_stop_signal;
 
+/* The first stop signal stops the motors at once (without I/O in the handler: the
+ * watchdog thread drops the lines and the PWM) and lets the program save the maps; a
+ * second one ends it at once, whatever it waits for. */
 static void app_on_stop(int sig)
 {
+    if (app_stop_signal != 0) {
+        _exit(128 + sig);
+    }
     app_stop_signal = sig;
+    lhal_signal_stop();
 }
 
 /* A crash stops the motors first, then takes its default course (core dump). */
@@ -55,9 +64,10 @@ static void app_usage(FILE *f)
             "\n"
             "On exit the motors stop and the maps are written to storage_dir: om.pgm, om_post.pgm,\n"
             "tm.pgm, each with a ROS map_server .yaml. The motors also stop, and the program\n"
-            "exits with status 3, when the control tick stalls for more than 100 ms.\n"
+            "exits with status 3, when a thread stalls for more than 100 ms or a hardware\n"
+            "write fails. A second Ctrl-C (or SIGTERM) ends the program at once.\n"
             "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
-            "3 stopped for safety.\n");
+            "3 stopped for safety, 128 + N ended at once by a second signal N.\n");
 }
 
 /* The tick callback: the firmware's 10 ms interrupt body. */
@@ -66,33 +76,33 @@ static void app_tick(void *ctx)
     robot_tick(ctx);
 }
 
-static uint32_t app_ticks(void)
-{
-    hal_irq_state_t s = hal_critical_enter();
-    uint32_t t = app_robot.ticks;
-    hal_critical_exit(s);
-    return t;
-}
-
 static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
 {
     const grid_t *g = &app_robot.grid;
     const mapfile_geometry_t geo = {g->cell_um, g->origin_x_um, g->origin_y_um};
-    const post_params_t pp = {app_robot.cfg.post_threshold, g->om_max, app_robot.cfg.post_template_k};
+    const slam_config_t *c = &app_robot.cfg;
+    const post_params_t pp = {grid_threshold_byte(c->om_mode, c->post_threshold), g->om_max,
+                              c->post_template_k, c->post_insert};
     static uint8_t post[SLAM_GRID_CELLS];
+    static uint8_t img[SLAM_GRID_CELLS];
     static uint8_t scratch[2u * SLAM_GRID_A];
-    int rc = mapfile_write(lc->storage_dir, "om", g->om, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    const uint32_t A = SLAM_GRID_A;
+    const uint32_t B = SLAM_GRID_B;
+    mapx_trinary(c->om_mode, g->om, g->tm, NULL, A, B, img);
+    int rc = mapfile_write(lc->storage_dir, "om", img, A, B, true, &geo);
     if (rc == 0) {
-        rc = mapfile_write(lc->storage_dir, "tm", g->tm, SLAM_GRID_A, SLAM_GRID_B, g->tm_max, &geo);
+        mapx_counts(g->tm, g->tm_max, A, B, img);
+        rc = mapfile_write(lc->storage_dir, "tm", img, A, B, false, &geo);
     }
-    if (rc == 0 && post_run(g->om, post, SLAM_GRID_A, SLAM_GRID_B, &pp, scratch) == SLAM_OK) {
-        rc = mapfile_write(lc->storage_dir, "om_post", post, SLAM_GRID_A, SLAM_GRID_B, g->om_max, &geo);
+    if (rc == 0 && post_run(g->om, post, A, B, &pp, scratch) == SLAM_OK) {
+        mapx_trinary(c->om_mode, g->om, g->tm, post, A, B, img);
+        rc = mapfile_write(lc->storage_dir, "om_post", img, A, B, true, &geo);
     }
     if (rc != 0) {
         fprintf(err, APP_NAME ": cannot write the maps to %s: %s\n", lc->storage_dir, strerror(-rc));
         return -1;
     }
-    fprintf(out, "maps written to %s: om.pgm, om_post.pgm, tm.pgm (+ .yaml)\n", lc->storage_dir);
+    fprintf(out, "maps written to %s: om.pgm, om_post.pgm (+ .yaml), tm.pgm\n", lc->storage_dir);
     return 0;
 }
 
@@ -147,14 +157,22 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     char msg[256];
     lhal_fault_t fault = LHAL_FAULT_NONE;
     bool warned_stuck = false;
+    uint32_t ticks = 0u;
     while (!app_stop_signal) {
-        robot_idle(&app_robot);
+        /* Everything that reads the robot's state runs inside the background loop's turn,
+         * which a tick that does not end keeps for at most 20 ms: then the loop goes on to
+         * see the watchdog's fault. */
+        lhal_stats_t st = {0};
+        if (lhal_idle_lock() == HAL_OK) {
+            robot_idle(&app_robot);
+            ticks = app_robot.ticks;
+            lhal_stats(&st);
+            lhal_idle_unlock();
+        }
         fault = lhal_fault(msg, sizeof msg);
-        if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && app_ticks() >= tick_limit)) {
+        if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && ticks >= tick_limit)) {
             break;
         }
-        lhal_stats_t st;
-        lhal_stats(&st);
         if (!warned_stuck && st.sonar.stuck_high > 0u) {
             fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
                          "(stuck, or the sensor has no power); pings time out\n");
@@ -163,12 +181,17 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         const struct timespec pause = {0, APP_IDLE_NS};
         nanosleep(&pause, NULL);
     }
-    lhal_shutdown();
+    bool clean = lhal_shutdown();
+    fault = lhal_fault(msg, sizeof msg);
     if (fault != LHAL_FAULT_NONE) {
         fprintf(err, APP_NAME ": %s\n", msg);
         status = APP_EXIT_SAFETY;
     } else if (app_stop_signal) {
         fprintf(out, "stopped by signal %d\n", (int)app_stop_signal);
+    }
+    if (!clean) {
+        fprintf(err, APP_NAME ": a thread did not stop; the maps are written as the tick "
+                     "left them\n");
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
     lhal_report(out);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Map grids as PGM images with ROS map_server YAML, written atomically. */
+/* Map images as PGM files with ROS map_server YAML, written atomically. */
 #include "lhal/mapfile.h"
 
 #include <errno.h>
@@ -7,54 +7,33 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "hal_common/mapexport.h"
 #include "lhal/store.h"
 
-/* Micrometres as metres with six decimals, without floating point. */
-static void mapfile_metres(char *buf, size_t n, int32_t um)
-{
-    uint32_t mag = um < 0 ? (uint32_t)(-(int64_t)um) : (uint32_t)um;
-    snprintf(buf, n, "%s%u.%06u", um < 0 ? "-" : "", (unsigned)(mag / 1000000u),
-             (unsigned)(mag % 1000000u));
-}
-
-int mapfile_write(const char *dir, const char *name, const uint8_t *cells, uint32_t w,
-                  uint32_t h, uint8_t max, const mapfile_geometry_t *geo)
+int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w,
+                  uint32_t h, bool yaml, const mapfile_geometry_t *geo)
 {
     char header[64];
     int hlen = snprintf(header, sizeof header, "P5\n%u %u\n255\n", (unsigned)w, (unsigned)h);
     size_t npix = (size_t)w * h;
-    uint8_t *img = malloc((size_t)hlen + npix);
-    if (img == NULL) {
+    uint8_t *file_bytes = malloc((size_t)hlen + npix);
+    if (file_bytes == NULL) {
         return -ENOMEM;
     }
-    memcpy(img, header, (size_t)hlen);
-    uint8_t *px = img + hlen;
-    for (uint32_t row = 0u; row < h; row++) {
-        const uint8_t *src = cells + (size_t)(h - 1u - row) * w;
-        for (uint32_t a = 0u; a < w; a++) {
-            uint32_t v = src[a] < max ? src[a] : max;
-            px[(size_t)row * w + a] = (uint8_t)(255u - v * 255u / max);
-        }
-    }
+    memcpy(file_bytes, header, (size_t)hlen);
+    memcpy(file_bytes + hlen, img, npix);
     char file[96];
     snprintf(file, sizeof file, "%s.pgm", name);
-    int rc = store_write_file(dir, file, img, (size_t)hlen + npix);
-    free(img);
-    if (rc != 0) {
+    int rc = store_write_file(dir, file, file_bytes, (size_t)hlen + npix);
+    free(file_bytes);
+    if (rc != 0 || !yaml) {
         return rc;
     }
-
-    char res[24];
-    char ox[24];
-    char oy[24];
-    mapfile_metres(res, sizeof res, (int32_t)geo->cell_um);
-    mapfile_metres(ox, sizeof ox, geo->origin_x_um);
-    mapfile_metres(oy, sizeof oy, geo->origin_y_um);
-    char yaml[320];
-    int ylen = snprintf(yaml, sizeof yaml,
-                        "image: %s.pgm\nresolution: %s\norigin: [%s, %s, 0.0]\nnegate: 0\n"
-                        "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
-                        name, res, ox, oy);
+    char text[320];
+    int len = mapx_yaml(text, sizeof text, file, geo->cell_um, geo->origin_x_um, geo->origin_y_um);
+    if (len < 0) {
+        return -ENAMETOOLONG;
+    }
     snprintf(file, sizeof file, "%s.yaml", name);
-    return store_write_file(dir, file, yaml, (size_t)ylen);
+    return store_write_file(dir, file, text, (size_t)len);
 }

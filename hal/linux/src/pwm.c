@@ -158,10 +158,12 @@ int pwm_stop(pwm_chan_t *p)
     return rc != 0 ? rc : rc2;
 }
 
-void pwm_kill(const pwm_chan_t *p)
+int pwm_kill(const pwm_chan_t *p)
 {
-    if (p->dir[0] != '\0') {
-        (void)pwm_write_u32(p->duty_path, 0u);
-        (void)pwm_write_u32(p->enable_path, 0u);
+    if (p->dir[0] == '\0') {
+        return 0;
     }
+    int rc = pwm_write_u32(p->duty_path, 0u);
+    int rc2 = pwm_write_u32(p->enable_path, 0u);
+    return rc != 0 ? rc : rc2;
 }

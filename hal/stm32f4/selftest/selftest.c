@@ -71,6 +71,60 @@ void selftest_step(void *ctx)
     }
 }
 
+static void print_line(text_line_t *l);
+
+void selftest_idle(selftest_t *st)
+{
+    uint32_t cost = selftest_measure(robot_idle, st->robot) - st->nop_cost + SELFTEST_NOP_INSTRUCTIONS;
+    st->idle_worst = cost > st->idle_worst ? cost : st->idle_worst;
+}
+
+/* The reading selftest_reading_costs() measures, for a measured function's one argument. */
+static struct {
+    odom_pose_t pose;
+    bam32_t servo;
+    uint32_t range_um;
+} reading_args;
+
+__attribute__((noipa)) static void selftest_one_reading(robot_t *r)
+{
+    (void)mapper_reading(&r->mapper, &r->grid, &reading_args.pose, reading_args.servo,
+                         reading_args.range_um);
+}
+
+void selftest_reading_costs(selftest_t *st)
+{
+    robot_t *r = st->robot;
+    const uint32_t ranges[2] = {r->cfg.confidence_radius_um - 1u, 3u * r->cfg.confidence_radius_um};
+    uint32_t worst = 0u;
+    uint32_t sum = 0u;
+    uint32_t n = 0u;
+    for (int32_t h = 0; h < 360000; h += 15000) {
+        for (uint8_t stop = 0; stop < r->sweep.stops; stop++) {
+            for (unsigned k = 0; k < 2u; k++) {
+                reading_args.pose = (odom_pose_t){r->cfg.start_x_um, r->cfg.start_y_um,
+                                                  fix_bam_from_mdeg(h)};
+                reading_args.servo = r->sweep.stop_bam[stop];
+                reading_args.range_um = ranges[k];
+                uint32_t cost = selftest_measure(selftest_one_reading, r) - st->nop_cost +
+                                SELFTEST_NOP_INSTRUCTIONS;
+                worst = cost > worst ? cost : worst;
+                sum += cost;
+                n++;
+            }
+        }
+    }
+    text_line_t l;
+    text_clear(&l);
+    text_str(&l, "cost reading worst ");
+    text_u32(&l, worst);
+    text_str(&l, " mean ");
+    text_u32(&l, n != 0u ? sum / n : 0u);
+    text_str(&l, " of ");
+    text_u32(&l, n);
+    print_line(&l);
+}
+
 bool selftest_done(const selftest_t *st)
 {
     return *(volatile const bool *)&st->done;
@@ -203,6 +257,9 @@ void selftest_report(const selftest_t *st, bool with_costs)
     }
     text_str(&l, "cost nop ");
     text_u32(&l, st->nop_cost);
+    print_line(&l);
+    text_str(&l, "cost idle worst ");
+    text_u32(&l, st->idle_worst);
     print_line(&l);
     text_str(&l, "cost ticks ");
     text_u32(&l, rs.ticks);

@@ -55,6 +55,7 @@ typedef struct {
     uint32_t worst_tick; /**< which tick (0-based) */
     uint16_t *costs;     /**< per tick, saturated at 65535; may be NULL */
     uint32_t costs_max;  /**< entries in costs */
+    uint32_t idle_worst; /**< the most of one robot_idle() call (selftest_idle()) */
 } selftest_t;
 
 /**
@@ -76,5 +77,16 @@ bool selftest_passed(const selftest_t *st);
 
 /** Print the report; with_costs adds the instruction counts after `end`. */
 void selftest_report(const selftest_t *st, bool with_costs);
+
+/** robot_idle(), measured: the platform's background loop calls this instead. */
+void selftest_idle(selftest_t *st);
+
+/**
+ * After the report: what one reading costs the mapper (mapper_reading(), free-space rays
+ * included), measured over readings of every stop at every 15° of heading, inside the
+ * confidence sector just short of rc (the longest ray with a hit) and beyond it (a ray to
+ * rc); printed as `cost reading worst W mean M`. Writes into the robot's maps.
+ */
+void selftest_reading_costs(selftest_t *st);
 
 #endif /* STM32F4_SELFTEST_H */

@@ -57,10 +57,11 @@ int main(void)
     }
     while (!selftest_done(&st)) {
         cm_wfi();
-        robot_idle(&robot);
+        selftest_idle(&st);
     }
     stm32_tick_stop();
     selftest_report(&st, true);
+    selftest_reading_costs(&st);
 
     text_line_t l;
     text_clear(&l);

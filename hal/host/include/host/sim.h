@@ -323,4 +323,29 @@ void hal_host_trace(FILE *f);
 /** Telemetry: bytes the firmware wrote to the UART go to this file (NULL: discarded). */
 void hal_host_uart_sink(FILE *f);
 
+/** Bytes the UART can hold for hal_uart_read() before it drops them. */
+#define HAL_HOST_UART_RX_BYTES 4096u
+
+/**
+ * Bytes arriving at the UART (commands to the robot): hal_uart_read() hands them out in
+ * order. Returns how many were taken; the rest are dropped, as a full receive buffer
+ * drops them.
+ */
+size_t hal_host_uart_receive(const uint8_t *data, size_t len);
+
+/** The largest storage slot the host offers, bytes. */
+#define HAL_HOST_STORAGE_MAX (256u * 1024u)
+
+/**
+ * Resize and erase both storage slots (default: 128 KiB, an MCU's flash sector, enough
+ * for a 160 x 160 grid); at most HAL_HOST_STORAGE_MAX. Call before robot_init().
+ */
+void hal_host_storage_resize(size_t bytes);
+
+/**
+ * The bytes of a storage slot, as a flash dump or the Linux robot's slot file would hold
+ * them (HAL_STORAGE_SLOTS slots of hal_storage_size() bytes); NULL for no such slot.
+ */
+const uint8_t *hal_host_storage_slot(uint8_t slot);
+
 #endif /* HOST_SIM_H */

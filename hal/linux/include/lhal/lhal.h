@@ -5,15 +5,18 @@
  * shutdown, safety, statistics).
  *
  * Threads: the tick thread runs the hal_tick_start() callback every 10 ms from a timerfd,
- * with SCHED_FIFO when permitted, holding the critical-section mutex; the events thread
- * reads encoder and echo edges; the watchdog thread checks every 10 ms that ticks (and
- * the background loop's kicks) go on, and stops the motors if not. Everything else runs in
- * the caller's (main) thread.
+ * with SCHED_FIFO when permitted, holding the critical-section mutex; it does no I/O: the
+ * outputs it sets (motor duty and direction, servo, the sonar's trigger) go to the output
+ * thread, which writes them. The events thread reads encoder and echo edges. The watchdog
+ * thread checks every 10 ms that ticks, both other threads (and the background loop's
+ * kicks) go on, and stops the motors if not. Everything else runs in the caller's (main)
+ * thread; robot_idle() runs inside lhal_idle_lock().
  *
- * Safety: the motors stop (PWM duty 0 and disabled) when lhal_shutdown() runs, when the
- * watchdog trips, when a hardware write fails (a fault), and from lhal_emergency_stop()
- * (async-signal-safe, for crash handlers). Once stopped for a fault they stay stopped
- * until the next hal_init().
+ * Safety: the motors stop, the direction and standby lines low first and then PWM duty 0
+ * and disabled, without any lock a stuck thread may hold: when lhal_shutdown() runs, when
+ * the watchdog trips (a stalled or dead thread), when a hardware operation fails (a fault),
+ * at lhal_signal_stop() (for SIGINT and SIGTERM handlers) and at lhal_emergency_stop()
+ * (for crash handlers). Once stopped they stay stopped until the next hal_init().
  */
 #ifndef LHAL_LHAL_H
 #define LHAL_LHAL_H
@@ -45,6 +48,11 @@ typedef struct {
     uint64_t uart_sent;            /**< telemetry bytes written */
     uint64_t uart_dropped;         /**< telemetry bytes dropped (no room) */
     bool kernel_ts_realtime;       /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
+    uint32_t events_rounds;        /**< times the events thread went round (it does every 10 ms) */
+    uint32_t output_rounds;        /**< times the output thread went round (the same) */
+    uint32_t outputs_posted;       /**< output changes set through hal.h */
+    uint32_t outputs_written;      /**< the last of them the output thread has written */
+    const char *output_writing;    /**< what the output thread writes now ("servo_pwm"), or NULL */
 } lhal_stats_t;
 
 /** Use this configuration at the next hal_init() (copied). */
@@ -64,13 +72,36 @@ const char *lhal_error(void);
 const char *lhal_telemetry_name(void);
 
 /**
- * Stop the threads, stop the motors, disable the PWM outputs, drive the motor lines low,
- * release everything. Safe to call more than once and after a failed hal_init().
+ * Stop the motors (lines low at once), stop the threads, disable the PWM outputs, release
+ * everything. A thread that does not end within a second (stuck in a call that does not
+ * return) is left behind, and then nothing is released: the process is to end. Safe to
+ * call more than once and after a failed hal_init().
+ * @return every thread ended (false: one was left behind)
  */
-void lhal_shutdown(void);
+bool lhal_shutdown(void);
 
-/** Stop the motors now and for good; async-signal-safe. */
+/**
+ * Stop the motors for good from a SIGINT or SIGTERM handler: flags and a wake-up of the
+ * watchdog thread, which drops the lines and the PWM at once. Async-signal-safe and
+ * without I/O of its own, so a hung device cannot hold the handler.
+ */
+void lhal_signal_stop(void);
+
+/** Stop the motors now and for good, in the calling thread (for crash handlers). */
 void lhal_emergency_stop(void);
+
+/**
+ * The background loop's turn: take the critical section, waiting at most 20 ms (a tick
+ * that does not end holds it). robot_idle() and whatever reads the robot's state run
+ * between this and lhal_idle_unlock(), so the tick never changes what they read; the
+ * storage calls they make let the tick in while their file I/O blocks.
+ * @retval HAL_OK     taken
+ * @retval HAL_EBUSY  the tick held it for longer; try again after checking lhal_fault()
+ */
+int lhal_idle_lock(void);
+
+/** End the background loop's turn. */
+void lhal_idle_unlock(void);
 
 /**
  * Whether the backend stopped the motors on its own.

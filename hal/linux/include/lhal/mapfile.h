@@ -1,17 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file
- * A map grid as an image file: binary PGM (P5) with a ROS map_server YAML beside it.
+ * A map as an image file: binary PGM (P5), with a ROS map_server YAML beside it when it is
+ * a map to load.
  *
- * Cells are row-major w×h (index b·w + a, b growing with world y), as grid_t stores them.
- * The image puts world +y up, so its first row is the grid's last. A cell's value v
- * (saturated at max) becomes the grey level 255 − v·255/max: empty cells are white,
- * saturated ones black, which is how map_server reads an occupancy image (negate 0).
- * Both files are written atomically (store_write_file()).
+ * The image comes made: hal_common/mapexport.h turns a grid into the one trinary meaning
+ * every program exports (and TM into a count image with no YAML), first row the grid's
+ * last. Both files are written atomically (store_write_file()).
  */
 #ifndef LHAL_MAPFILE_H
 #define LHAL_MAPFILE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 /** Where the grid lies in the world. */
@@ -22,11 +22,11 @@ typedef struct {
 } mapfile_geometry_t;
 
 /**
- * Write DIR/NAME.pgm and DIR/NAME.yaml.
- * @param max  the value drawn black, > 0
+ * Write DIR/NAME.pgm and, when @p yaml, DIR/NAME.yaml (mapx_yaml()).
+ * @param img  w·h bytes, first row the northern one
  * @return 0, or -errno of the first file that could not be written
  */
-int mapfile_write(const char *dir, const char *name, const uint8_t *cells, uint32_t w,
-                  uint32_t h, uint8_t max, const mapfile_geometry_t *geo);
+int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w,
+                  uint32_t h, bool yaml, const mapfile_geometry_t *geo);
 
 #endif /* LHAL_MAPFILE_H */

@@ -22,6 +22,9 @@
 /** Longest path of a channel's directory. */
 #define PWM_PATH_MAX 240u
 
+/** How long a robot waits for an exported channel to appear (pwm_open()'s wait_ms). */
+#define PWM_EXPORT_WAIT_MS 1000u
+
 /** One PWM channel. */
 typedef struct {
     char dir[PWM_PATH_MAX];        /**< ROOT/pwmchipN/pwmM */
@@ -69,8 +72,11 @@ int pwm_set_duty(pwm_chan_t *p, uint32_t duty_ns);
  */
 int pwm_stop(pwm_chan_t *p);
 
-/** Duty 0 and disable, async-signal-safe and without touching the cached state. */
-void pwm_kill(const pwm_chan_t *p);
+/**
+ * Duty 0 and disable, async-signal-safe and without touching the cached state.
+ * @return 0, or -errno of the first write that failed (both are tried)
+ */
+int pwm_kill(const pwm_chan_t *p);
 
 /**
  * Write a decimal number to a file as `echo N > path` does.

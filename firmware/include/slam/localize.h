@@ -1,0 +1,185 @@
+/* SPDX-License-Identifier: MIT */
+/**
+ * @file
+ * Pose correction: the recent sonar hits, held relative to odometry, matched against OM.
+ *
+ * The robot's pose is its odometry pose turned and shifted by a correction T:
+ *
+ *     map = R(T.th) · odom + (T.tx, T.ty),   heading_map = heading_odom + T.th
+ *
+ * so odometry itself stays the paper's (Eq. 8-12) and only T changes.
+ *
+ * Work is split between the tick and the background loop. The tick posts every completed
+ * reading (the odometry pose of its ping, the servo angle, the range) into a small queue,
+ * O(1) (loc_post()). robot_idle() drains the queue (loc_idle()), reading by reading:
+ *
+ * - the reading's free-space evidence enters OM at once, at the corrected pose of its ping;
+ * - a hit inside the confidence sector is held back in a window of the last LOC_WINDOW
+ *   hits, as a point of the odometry frame; it enters OM only when it leaves the window,
+ *   at the correction of that time. So the hits matched are never part of the map they
+ *   are matched against, and a scan cannot pull the pose toward itself;
+ * - every LOC_EVERY new hits the window is matched against OM. Each hit looks for the
+ *   nearest occupied cell within LOC_ASSOC_CELLS cells and takes the wall's direction from
+ *   the occupied cells around it (the principal axis of a 5×5 block, used only when they
+ *   lie along a line). Its distance from that wall line is one scalar measurement. A
+ *   sequential Kalman update over the hits, iterated LOC_PASSES times (associations and
+ *   residuals taken again at the result), weighs them against the uncertainty of the
+ *   correction, a covariance about the robot that grows with the distance driven and the
+ *   angle turned since the last match (and carries the heading's uncertainty into the
+ *   position across the path). A wall constrains only the direction across itself, so one
+ *   wall never slides the pose along it; two walls at an angle, or a turn, fix the rest.
+ *   The filter also learns odometry's systematic drift, the heading it gains per metre
+ *   driven and per radian turned (what calibration left of E_d and E_b), and between
+ *   matches turns the correction by it, so the pose follows the drift it has learned.
+ *   A hit stays in the window for LOC_WINDOW / LOC_EVERY matches, so each counts with
+ *   LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
+ *   LOC_MAX_STEP_MDEG or LOC_MAX_STEP_UM, or finds fewer than LOC_MIN_POINTS walls, is
+ *   refused and changes nothing;
+ * - after each reading it publishes T for the tick.
+ *
+ * The tick adopts, when it completes a reading, the correction published after the reading
+ * before: every backend then uses the same correction for the same reading, whenever its
+ * background loop happens to run, as long as that loop drains a reading within a reading's
+ * time (a match is about 10⁵ instructions; readings are at least 60 ms apart). A tick that
+ * finds the loop behind keeps its correction and counts it as late.
+ *
+ * With localization off the queue still carries the readings to robot_idle() when OM holds
+ * free-space evidence (a beam's ray is too much work for the tick), and T stays zero.
+ *
+ * Units: positions µm, angles binary (2^32 a turn) in poses and µrad in the covariance.
+ */
+#ifndef SLAM_LOCALIZE_H
+#define SLAM_LOCALIZE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "slam/config.h"
+#include "slam/fixed.h"
+#include "slam/grid.h"
+#include "slam/mapper.h"
+#include "slam/odometry.h"
+
+#define LOC_QUEUE 8u             /**< readings between the tick and robot_idle() */
+#ifndef LOC_WINDOW
+#define LOC_WINDOW 60u           /**< hits held back from OM and matched */
+#endif
+#ifndef LOC_EVERY
+#define LOC_EVERY 4u             /**< new hits between two matches */
+#endif
+#ifndef LOC_PASSES
+#define LOC_PASSES 3u            /**< associations and updates of a match */
+#endif
+#ifndef LOC_ASSOC_CELLS
+#define LOC_ASSOC_CELLS 3        /**< a hit's wall lies within this many cells */
+#endif
+#ifndef LOC_MIN_POINTS
+#define LOC_MIN_POINTS 10u       /**< hits on a wall line a match needs */
+#endif
+#ifndef LOC_MAX_STEP_MDEG
+#define LOC_MAX_STEP_MDEG 3000   /**< a larger turn of the pose is refused */
+#endif
+#ifndef LOC_MAX_STEP_UM
+#define LOC_MAX_STEP_UM 150000   /**< and so is a larger shift */
+#endif
+
+/** The correction from the odometry frame to the map's. */
+typedef struct {
+    int32_t tx_um;  /**< translation */
+    int32_t ty_um;
+    bam32_t th;     /**< rotation */
+    q1_30_t c;      /**< cos th */
+    q1_30_t s;      /**< sin th */
+} loc_corr_t;
+
+/** A completed reading, as the tick hands it over. */
+typedef struct {
+    odom_pose_t ping;  /**< odometry pose at the ping */
+    uint32_t range_um; /**< 0 on a timeout */
+    bam32_t servo;     /**< servo angle θo */
+    bool echo;         /**< false: a timeout */
+} loc_reading_t;
+
+/** The filter's states: x, y, θ of a correction, and odometry's two drifts. */
+#define LOC_STATES 5u
+
+/** The filter's covariance (src/loc_kf.h says its units). */
+typedef struct {
+    int64_t p[LOC_STATES][LOC_STATES];
+} lkf_cov_t;
+
+/** A held-back hit: the obstacle point in the odometry frame. */
+typedef struct {
+    int32_t x_um;
+    int32_t y_um;
+} loc_point_t;
+
+/** Localization state and counters. */
+typedef struct {
+    bool on;                          /**< matching enabled (the configuration) */
+    bool deferred;                    /**< readings are mapped by loc_idle(), not the tick */
+    /* The queue: the tick writes head, loc_idle() writes tail. */
+    volatile loc_reading_t queue[LOC_QUEUE];
+    volatile uint8_t head;
+    volatile uint8_t tail;
+    uint32_t posted;                  /**< readings the tick posted */
+    uint32_t drained;                 /**< readings loc_idle() has finished */
+    /* The correction: idle's, the one it published, and the one the tick uses. */
+    loc_corr_t corr;
+    volatile loc_corr_t pub;
+    volatile uint32_t pub_seq;        /**< pub holds the correction after this many readings */
+    volatile uint32_t pub_gen;        /**< odd while pub is being written */
+    loc_corr_t tick_corr;
+    /* The window of held-back hits, a ring. */
+    loc_point_t win[LOC_WINDOW];
+    uint8_t win_first;
+    uint8_t win_count;
+    uint8_t since_match;              /**< hits added since the last match */
+    /* The filter (src/loc_kf.h): the covariance of a correction about the robot and of the
+     * systematic drift of odometry, κd (prad/mm) and κt (ppb), whose estimates are kept
+     * in kappa_prad_per_mm and kappa_ppb. */
+    lkf_cov_t cov;
+    lkf_cov_t work;                   /**< a match's covariance while it runs (static: the
+                                           idle loop's stack stays small) */
+    int32_t kappa_prad_per_mm;
+    int32_t kappa_ppb;
+    int64_t drift_nrad;               /**< learned drift not yet turned into the correction */
+    odom_pose_t last_odom;            /**< odometry pose of the last reading drained */
+    bool have_last;
+    /* Counters. */
+    uint32_t tried;                   /**< matches attempted */
+    uint32_t applied;                 /**< matches that moved the pose */
+    uint32_t refused;                 /**< matches refused (too few walls, too large) */
+    uint32_t dropped;                 /**< readings lost: the queue was full */
+    uint32_t late;                    /**< ticks that found the background loop behind */
+    uint32_t last_points;             /**< wall measurements of the last match */
+} loc_t;
+
+/**
+ * Set up for a checked configuration: zero correction, empty queue and window. The queue
+ * is used (deferred) when localization is on or OM holds free-space evidence.
+ */
+void loc_init(loc_t *l, const slam_config_t *cfg);
+
+/** The map pose of an odometry pose under a correction. ISR-safe, O(1). */
+odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom);
+
+/**
+ * Tick: hand a completed reading to the background loop, then adopt the correction
+ * published for the reading before it. ISR-safe, O(1).
+ * @retval true   queued
+ * @retval false  the queue was full: the reading is lost (counted in dropped)
+ */
+bool loc_post(loc_t *l, const loc_reading_t *rd);
+
+/**
+ * Background loop: drain the queue, reading by reading, as the file overview says:
+ * free-space evidence, held-back hits entering OM, matches, the published correction.
+ * Never from the tick. The mapper counts the readings as mapper_reading() does.
+ */
+void loc_idle(loc_t *l, mapper_t *m, grid_t *g);
+
+/** Put the window's held-back hits into OM (before a map is exported). Not ISR-safe. */
+void loc_flush(loc_t *l, mapper_t *m, grid_t *g);
+
+#endif /* SLAM_LOCALIZE_H */

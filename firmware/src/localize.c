@@ -1,0 +1,394 @@
+/* SPDX-License-Identifier: MIT */
+/* Pose correction: held-back hits matched against OM by an iterated sequential Kalman update. */
+#include "slam/localize.h"
+
+#include <string.h>
+
+#include "loc_kf.h"
+#include "slam/error.h"
+#include "slam/sonar.h"
+
+/* The covariance's units: µm and µrad. 2π·10⁶ µrad is 2^32 binary angle units. */
+#define LOC_BAM_PER_URAD_Q16 44797728 /* 683.565 bam per µrad, Q16 */
+#define LOC_KAPPA_MAX 20000000         /* ±20 µrad/mm (1.1° a metre), ±2 % of a turn */
+#define LOC_URAD_PER_BAM_Q26 98175    /* 0.00146292 µrad per bam, Q26 */
+
+/* A hit's distance from its wall: σ 30 mm, and a Cauchy weight of scale 50 mm against
+ * the walls it only seems to touch. µm² and µm. */
+#ifndef LOC_SIGMA2_UM2
+#define LOC_SIGMA2_UM2 900000000LL
+#endif
+#ifndef LOC_HUBER_UM
+#define LOC_HUBER_UM 50000LL
+#endif
+
+/* A 5×5 block says where a wall runs. */
+#ifndef LOC_NORMAL_HALF
+#define LOC_NORMAL_HALF 2
+#endif
+#ifndef LOC_NORMAL_MIN_CELLS
+#define LOC_NORMAL_MIN_CELLS 4
+#endif
+#ifndef LOC_LINEAR_PERCENT
+#define LOC_LINEAR_PERCENT 35 /* smaller eigenvalue at most this share of the larger: walls
+                                 a few cells thick still count; corners and blobs do not */
+#endif
+
+static void count(uint32_t *c)
+{
+    if (*c != UINT32_MAX) {
+        (*c)++;
+    }
+}
+
+static loc_corr_t corr_of(int32_t tx_um, int32_t ty_um, bam32_t th)
+{
+    return (loc_corr_t){tx_um, ty_um, th, fix_cos(th), fix_sin(th)};
+}
+
+void loc_init(loc_t *l, const slam_config_t *cfg)
+{
+    memset(l, 0, sizeof *l);
+    l->on = cfg->localize != 0u;
+    l->deferred = l->on || cfg->om_mode == OM_MODE_EVIDENCE;
+    l->corr = corr_of(0, 0, 0u);
+    l->pub = l->corr;
+    l->tick_corr = l->corr;
+    lkf_init(&l->cov);
+}
+
+/* A point through a correction. Positions stay far inside ±2^31 µm (slam_config_check
+ * keeps the world within 1 km), so the 32 × 30-bit products fit. */
+static void apply_xy(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy)
+{
+    *ox = fix_sat_i32(fix_round_shift((int64_t)x * c->c - (int64_t)y * c->s, 30u) + c->tx_um);
+    *oy = fix_sat_i32(fix_round_shift((int64_t)x * c->s + (int64_t)y * c->c, 30u) + c->ty_um);
+}
+
+odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)
+{
+    odom_pose_t p;
+    apply_xy(c, odom->x_um, odom->y_um, &p.x_um, &p.y_um);
+    p.heading = odom->heading + c->th;
+    return p;
+}
+
+bool loc_post(loc_t *l, const loc_reading_t *rd)
+{
+    bool queued = false;
+    uint8_t next = (uint8_t)((l->head + 1u) % LOC_QUEUE);
+    if (next != l->tail) {
+        l->queue[l->head] = *rd;
+        l->head = next;
+        queued = true;
+    } else {
+        count(&l->dropped);
+    }
+    /* The correction after the reading before this one, which every backend has by now
+     * unless its background loop fell behind (or is writing it right now). */
+    uint32_t gen = l->pub_gen;
+    if ((gen & 1u) == 0u && l->pub_seq == l->posted) {
+        l->tick_corr = l->pub;
+    } else {
+        count(&l->late);
+    }
+    l->posted++;
+    return queued;
+}
+
+/* ---- the filter --------------------------------------------------------------------------- */
+
+static bam32_t bam_of_urad(int64_t urad)
+{
+    return (bam32_t)(uint32_t)(int32_t)((urad * LOC_BAM_PER_URAD_Q16) >> 16);
+}
+
+/* A map point moved by an increment about a centre: turned by c, s, then shifted. */
+static void move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy,
+                       q1_30_t c, q1_30_t s, int32_t *ox, int32_t *oy)
+{
+    int64_t rx = (int64_t)x - cx;
+    int64_t ry = (int64_t)y - cy;
+    *ox = fix_sat_i32(cx + fix_round_shift(rx * c - ry * s, 30u) + dx);
+    *oy = fix_sat_i32(cy + fix_round_shift(rx * s + ry * c, 30u) + dy);
+}
+
+/* The correction turned by dth about a map point, then shifted: the robot standing there
+ * keeps its place and changes its heading. */
+static void correct_about(loc_t *l, int32_t cx, int32_t cy, bam32_t dth, int64_t dx, int64_t dy)
+{
+    int32_t tx;
+    int32_t ty;
+    move_point(l->corr.tx_um, l->corr.ty_um, cx, cy, dx, dy, fix_cos(dth), fix_sin(dth), &tx, &ty);
+    l->corr = corr_of(tx, ty, l->corr.th + dth);
+}
+
+/* A move between two readings: the covariance grows, and the correction turns by the drift
+ * learned so far, about where the robot now is. */
+static void propagate(loc_t *l, const odom_pose_t *odom)
+{
+    if (!l->have_last) {
+        l->have_last = true;
+        l->last_odom = *odom;
+        return;
+    }
+    int32_t dxo = (int32_t)((uint32_t)odom->x_um - (uint32_t)l->last_odom.x_um);
+    int32_t dyo = (int32_t)((uint32_t)odom->y_um - (uint32_t)l->last_odom.y_um);
+    int32_t turned = fix_bam_diff(odom->heading, l->last_odom.heading);
+    /* Driven: the move along the heading it began with (backwards is negative). */
+    int64_t ds_um = fix_round_shift((int64_t)dxo * fix_cos(l->last_odom.heading) +
+                                        (int64_t)dyo * fix_sin(l->last_odom.heading),
+                                    30u);
+    l->last_odom = *odom;
+    /* The move in the map frame is odometry's turned by the correction. */
+    int64_t dx = fix_round_shift((int64_t)dxo * l->corr.c - (int64_t)dyo * l->corr.s, 30u);
+    int64_t dy = fix_round_shift((int64_t)dxo * l->corr.s + (int64_t)dyo * l->corr.c, 30u);
+    int64_t turn_urad = ((int64_t)turned * LOC_URAD_PER_BAM_Q26) >> 26;
+    lkf_predict(&l->cov, dx / 1000, dy / 1000, ds_um / 1000, turn_urad);
+    /* The learned drift, whole µrad at a time (the rest waits for the next move). */
+    lkf_state_t k = {{0, 0, 0, l->kappa_prad_per_mm, l->kappa_ppb}};
+    l->drift_nrad += lkf_drift_nrad(&k, ds_um, turn_urad);
+    int64_t urad = l->drift_nrad / 1000;
+    if (urad != 0) {
+        l->drift_nrad -= urad * 1000;
+        odom_pose_t at = loc_apply(&l->corr, odom);
+        correct_about(l, at.x_um, at.y_um, bam_of_urad(urad), 0, 0);
+    }
+}
+/* ---- walls in OM ------------------------------------------------------------------------- */
+
+static bool occupied(const grid_t *g, int32_t a, int32_t b)
+{
+    return (uint32_t)a < SLAM_GRID_A && (uint32_t)b < SLAM_GRID_B &&
+           grid_state(g, (uint32_t)b * SLAM_GRID_A + (uint32_t)a) == GRID_OCCUPIED;
+}
+
+/* The normal of the wall through cell (a, b), Q12, from the occupied cells of the 5×5
+ * block around it: the direction of least spread, when the cells lie along a line. */
+static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int32_t *ny)
+{
+    int32_t n = 0;
+    int32_t sx = 0;
+    int32_t sy = 0;
+    int32_t sxx = 0;
+    int32_t syy = 0;
+    int32_t sxy = 0;
+    for (int32_t j = -LOC_NORMAL_HALF; j <= LOC_NORMAL_HALF; j++) {
+        for (int32_t i = -LOC_NORMAL_HALF; i <= LOC_NORMAL_HALF; i++) {
+            if (occupied(g, a + i, b + j)) {
+                n++;
+                sx += i;
+                sy += j;
+                sxx += i * i;
+                syy += j * j;
+                sxy += i * j;
+            }
+        }
+    }
+    if (n < LOC_NORMAL_MIN_CELLS) {
+        return false;
+    }
+    /* n² times the covariance of the cells: small integers. */
+    int64_t cxx = (int64_t)n * sxx - (int64_t)sx * sx;
+    int64_t cyy = (int64_t)n * syy - (int64_t)sy * sy;
+    int64_t cxy = (int64_t)n * sxy - (int64_t)sx * sy;
+    int64_t diff = cxx - cyy;
+    int64_t disc = lkf_isqrt((uint64_t)(diff * diff + 4 * cxy * cxy)); /* λ1 − λ2 */
+    int64_t tr = cxx + cyy;                                           /* λ1 + λ2 */
+    /* λ2 <= p·λ1: (tr − disc)·100 <= p·(tr + disc). */
+    if (tr <= 0 || (tr - disc) * 100 > LOC_LINEAR_PERCENT * (tr + disc)) {
+        return false;
+    }
+    /* The line's direction, the eigenvector of λ1 = (tr + disc) / 2: (2·cxy, disc − diff)
+     * or, where that vanishes (a line along x), (disc + diff, 2·cxy). */
+    int64_t vx = 2 * cxy;
+    int64_t vy = disc - diff;
+    if (vx == 0 && vy == 0) {
+        vx = disc + diff;
+        vy = 2 * cxy;
+    }
+    int64_t len = lkf_isqrt((uint64_t)(vx * vx + vy * vy));
+    if (len == 0) {
+        return false;
+    }
+    *nx = (int32_t)(-vy * LKF_J_ONE / len);
+    *ny = (int32_t)(vx * LKF_J_ONE / len);
+    return true;
+}
+
+/* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells
+ * (Euclidean, in cells; the first in scan order among equals), its centre and normal. */
+static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, int32_t *wy,
+                      int32_t *nx, int32_t *ny)
+{
+    grid_cell_t c;
+    if (grid_cell_of(g, x_um, y_um, &c) != SLAM_OK) {
+        return false;
+    }
+    int32_t best = LOC_ASSOC_CELLS * LOC_ASSOC_CELLS + 1;
+    int32_t ba = 0;
+    int32_t bb = 0;
+    for (int32_t j = -LOC_ASSOC_CELLS; j <= LOC_ASSOC_CELLS; j++) {
+        for (int32_t i = -LOC_ASSOC_CELLS; i <= LOC_ASSOC_CELLS; i++) {
+            int32_t d = i * i + j * j;
+            if (d < best && occupied(g, c.a + i, c.b + j)) {
+                best = d;
+                ba = c.a + i;
+                bb = c.b + j;
+            }
+        }
+    }
+    if (best > LOC_ASSOC_CELLS * LOC_ASSOC_CELLS || !wall_normal(g, ba, bb, nx, ny)) {
+        return false;
+    }
+    int32_t half = (int32_t)(g->cell_um / 2u);
+    *wx = g->origin_x_um + ba * (int32_t)g->cell_um + half;
+    *wy = g->origin_y_um + bb * (int32_t)g->cell_um + half;
+    return true;
+}
+
+/* ---- the match --------------------------------------------------------------------------- */
+
+static const loc_point_t *win_at(const loc_t *l, unsigned i)
+{
+    return &l->win[(l->win_first + i) % LOC_WINDOW];
+}
+
+/* One pass: every held-back hit, linearised at lin, updates (d, p) from the prior. */
+static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t cy,
+                           const lkf_state_t *lin, lkf_state_t *d, lkf_cov_t *p)
+{
+    q1_30_t c = fix_cos(bam_of_urad(lin->v[LKF_T]));
+    q1_30_t s = fix_sin(bam_of_urad(lin->v[LKF_T]));
+    uint32_t used = 0;
+    for (unsigned i = 0; i < l->win_count; i++) {
+        const loc_point_t *pt = win_at(l, i);
+        int32_t mx;
+        int32_t my;
+        int32_t qx;
+        int32_t qy;
+        apply_xy(&l->corr, pt->x_um, pt->y_um, &mx, &my);
+        move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
+        int32_t wx;
+        int32_t wy;
+        int32_t j[3];
+        if (!wall_near(g, qx, qy, &wx, &wy, &j[0], &j[1])) {
+            continue;
+        }
+        int64_t h = ((int64_t)j[0] * ((int64_t)qx - wx) + (int64_t)j[1] * ((int64_t)qy - wy)) >>
+                    LKF_J_SHIFT;
+        /* dh/dθ: the normal against the point's lever about the centre, µm per µrad. */
+        j[2] = (int32_t)(((int64_t)j[1] * ((int64_t)qx - cx) - (int64_t)j[0] * ((int64_t)qy - cy)) /
+                         1000000);
+        /* Each hit is matched LOC_WINDOW / LOC_EVERY times: count it once in all. */
+        int64_t r = LOC_SIGMA2_UM2 * (int64_t)(LOC_WINDOW / LOC_EVERY);
+        r += r / (LOC_HUBER_UM * LOC_HUBER_UM) * h * h;
+        lkf_update(d, p, lin, h, j, r);
+        used++;
+    }
+    return used;
+}
+
+static int32_t clamp_kappa(int64_t v)
+{
+    return (int32_t)(v < -LOC_KAPPA_MAX ? -LOC_KAPPA_MAX : v > LOC_KAPPA_MAX ? LOC_KAPPA_MAX : v);
+}
+
+static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
+{
+    count(&l->tried);
+    odom_pose_t now = loc_apply(&l->corr, odom_now);
+    lkf_state_t lin = {{0}};
+    lkf_state_t d = {{0}};
+    lkf_cov_t *p = &l->work;
+    uint32_t used = 0;
+    for (unsigned pass = 0; pass < LOC_PASSES; pass++) {
+        d = (lkf_state_t){{0}};
+        *p = l->cov;
+        used = match_pass(l, g, now.x_um, now.y_um, &lin, &d, p);
+        lin = d;
+    }
+    l->last_points = used;
+    int64_t step2 = d.v[LKF_X] * d.v[LKF_X] + d.v[LKF_Y] * d.v[LKF_Y];
+    int64_t max_th = (int64_t)LOC_MAX_STEP_MDEG * 17453 / 1000; /* µrad */
+    if (used < LOC_MIN_POINTS || step2 > (int64_t)LOC_MAX_STEP_UM * LOC_MAX_STEP_UM ||
+        d.v[LKF_T] > max_th || d.v[LKF_T] < -max_th) {
+        count(&l->refused);
+        return;
+    }
+    count(&l->applied);
+    /* About the robot: turn by dθ, then shift by (dx, dy); the drift estimates move on. */
+    correct_about(l, now.x_um, now.y_um, bam_of_urad(d.v[LKF_T]), d.v[LKF_X], d.v[LKF_Y]);
+    l->kappa_prad_per_mm = clamp_kappa(l->kappa_prad_per_mm + d.v[LKF_KD]);
+    l->kappa_ppb = clamp_kappa(l->kappa_ppb + d.v[LKF_KT]);
+    lkf_sane(p);
+    l->cov = *p;
+}
+
+/* ---- draining the queue ------------------------------------------------------------------ */
+
+static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
+{
+    const loc_point_t *pt = win_at(l, 0u);
+    int32_t x;
+    int32_t y;
+    apply_xy(&l->corr, pt->x_um, pt->y_um, &x, &y);
+    (void)mapper_hit(m, g, x, y);
+    l->win_first = (uint8_t)((l->win_first + 1u) % LOC_WINDOW);
+    l->win_count--;
+}
+
+static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
+{
+    if (l->on) {
+        propagate(l, &rd->ping);
+    }
+    odom_pose_t at = loc_apply(&l->corr, &rd->ping);
+    if (!rd->echo) {
+        mapper_timeout(m, g, &at);
+        return;
+    }
+    int32_t x;
+    int32_t y;
+    if (mapper_free(m, g, &at, rd->servo, rd->range_um, &x, &y) != MAPPER_HIT) {
+        return;
+    }
+    if (!l->on) {
+        (void)mapper_hit(m, g, x, y); /* the correction is zero: odometry's frame is the map's */
+        return;
+    }
+    /* Held back in the odometry frame. */
+    sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
+    if (l->win_count == LOC_WINDOW) {
+        hit_enters_map(l, m, g);
+    }
+    l->win[(l->win_first + l->win_count) % LOC_WINDOW] = (loc_point_t){x, y};
+    l->win_count++;
+    if (++l->since_match >= LOC_EVERY && l->win_count == LOC_WINDOW) {
+        l->since_match = 0u;
+        match(l, g, &rd->ping);
+    }
+}
+
+void loc_idle(loc_t *l, mapper_t *m, grid_t *g)
+{
+    while (l->tail != l->head) {
+        loc_reading_t rd = l->queue[l->tail];
+        drain_one(l, m, g, &rd);
+        l->tail = (uint8_t)((l->tail + 1u) % LOC_QUEUE);
+        l->drained++;
+        /* Published under a generation count: odd while written, so a tick that comes in
+         * between (on an MCU, the interrupt) leaves it alone. */
+        l->pub_gen++;
+        l->pub = l->corr;
+        l->pub_seq = l->drained;
+        l->pub_gen++;
+    }
+}
+
+void loc_flush(loc_t *l, mapper_t *m, grid_t *g)
+{
+    while (l->win_count > 0u) {
+        hit_enters_map(l, m, g);
+    }
+}

@@ -1,0 +1,67 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""metrics.json is documented field by field in host_sim/metrics.schema.json, and every
+run's file follows it exactly (simtest checks each run of every simulator test; this test
+checks the schema itself, that the validator refuses what it must, and runs that reach
+the corners of the file: a crop of a ROS map, --ideal, coverage marks reached)."""
+import copy
+import json
+import os
+
+import schema
+from simtest import Sim, check
+
+sim = Sim()
+with open(os.path.join(sim.src, "host_sim", "metrics.schema.json")) as f:
+    sch = json.load(f)
+
+gaps = schema.undocumented(sch)
+check(not gaps, "every field of the schema is described, required, and no object takes "
+      "unlisted fields%s" % ("" if not gaps else ": " + "; ".join(gaps)))
+
+run = sim.out("run")
+sim.run("--duration", 30, "--seed", 3, "--out", run)  # validated by sim.run
+m = sim.metrics(run)
+check(schema.validate(m, sch) == [], "a run's metrics.json validates")
+
+
+def refused(change, what):
+    doc = copy.deepcopy(m)
+    change(doc)
+    errs = schema.validate(doc, sch)
+    check(errs != [], "the validator refuses %s (%s)" % (what, errs[0] if errs else "accepted"))
+
+
+refused(lambda d: d.update(surprise=1), "an unknown top-level field")
+refused(lambda d: d["robot"].update(new_counter=3), "an unknown field in an object")
+refused(lambda d: d["maps"]["odometry"]["raw"].pop("f1"), "a missing field")
+refused(lambda d: d["robot"].__setitem__("pings", 1.5), "a float where a count belongs")
+refused(lambda d: d["robot"].__setitem__("pings", True), "a boolean where a count belongs")
+refused(lambda d: d["scenario"].__setitem__("explore", "spiral"), "an unknown exploration mode")
+refused(lambda d: d["maps"]["odometry"]["raw"].__setitem__("precision", 1.5), "a fraction above 1")
+refused(lambda d: d["scenario"].__setitem__("start", [1, 2]), "a start pose of two numbers")
+refused(lambda d: d["post_sweep"]["f1"][0].__setitem__(0, "x"), "a string in a table")
+
+try:
+    schema.validate(m, {"type": "object", "patternProperties": {}})
+    check(False, "a schema keyword the validator does not know is refused")
+except schema.SchemaError:
+    check(True, "a schema keyword the validator does not know is refused")
+
+# The corners: --ideal with a square path, a crop of a ROS map, marks of coverage reached.
+sim.run("--duration", 20, "--ideal", "--explore", "square", "--out", sim.out("ideal"))
+pgm = sim.out("map.pgm")
+with open(pgm, "wb") as f:
+    f.write(b"P5\n60 60\n255\n" + bytes([0 if x in (0, 59) or y in (0, 59) else 254
+                                         for y in range(60) for x in range(60)]))
+with open(sim.out("map.yaml"), "w") as f:
+    f.write("image: map.pgm\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+            "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
+crop = sim.out("crop")
+sim.run("--room", sim.out("map.yaml"), "--crop", 0.5, 0.5, 1.5, 1.5, "--start", 1.2, 1.2, 0,
+        "--cell", 100, "--duration", 120, "--explore", "tm", "--out", crop)
+mc = sim.metrics(crop)
+check(mc["scenario"]["crop"] is not None and mc["exploration"]["time_to_50_s"] is not None,
+      "a cropped map that reaches 50 %% coverage validates (crop %s, 50 %% at %s s)"
+      % (mc["scenario"]["crop"], mc["exploration"]["time_to_50_s"]))
+sim.done()

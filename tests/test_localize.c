@@ -1,0 +1,468 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of the pose correction: its fixed-point filter against a double-precision one, and
+ * its behaviour on drives past known walls with drifting odometry. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "loc_kf.h"
+#include "slam/error.h"
+#include "slam/localize.h"
+#include "test_rng.h"
+
+#define PI 3.14159265358979323846
+
+/* ---- the filter against doubles ----------------------------------------------------------- */
+
+/* A random covariance: A·Aᵀ for A the identity plus a random part (correlations up to about
+ * ±0.8, never ±1, as a filter's covariance has them), scaled to standard deviations from
+ * 5 mm to 0.3 m, 0.02° to 6°, 10 to 5000 nrad/mm and ppm, log-uniform. */
+static void random_cov(test_rng_t *rng, lkf_cov_t *c, double m[LKF_N][LKF_N])
+{
+    static const double lo[LKF_N] = {5e3, 5e3, 350.0, 1e4, 1e4};
+    static const double hi[LKF_N] = {3e5, 3e5, 1.0e5, 2.5e6, 2.5e6};
+    double a[LKF_N][LKF_N];
+    double scale[LKF_N];
+    for (int i = 0; i < LKF_N; i++) {
+        for (int j = 0; j < LKF_N; j++) {
+            a[i][j] = (i == j ? 1.0 : 0.0) + (double)test_rng_range(rng, -400, 400) / 1000.0;
+        }
+        double u = (double)test_rng_range(rng, 0, 1000) / 1000.0;
+        scale[i] = exp(log(lo[i]) + (log(hi[i]) - log(lo[i])) * u);
+    }
+    for (int i = 0; i < LKF_N; i++) {
+        for (int j = 0; j < LKF_N; j++) {
+            double s = 0.0;
+            for (int k = 0; k < LKF_N; k++) {
+                s += a[i][k] * a[j][k];
+            }
+            c->p[i][j] = (int64_t)(s * scale[i] * scale[j] / 3.0);
+        }
+    }
+    lkf_sane(c);
+    for (int i = 0; i < LKF_N; i++) {
+        for (int j = 0; j < LKF_N; j++) {
+            m[i][j] = (double)c->p[i][j];
+        }
+    }
+}
+
+/* One scalar update in double precision: the Kalman filter's textbook form. */
+static void ref_update(double d[LKF_N], double p[LKF_N][LKF_N], const double lin[LKF_N],
+                       double h, const double j[3], double r)
+{
+    double pj[LKF_N];
+    for (int i = 0; i < LKF_N; i++) {
+        pj[i] = p[i][0] * j[0] + p[i][1] * j[1] + p[i][2] * j[2];
+    }
+    double s = j[0] * pj[0] + j[1] * pj[1] + j[2] * pj[2] + r;
+    double pred = h + j[0] * (d[0] - lin[0]) + j[1] * (d[1] - lin[1]) + j[2] * (d[2] - lin[2]);
+    for (int i = 0; i < LKF_N; i++) {
+        d[i] -= pj[i] / s * pred;
+    }
+    for (int i = 0; i < LKF_N; i++) {
+        for (int m = 0; m < LKF_N; m++) {
+            p[i][m] -= pj[i] / s * pj[m];
+        }
+    }
+}
+
+/* A hundred hits on walls of random directions and levers, processed in sequence, in
+ * fixed point and in double: the state stays within 0.1 mm, 10 µrad (0.0006°) and 20
+ * nrad/mm or ppm, plus 0.2 % of its size; the covariance within 1 % of each diagonal's
+ * scale (or of a floor for each). */
+static void test_update_against_double(void **state)
+{
+    (void)state;
+    test_rng_t rng = {2024u};
+    double worst_d = 0.0;
+    double worst_p = 0.0;
+    /* κ's variance is compared at (100 nrad/mm)² and (100 ppm)² (0.006° a metre, 0.01 % of
+     * a turn): below that, the gains' Q20 rounds its updates by a few units. */
+    static const double floor_var[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN,
+                                            1e10, 1e10};
+    for (int trial = 0; trial < 2000; trial++) {
+        lkf_cov_t c;
+        double pd[LKF_N][LKF_N];
+        random_cov(&rng, &c, pd);
+        lkf_state_t d = {{0}};
+        lkf_state_t lin = {{test_rng_range(&rng, -20000, 20000), test_rng_range(&rng, -20000, 20000),
+                            test_rng_range(&rng, -5000, 5000), 0, 0}};
+        double dd[LKF_N] = {0};
+        double lind[LKF_N];
+        for (int i = 0; i < LKF_N; i++) {
+            lind[i] = (double)lin.v[i];
+        }
+        for (int n = 0; n < 100; n++) {
+            double ang = 2.0 * PI * (double)test_rng_range(&rng, 0, 3600) / 3600.0;
+            double lever = (double)test_rng_range(&rng, -1200, 1200) / 1000.0; /* m */
+            int32_t j[3] = {(int32_t)lround(cos(ang) * LKF_J_ONE), (int32_t)lround(sin(ang) * LKF_J_ONE),
+                            (int32_t)lround(lever * LKF_J_ONE)};
+            int64_t h = test_rng_range(&rng, -100000, 100000);
+            int64_t r = 900000000LL * (1 + test_rng_range(&rng, 0, 30));
+            lkf_update(&d, &c, &lin, h, j, r);
+            const double jd[3] = {j[0] / (double)LKF_J_ONE, j[1] / (double)LKF_J_ONE,
+                                  j[2] / (double)LKF_J_ONE};
+            ref_update(dd, pd, lind, (double)h, jd, (double)r);
+        }
+        const double tol[LKF_N] = {100.0, 100.0, 10.0, 20000.0, 20000.0};
+        for (int i = 0; i < LKF_N; i++) {
+            double err = fabs((double)d.v[i] - dd[i]) - 0.002 * fabs(dd[i]);
+            worst_d = fmax(worst_d, err / tol[i]);
+        }
+        for (int i = 0; i < LKF_N; i++) {
+            for (int m = 0; m < LKF_N; m++) {
+                /* Against each variance's scale, or its floor in the filter where smaller. */
+                double sc = sqrt(fmax(pd[i][i], floor_var[i]) * fmax(pd[m][m], floor_var[m]));
+                worst_p = fmax(worst_p, fabs((double)c.p[i][m] - pd[i][m]) / sc);
+            }
+        }
+    }
+    print_message("filter update vs double: state %.3f of its bound, covariance %.5f\n", worst_d,
+                  worst_p);
+    assert_true(worst_d <= 1.0);
+    assert_true(worst_p <= 0.01);
+}
+
+/* A move's prediction against P' = F P Fᵀ + Q in double, F the move's Jacobian: within
+ * 0.1 % of the diagonal's scale (integer division truncates the small terms). */
+static void test_predict_against_double(void **state)
+{
+    (void)state;
+    test_rng_t rng = {77u};
+    double worst = 0.0;
+    for (int trial = 0; trial < 20000; trial++) {
+        lkf_cov_t c;
+        double pd[LKF_N][LKF_N];
+        random_cov(&rng, &c, pd);
+        int64_t dx = test_rng_range(&rng, -60, 60);
+        int64_t dy = test_rng_range(&rng, -60, 60);
+        int64_t ds = test_rng_range(&rng, -60, 60);
+        int64_t turn = test_rng_range(&rng, -300000, 300000);
+        lkf_predict(&c, dx, dy, ds, turn);
+        /* θ += κd·ds/10⁶ + κt·turn/10⁹, then x −= dy/1000·θ, y += dx/1000·θ. */
+        double f[LKF_N][LKF_N] = {{0}};
+        for (int i = 0; i < LKF_N; i++) {
+            f[i][i] = 1.0;
+        }
+        f[2][3] = (double)ds / 1e6;
+        f[2][4] = (double)turn / 1e9;
+        double g[LKF_N][LKF_N] = {{0}};
+        for (int i = 0; i < LKF_N; i++) {
+            g[i][i] = 1.0;
+        }
+        g[0][2] = -(double)dy / 1000.0;
+        g[1][2] = (double)dx / 1000.0;
+        double fg[LKF_N][LKF_N];
+        for (int i = 0; i < LKF_N; i++) {
+            for (int k = 0; k < LKF_N; k++) {
+                double s = 0.0;
+                for (int a = 0; a < LKF_N; a++) {
+                    s += g[i][a] * f[a][k];
+                }
+                fg[i][k] = s;
+            }
+        }
+        double out[LKF_N][LKF_N];
+        for (int i = 0; i < LKF_N; i++) {
+            for (int m = 0; m < LKF_N; m++) {
+                double s = 0.0;
+                for (int a = 0; a < LKF_N; a++) {
+                    for (int b = 0; b < LKF_N; b++) {
+                        s += fg[i][a] * pd[a][b] * fg[m][b];
+                    }
+                }
+                out[i][m] = s;
+            }
+        }
+        double dist = fabs((double)ds);
+        double turned = fabs((double)turn);
+        out[0][0] += 1000.0 * dist;
+        out[1][1] += 1000.0 * dist;
+        out[2][2] += 26000.0 * dist + 2200.0 * floor(turned / 1000.0);
+        out[3][3] += 1e3 * dist;
+        out[4][4] += 1e3 * dist;
+        static const double lo[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN,
+                                         LKF_VAR_K_MIN, LKF_VAR_K_MIN};
+        static const double hi[LKF_N] = {LKF_VAR_XY_MAX, LKF_VAR_XY_MAX, LKF_VAR_TH_MAX,
+                                         LKF_VAR_K_MAX, LKF_VAR_K_MAX};
+        bool clipped = false;
+        for (int i = 0; i < LKF_N; i++) {
+            clipped |= out[i][i] < lo[i] || out[i][i] > hi[i];
+        }
+        if (clipped) {
+            continue; /* where lkf_sane() clipped a variance, the clip is the answer */
+        }
+        for (int i = 0; i < LKF_N; i++) {
+            for (int m = 0; m < LKF_N; m++) {
+                double sc = sqrt(out[i][i] * out[m][m]);
+                worst = fmax(worst, fabs((double)c.p[i][m] - out[i][m]) / sc);
+            }
+        }
+    }
+    print_message("filter prediction vs double: %.6f of the diagonal's scale\n", worst);
+    assert_true(worst <= 1e-3);
+}
+
+/* ---- drives past walls -------------------------------------------------------------------- */
+
+static grid_t grid;
+static mapper_t mapper;
+static loc_t loc;
+static slam_config_t cfg;
+
+static int setup(void **state)
+{
+    (void)state;
+    slam_config_default(&cfg);
+    grid_init(&grid, &cfg);
+    mapper_init(&mapper, &cfg);
+    loc_init(&loc, &cfg);
+    return 0;
+}
+
+/* Walls drawn as strong obstacle evidence, as a map built earlier would hold them. */
+static void paint_line(double x0, double y0, double x1, double y1)
+{
+    for (int k = 0; k <= 2000; k++) {
+        double t = k / 2000.0;
+        int32_t x = (int32_t)lround((x0 + (x1 - x0) * t) * 1e6);
+        int32_t y = (int32_t)lround((y0 + (y1 - y0) * t) * 1e6);
+        grid_cell_t c;
+        if (grid_cell_of(&grid, x, y, &c) == SLAM_OK) {
+            grid.om[grid_index(c)] = 255u;
+        }
+    }
+}
+
+typedef struct {
+    double x0, y0, x1, y1;
+} seg_t;
+
+/* Distance along a ray to the nearest wall, or -1. */
+static double ray(const seg_t *w, size_t n, double ox, double oy, double th)
+{
+    double best = -1.0;
+    double dx = cos(th);
+    double dy = sin(th);
+    for (size_t i = 0; i < n; i++) {
+        double ex = w[i].x1 - w[i].x0;
+        double ey = w[i].y1 - w[i].y0;
+        double den = dx * ey - dy * ex;
+        if (fabs(den) < 1e-12) {
+            continue;
+        }
+        double t = ((w[i].x0 - ox) * ey - (w[i].y0 - oy) * ex) / den;
+        double u = ((w[i].x0 - ox) * dy - (w[i].y0 - oy) * dx) / den;
+        if (t > 0.0 && u >= 0.0 && u <= 1.0 && (best < 0.0 || t < best)) {
+            best = t;
+        }
+    }
+    return best;
+}
+
+typedef struct {
+    double x, y, th; /* true pose */
+    double ox, oy, oth; /* odometry's */
+} drive_t;
+
+/* Drives back and forth along a line at heading `heading` (rad, world) for `metres`,
+ * with odometry whose heading drifts by `drift` rad per metre; every 12 mm (a reading's
+ * spacing at 0.2 m/s) a reading at the sweep's next stop, mapped through the queue. The
+ * robot turns round at each end of a 1.2 m leg. Returns the final poses. */
+static drive_t drive(const seg_t *w, size_t nw, double x, double y, double heading,
+                     double metres, double drift, unsigned idle_every)
+{
+    drive_t d = {x, y, heading, x, y, heading};
+    const double step = 0.012;
+    double leg = 0.0;
+    unsigned k = 0;
+    for (double s = 0.0; s < metres; s += step, k++) {
+        /* Both frames move by the same wheel travel, odometry with its own heading. */
+        d.x += step * cos(d.th);
+        d.y += step * sin(d.th);
+        d.ox += step * cos(d.oth);
+        d.oy += step * sin(d.oth);
+        d.oth -= drift * step;
+        leg += step;
+        if (leg >= 1.2) {
+            leg = 0.0;
+            d.th += PI;
+            d.oth += PI;
+        }
+        /* The sweep: stops 65°..155° and back. */
+        unsigned seq = k % 12u;
+        unsigned stop = seq < 6u ? seq : 11u - seq;
+        double servo = 65.0 + 18.0 * stop;
+        double sx = d.x + 0.05 * cos(d.th);
+        double sy = d.y + 0.05 * sin(d.th);
+        double range = ray(w, nw, sx, sy, d.th + (90.0 - servo) * PI / 180.0);
+        loc_reading_t rd = {
+            .ping = {(int32_t)lround(d.ox * 1e6), (int32_t)lround(d.oy * 1e6),
+                     (bam32_t)(int64_t)llround(d.oth / (2.0 * PI) * 4294967296.0)},
+            .range_um = range > 0.0 && range < 3.5 ? (uint32_t)lround(range * 1e6) : 0u,
+            .servo = fix_bam_from_mdeg((int32_t)lround(servo * 1000.0)),
+            .echo = range > 0.0 && range < 3.5,
+        };
+        (void)loc_post(&loc, &rd);
+        if (k % idle_every == idle_every - 1u) {
+            loc_idle(&loc, &mapper, &grid);
+        }
+    }
+    loc_idle(&loc, &mapper, &grid);
+    return d;
+}
+
+static void pose_error(const drive_t *d, double *pos_m, double *th_deg)
+{
+    odom_pose_t o = {(int32_t)lround(d->ox * 1e6), (int32_t)lround(d->oy * 1e6),
+                     (bam32_t)(int64_t)llround(d->oth / (2.0 * PI) * 4294967296.0)};
+    odom_pose_t m = loc_apply(&loc.corr, &o);
+    double th = (double)(int32_t)(m.heading - (bam32_t)(int64_t)llround(d->th / (2.0 * PI) * 4294967296.0)) /
+                4294967296.0 * 360.0;
+    *pos_m = hypot(m.x_um * 1e-6 - d->x, m.y_um * 1e-6 - d->y);
+    *th_deg = th;
+}
+
+/* A corner of two known walls, odometry drifting 0.2° per metre for 12 m: the corrected
+ * pose ends within 0.3° and 2 cm of the truth, where odometry alone is 2.4° off, and the
+ * filter has learned a drift the right way round. */
+static void test_corner_holds_the_heading(void **state)
+{
+    (void)state;
+    const seg_t walls[2] = {{1.0, -2.0, 1.0, 0.8}, {-2.0, 0.8, 1.0, 0.8}};
+    paint_line(1.0, -2.0, 1.0, 0.8);
+    paint_line(-2.0, 0.8, 1.0, 0.8);
+    drive_t d = drive(walls, 2, -0.6, 0.1, 30.0 * PI / 180.0, 12.0, 0.2 * PI / 180.0, 1u);
+    double pos;
+    double th;
+    pose_error(&d, &pos, &th);
+    print_message("corner: %u matches applied of %u, final error %.3f m, %.2f deg (odometry alone "
+                  "%.2f deg), drift learned %d nrad/mm (true 3491)\n", loc.applied, loc.tried, pos,
+                  th, 12.0 * 0.2, (int)(loc.kappa_prad_per_mm / 1000));
+    assert_true(loc.applied > 60u);
+    assert_true(fabs(th) < 0.3);
+    assert_true(pos < 0.02);
+    assert_true(loc.kappa_prad_per_mm > 0);
+    assert_int_equal(loc.dropped, 0u);
+}
+
+/* One wall only, odometry drifting: the heading and the distance across the wall are held,
+ * while nothing pulls the pose along the wall (the correction does not slide on it). */
+static void test_one_wall_never_slides_along_it(void **state)
+{
+    (void)state;
+    const seg_t walls[1] = {{-3.0, 0.8, 3.0, 0.8}};
+    paint_line(-3.0, 0.8, 3.0, 0.8);
+    drive_t d = drive(walls, 1, -0.6, 0.2, 0.0, 8.0, 0.3 * PI / 180.0, 1u);
+    double pos;
+    double th;
+    pose_error(&d, &pos, &th);
+    odom_pose_t o = {(int32_t)lround(d.ox * 1e6), (int32_t)lround(d.oy * 1e6), 0u};
+    odom_pose_t m = loc_apply(&loc.corr, &o);
+    double across = m.y_um * 1e-6 - d.y;
+    double along_fix = (m.x_um - o.x_um) * 1e-6; /* what the correction moved along x */
+    print_message("one wall: heading %.2f deg, across %.3f m, moved along %.3f m\n", th, across,
+                  along_fix);
+    assert_true(fabs(th) < 1.5); /* of 2.4° drifted: one wall fixes the heading only slowly */
+    assert_true(fabs(across) < 0.03);
+    assert_true(fabs(along_fix) < 0.005); /* nothing moved the pose along the wall */
+}
+
+/* The same readings give the same map and the same correction whenever the background
+ * loop runs, as long as it keeps up (on an MCU it runs after every tick; here after every
+ * reading, or every third). */
+static void test_timing_changes_nothing(void **state)
+{
+    (void)state;
+    const seg_t walls[2] = {{1.0, -2.0, 1.0, 0.8}, {-2.0, 0.8, 1.0, 0.8}};
+    static uint8_t om_a[SLAM_GRID_CELLS];
+    loc_corr_t ca;
+    for (int run = 0; run < 2; run++) {
+        setup(NULL);
+        paint_line(1.0, -2.0, 1.0, 0.8);
+        paint_line(-2.0, 0.8, 1.0, 0.8);
+        (void)drive(walls, 2, -0.6, 0.1, 30.0 * PI / 180.0, 4.0, 0.5 * PI / 180.0,
+                    run == 0 ? 1u : 3u);
+        loc_flush(&loc, &mapper, &grid);
+        if (run == 0) {
+            memcpy(om_a, grid.om, sizeof om_a);
+            ca = loc.corr;
+            assert_int_equal(loc.late, 0u);
+        } else {
+            assert_memory_equal(grid.om, om_a, sizeof om_a);
+            assert_memory_equal(&loc.corr, &ca, sizeof ca);
+            assert_true(loc.late > 0u); /* the tick noticed, and kept its correction */
+        }
+    }
+}
+
+/* A queue that is never drained fills, and every reading beyond it is counted lost. */
+static void test_full_queue_drops_and_counts(void **state)
+{
+    (void)state;
+    loc_reading_t rd = {.ping = {0, 0, 0u}, .range_um = 500000u, .servo = 0u, .echo = true};
+    for (unsigned i = 0; i < 20u; i++) {
+        assert_int_equal(loc_post(&loc, &rd), i < LOC_QUEUE - 1u);
+    }
+    assert_int_equal(loc.dropped, 20u - (LOC_QUEUE - 1u));
+    loc_idle(&loc, &mapper, &grid);
+    assert_int_equal(loc.drained, LOC_QUEUE - 1u);
+}
+
+/* With localization off the readings still reach OM through the queue, exactly as the
+ * mapper alone would map them, and the correction stays zero. */
+static void test_off_maps_as_the_mapper(void **state)
+{
+    (void)state;
+    cfg.localize = 0u;
+    loc_init(&loc, &cfg);
+    assert_true(loc.deferred); /* OM_MODE_EVIDENCE: the rays are the background's work */
+    static grid_t direct;
+    mapper_t m2;
+    grid_init(&direct, &cfg);
+    mapper_init(&m2, &cfg);
+    test_rng_t rng = {5u};
+    for (int i = 0; i < 3000; i++) {
+        loc_reading_t rd = {
+            .ping = {test_rng_range(&rng, -500000, 500000), test_rng_range(&rng, -500000, 500000),
+                     (bam32_t)test_rng_u64(&rng)},
+            .range_um = (uint32_t)test_rng_range(&rng, 10000, 2000000),
+            .servo = fix_bam_from_mdeg(test_rng_range(&rng, 65000, 155000)),
+            .echo = test_rng_range(&rng, 0, 9) != 0,
+        };
+        assert_true(loc_post(&loc, &rd));
+        loc_idle(&loc, &mapper, &grid);
+        if (rd.echo) {
+            (void)mapper_reading(&m2, &direct, &rd.ping, rd.servo, rd.range_um);
+        } else {
+            mapper_timeout(&m2, &direct, &rd.ping);
+        }
+    }
+    assert_memory_equal(grid.om, direct.om, sizeof direct.om);
+    assert_int_equal(mapper.hits, m2.hits);
+    assert_int_equal(loc.corr.th, 0u);
+    assert_int_equal(loc.corr.tx_um, 0);
+    assert_int_equal(loc.tried, 0u);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_update_against_double),
+        cmocka_unit_test(test_predict_against_double),
+        cmocka_unit_test_setup(test_corner_holds_the_heading, setup),
+        cmocka_unit_test_setup(test_one_wall_never_slides_along_it, setup),
+        cmocka_unit_test_setup(test_timing_changes_nothing, setup),
+        cmocka_unit_test_setup(test_full_queue_drops_and_counts, setup),
+        cmocka_unit_test_setup(test_off_maps_as_the_mapper, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
