@@ -189,9 +189,6 @@ static const char *first_bad_field(const slam_config_t *c)
     if (c->echo_timeout_ticks == 0u) {
         return "echo_timeout_ticks";
     }
-    if (c->ping_interval_ticks == 0u) {
-        return "ping_interval_ticks";
-    }
     if (!in_range_u(c->servo_pulse_0deg_us, 400u, 2600u)) {
         return "servo_pulse_0deg_us";
     }
@@ -235,9 +232,6 @@ static const char *first_bad_field(const slam_config_t *c)
     if (!in_range_u(c->clearance_um, 10000u, 2000000u)) {
         return "clearance_um";
     }
-    if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
-        return "follow_um";
-    }
     if (!in_range_u(c->square_side_um, 100000u, 100000000u)) {
         return "square_side_um";
     }
@@ -246,6 +240,12 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->localize > 1u) {
         return "localize";
+    }
+    if (c->ping_interval_ticks == 0u) {
+        return "ping_interval_ticks";
+    }
+    if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
+        return "follow_um";
     }
     return NULL;
 }

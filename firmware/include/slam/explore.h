@@ -27,8 +27,8 @@
  *
  * The modes:
  * - EXPLORE_RANDOM, the paper's: drive straight; when something is ahead, stop and turn
- *   left by a random 90°..180°; now and then (and after driving straight too long) turn
- *   by a random angle anyway.
+ *   away from the side it is on by a random 90°..180°; now and then (and after driving
+ *   straight too long) turn by a random angle anyway.
  * - EXPLORE_TM: the same avoidance, but each new heading (at the start, when something is
  *   ahead, and every EXPLORE_TM_REDECIDE_TICKS of driving) is the one of
  *   EXPLORE_CANDIDATES directions whose ray through TM (1 m, stopped by occupied cells)
