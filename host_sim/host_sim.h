@@ -195,13 +195,39 @@ typedef struct {
     uint32_t reachable_cells;
     uint32_t visited_cells;
     double time_to[3];        /* to 50, 80, 90 % of the reachable cells; < 0: not reached */
-    double series[4096][2];   /* (t, coverage) */
+    double series[4096][3];   /* (t, coverage, wall coverage) */
     size_t nseries;
+    /* Wall coverage (coverage.c). */
+    const room_t *room;
+    uint8_t *wall;            /* the wall cells the robot could map (1) */
+    uint8_t *wall_seen;       /* of which inside the confidence sector of a ping so far */
+    uint32_t wall_cells, walls_covered;
+    double wall_time_to[3];   /* to 50, 80, 90 % of the wall cells; < 0: not reached */
+    double rc_m, half_cone, body_m;
+    /* The smallest gap between the body and an obstacle, and where it was last asked. */
+    double min_clearance, clear_x, clear_y, clear_at;
     double max_pos_err, max_th_err, final_pos_err, final_th_err, path_m;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
     FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
 } run_t;
+
+/** Clearance is looked for this far beyond the body, m. */
+#define CLEARANCE_CAP_M 0.5
+
+/**
+ * Find the wall cells the robot could map (truth cells facing the open space around the
+ * start, within rc of a cell its centre can reach) into r->wall; needs r->truth and
+ * r->reachable. Also readies the clearance watch. 0, or -1 when out of memory.
+ */
+int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m, uint32_t start);
+
+/** Mark the wall cells inside one ping's confidence sector (true sensor position, true
+ *  beam axis) as covered, at time t. */
+void walls_ping(run_t *r, double sx, double sy, double bearing, double t);
+
+/** Track the smallest gap between the body at (x, y) and any obstacle. */
+void clearance_tick(run_t *r, double x, double y);
 
 typedef struct {
     score_t raw, threshold, templ, insert;

@@ -208,9 +208,12 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
             }
         }
     }
+    sim_truth_t after = sim_truth(sim);
+    clearance_tick(r, after.x, after.y);
     if (((tick + 1u) % COVERAGE_EVERY == 0u || last) && r->nseries < 4096u) {
         r->series[r->nseries][0] = t;
         r->series[r->nseries][1] = r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;
+        r->series[r->nseries][2] = r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0;
         r->nseries++;
     }
 
@@ -242,6 +245,7 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
         r->marked_x = sx;
         r->marked_y = sy;
     }
+    walls_ping(r, sx, sy, ping.bearing, t);
     char line[256];
     char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
     e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
@@ -399,7 +403,7 @@ int main(int argc, char **argv)
     }
     run_t *r = calloc(1, sizeof *r);
     size_t ncells = (size_t)SLAM_GRID_CELLS;
-    uint8_t *bufs = calloc(7u, ncells);
+    uint8_t *bufs = calloc(9u, ncells);
     uint8_t *scratch = calloc(2u, SLAM_GRID_A);
     if (readings == NULL || trajectory == NULL || (o.trace != NULL && trace == NULL) ||
         (o.telemetry != NULL && telemetry == NULL) || r == NULL || bufs == NULL ||
@@ -447,11 +451,17 @@ int main(int argc, char **argv)
     uint8_t *post = bufs + 4u * ncells;
     uint8_t *ideal_post = bufs + 5u * ncells;
     uint8_t *work = bufs + 6u * ncells;
+    r->wall = bufs + 7u * ncells;
+    r->wall_seen = bufs + 8u * ncells;
     room_rasterize(&room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
                    r->geom.b, r->truth);
     grid_cell_t start;
     (void)grid_cell_of(&robot.grid, cfg.start_x_um, cfg.start_y_um, &start);
     reachable_cells(&room, &params, r, grid_index(start));
+    if (walls_init(r, &room, &params, cfg.confidence_radius_um * 1e-6, grid_index(start)) != 0) {
+        fprintf(stderr, "host_sim: out of memory\n");
+        return 1;
+    }
     r->time_to[0] = r->time_to[1] = r->time_to[2] = -1.0;
     r->last_x = sx;
     r->last_y = sy;

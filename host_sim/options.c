@@ -12,7 +12,7 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square"};
+const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls"};
 
 static void usage(FILE *f)
 {
@@ -32,7 +32,7 @@ static void usage(FILE *f)
         "  --duration S         simulated seconds (default 600)\n"
         "  --seed N             seed of every random error and of the exploration (default 1)\n"
         "  --cell MM            grid cell size in mm (default 50)\n"
-        "  --explore MODE       random | tm | square | off (default random)\n"
+        "  --explore MODE       walls | random | tm | square | off (default walls)\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
@@ -130,7 +130,7 @@ int parse_options(int argc, char **argv, options_t *o)
         .duration_s = 600.0,
         .seed = 1u,
         .cell_mm = 50.0,
-        .explore = EXPLORE_RANDOM,
+        .explore = EXPLORE_WALLS,
         .out = "out/sim",
         .plot = true,
         .realtime_factor = 1.0,
@@ -193,7 +193,7 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%s' (random, tm, square, off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, off)", argv[i]);
             }
         } else if (strcmp(a, "--out") == 0) {
             if (!take(argc, argv, &i, 1)) {

@@ -187,15 +187,28 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     for (size_t i = 0; i < r->nseries; i++) {
         fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][1]);
     }
-    fprintf(f, "]\n  },\n");
+    fprintf(f, "],\n    \"wall_cells\": %u,\n    \"walls_covered\": %u,\n"
+               "    \"wall_coverage\": %.4f,\n", r->wall_cells, r->walls_covered,
+            r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0);
+    json_time(f, "wall_time_to_50_s", r->wall_time_to[0], true);
+    json_time(f, "wall_time_to_80_s", r->wall_time_to[1], true);
+    json_time(f, "wall_time_to_90_s", r->wall_time_to[2], true);
+    fprintf(f, "    \"wall_series\": [");
+    for (size_t i = 0; i < r->nseries; i++) {
+        fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][2]);
+    }
+    fprintf(f, "],\n    \"min_clearance_m\": %.4f\n  },\n", r->min_clearance);
 
     const sweep_t *sw = &robot->sweep;
     const mapper_t *m = &robot->mapper;
     fprintf(f, "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
                "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
-               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u},\n",
+               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
+               "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
-            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances);
+            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances,
+            robot->explore.stalls, robot->explore.leaves, robot->explore.doors,
+            robot->explore.seeks);
     const loc_t *lo = &robot->loc;
     fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
                "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
@@ -265,8 +278,18 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
     } else {
         printf("  pose correction off: the pose is odometry alone\n");
     }
-    printf("  coverage        %.1f %% of %u reachable cells visited; collisions %u\n",
+    printf("  coverage        %.1f %% of %u reachable cells visited; collisions %u, "
+           "closest %.3f m\n",
            r->reachable_cells ? 100.0 * r->visited_cells / r->reachable_cells : 0.0,
-           r->reachable_cells, tr.collisions);
+           r->reachable_cells, tr.collisions, r->min_clearance);
+    printf("  walls           %.1f %% of %u wall cells inside a ping's confidence sector",
+           r->wall_cells ? 100.0 * r->walls_covered / r->wall_cells : 0.0, r->wall_cells);
+    const char *marks[3] = {"50", "80", "90"};
+    for (int k = 0; k < 3; k++) {
+        if (r->wall_time_to[k] >= 0.0) {
+            printf("%s %s %% at %.0f s", k ? "," : ";", marks[k], r->wall_time_to[k]);
+        }
+    }
+    printf("\n");
     printf("  outputs         %s/\n", o->out);
 }

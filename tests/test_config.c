@@ -37,9 +37,11 @@ static void test_defaults_are_the_papers(void **state)
     assert_int_equal(SLAM_TICK_US, 10000u);              /* 10 ms control period */
     assert_int_equal(c.start_cell_a, SLAM_GRID_A / 2u);  /* start at the centre */
     assert_int_equal(c.start_cell_b, SLAM_GRID_B / 2u);
-    /* A stop lasts about 60 ms: 30 ms settling, then up to 38 ms for the echo. */
+    /* A stop lasts about 60 ms: 30 ms settling, then up to 38 ms for the echo, and pings
+     * at least 60 ms apart (the HC-SR04 datasheet). */
     assert_int_equal(c.settle_ticks, 3);
     assert_true(c.echo_timeout_ticks * SLAM_TICK_US >= 38000u);
+    assert_true(c.ping_interval_ticks * SLAM_TICK_US >= 60000u);
     const char *field = "unset";
     assert_int_equal(slam_config_check(&c, &field), SLAM_OK);
     assert_null(field);
@@ -84,6 +86,7 @@ BAD(stops_many, c->sweep_stops = SLAM_SWEEP_STOPS_MAX + 1u)
 BAD(stops_one, c->sweep_stops = 1u)
 BAD(settle, c->settle_ticks = 0u)
 BAD(echo_to, c->echo_timeout_ticks = 0u)
+BAD(ping_interval, c->ping_interval_ticks = 0u)
 BAD(pulse0, c->servo_pulse_0deg_us = 399u)
 BAD(pulse180, c->servo_pulse_180deg_us = 2601u)
 BAD(pulse_same, c->servo_pulse_180deg_us = c->servo_pulse_0deg_us)
@@ -114,7 +117,8 @@ static void test_every_bad_field_is_named(void **state)
         {"sweep_first_mdeg", bad_first},              {"sweep_last_mdeg", bad_last},
         {"sweep_stops", bad_stops_zero},              {"sweep_stops", bad_stops_many},
         {"sweep_stops", bad_stops_one},               {"settle_ticks", bad_settle},
-        {"echo_timeout_ticks", bad_echo_to},          {"servo_pulse_0deg_us", bad_pulse0},
+        {"echo_timeout_ticks", bad_echo_to},          {"ping_interval_ticks", bad_ping_interval},
+        {"servo_pulse_0deg_us", bad_pulse0},
         {"servo_pulse_180deg_us", bad_pulse180},      {"servo_pulse_180deg_us", bad_pulse_same},
         {"post_threshold", bad_threshold},            {"post_template_k", bad_template_k},
         {"post_threshold", bad_threshold_count},      {"post_insert", bad_insert},

@@ -90,6 +90,7 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->sweep_last_mdeg = c->sweep_stops == 1u ? c->sweep_first_mdeg : (int32_t)pick(s, 0, 180000);
     c->settle_ticks = (uint8_t)pick(s, 1, 255);
     c->echo_timeout_ticks = (uint8_t)pick(s, 1, 255);
+    c->ping_interval_ticks = (uint8_t)pick(s, 1, 255);
     c->servo_pulse_0deg_us = (uint16_t)pick(s, 400, 2600);
     do {
         c->servo_pulse_180deg_us = (uint16_t)pick(s, 400, 2600);
@@ -106,7 +107,9 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->cruise_mm_s = (uint16_t)pick(s, 1, c->top_speed_mm_s);
     c->turn_mm_s = (uint16_t)pick(s, 1, c->top_speed_mm_s);
     c->avoid_um = (uint32_t)pick(s, 50000, 4000000);
-    c->clearance_um = (uint32_t)pick(s, 10000, 2000000);
+    c->clearance_um = (uint32_t)pick(s, 10000, 1999999);
+    c->follow_um = (uint32_t)pick(s, c->clearance_um < 50000u ? 50000 : c->clearance_um + 1u,
+                                  2000000);
     c->square_side_um = (uint32_t)pick(s, 100000, 100000000);
     c->square_laps = (uint8_t)pick(s, 0, 255);
     c->explore_seed = (uint32_t)pick(s, 1, UINT32_MAX);

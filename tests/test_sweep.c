@@ -122,6 +122,7 @@ static void test_order_of_stops(void **state)
 static void test_one_reading_per_stop_and_settled_pings(void **state)
 {
     (void)state;
+    cfg.ping_interval_ticks = 1u; /* only the servo sets the pace here */
     run(2000, always_echo, 2);
     /* Every stop: command, then exactly settle_ticks later one ping, then one reading,
      * in whose tick the next stop is commanded. */
@@ -138,6 +139,36 @@ static void test_one_reading_per_stop_and_settled_pings(void **state)
     assert_int_equal(sw.pings, lg.triggers);
     assert_int_equal(sw.echoes, lg.readings);
     assert_int_equal(sw.timeouts, 0u);
+}
+
+/* Successive pings are at least ping_interval_ticks apart (60 ms by default, the
+ * HC-SR04's measurement cycle), and no more than the servo and the echo need. */
+static void test_pings_keep_their_interval(void **state)
+{
+    (void)state;
+    assert_int_equal(cfg.ping_interval_ticks * SLAM_TICK_US, 60000u);
+    static const struct {
+        uint8_t interval;
+        uint32_t echo_delay;
+        uint32_t spacing; /* ticks from one trigger to the next */
+    } cases[] = {
+        {6u, 1u, 6u}, /* a near echo: the interval sets the pace */
+        {6u, 3u, 6u}, /* the servo settles while the sound dies away */
+        {6u, 4u, 7u}, /* a late answer, then 3 ticks of settling: 70 ms */
+        {9u, 1u, 9u},
+        {1u, 1u, 4u}, /* no interval: 30 ms of settling and 10 ms of echo */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        memset(&lg, 0, sizeof lg);
+        cfg.ping_interval_ticks = cases[c].interval;
+        run(1000, always_echo, cases[c].echo_delay);
+        assert_true(lg.triggers > 100u);
+        for (unsigned i = 1; i < lg.triggers; i++) {
+            assert_int_equal(lg.trigger_tick[i] - lg.trigger_tick[i - 1u], cases[c].spacing);
+            assert_true(lg.trigger_tick[i] - lg.cmd_tick[i] >= cfg.settle_ticks);
+        }
+        assert_int_equal(lg.trigger_tick[0], cfg.settle_ticks); /* the first goes at once */
+    }
 }
 
 static void test_configured_timing(void **state)
@@ -215,6 +246,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_order_of_stops, setup),
         cmocka_unit_test_setup(test_one_reading_per_stop_and_settled_pings, setup),
+        cmocka_unit_test_setup(test_pings_keep_their_interval, setup),
         cmocka_unit_test_setup(test_configured_timing, setup),
         cmocka_unit_test_setup(test_timeouts_map_nothing_and_sweep_goes_on, setup),
         cmocka_unit_test_setup(test_single_stop, setup),

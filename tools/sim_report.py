@@ -3,12 +3,16 @@
 """Reproduces the simulator's figures: the paper's claims, measured over several seeds.
 
 usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
+                           [--maps DIR]
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
 threshold/template that maximise F1; odometry error under high and moderate
-acceleration; the map with perfect odometry; and, per cell size, F1, odometry error, RAM,
-and the time random and TM-guided exploration take to cover 80 % of the free cells.
+acceleration; the map with perfect odometry; per cell size, F1, odometry error and RAM;
+the exploration modes over every shipped room (collisions, the closest approach, wall
+coverage and when it reached 50, 80 and 90 %, raw F1) and the time they take to visit the
+free cells; the wall coverage of each shipped room; and, when the building maps lie
+beside the repository (../shared/maps, or --maps DIR), the same in crops of them.
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 """
 import argparse
@@ -22,6 +26,16 @@ SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 ROOMS = os.path.join(SRC, "host_sim", "rooms")
 STEPS = ("raw", "threshold", "template", "insert")
 ACCELS = (300, 10000)  # mm/s²: moderate, and so great that the motors limit it
+MODES = ("walls", "random", "tm")  # the default first
+# Building maps of other projects (each with its licence in its folder), and the part of
+# each the robot explores: the crops host_building_maps loads.
+BUILDINGS = (
+    ("edu_room", "edu_room/edu_room_cropped.yaml", None),
+    ("intel_lab", "intel_lab/intel.yaml", (5.0, 5.0, 12.0, 10.0)),
+    ("willow_garage", "willow_garage/willow-2010-02-18-0.10.yaml", (20.0, 20.0, 12.0, 12.0)),
+    ("utexas_gdc_3ne", "utexas_gdc_3ne/3ne.yaml", (-20.0, -10.0, 12.0, 10.0)),
+)
+BUILDING_S = 1800
 
 
 def run(bin_, out, args):
@@ -96,10 +110,25 @@ def report(args):
         for s in seeds:
             jobs["cell-%d-%d" % (cell, s)] = ["--cell", cell, "--seed", s, "--duration", dur]
     cover = 600 if args.quick else 3600
-    for mode in ("random", "tm"):
+    for mode in MODES:
         for s in seeds:
             jobs["cover-%s-%d" % (mode, s)] = ["--explore", mode, "--seed", s, "--cell", 100,
                                                "--duration", cover]
+    rooms = sorted(f[:-5] for f in os.listdir(ROOMS) if f.endswith(".room"))
+    for mode in MODES:
+        for room in rooms:
+            for s in seeds:
+                jobs["explore-%s-%s-%d" % (mode, room, s)] = [
+                    "--explore", mode, "--room", os.path.join(ROOMS, room + ".room"),
+                    "--seed", s, "--duration", dur]
+    buildings = [b for b in BUILDINGS if os.path.exists(os.path.join(args.maps, b[1]))]
+    bdur = dur if args.quick else BUILDING_S
+    for name, yaml, crop in buildings:
+        for s in seeds[:3]:
+            a = ["--room", os.path.join(args.maps, yaml), "--seed", s, "--duration", bdur]
+            if crop:
+                a += ["--crop"] + list(crop)
+            jobs["building-%s-%d" % (name, s)] = a
     res = run_all(args.host_sim, base, jobs, args.jobs)
 
     def group(prefix):
@@ -147,20 +176,71 @@ def report(args):
             ram["grid_a"], ram["grid_b"], ram["maps_bytes"]))
     print()
 
-    print("### Exploration (default room, 100 mm cells, %d s, %d seeds)\n" % (cover, len(seeds)))
-    print("| mode | time to 50 % (s) | time to 80 % (s) | coverage at the end |\n|---|---|---|---|")
-    for mode in ("random", "tm"):
-        ms = group("cover-" + mode)
+    def when(ms, key):
+        ts = [m["exploration"][key] for m in ms]
+        got = [x for x in ts if x is not None]
+        if len(got) < len(ts):
+            return "%d of %d runs%s" % (len(got), len(ts), ", mean %.0f" % mean(got) if got else "")
+        return "%.0f" % mean(got)
 
-        def t(key):
-            ts = [m["exploration"][key] for m in ms]
-            got = [x for x in ts if x is not None]
-            if len(got) < len(ts):
-                return "%d of %d runs reached it%s" % (len(got), len(ts),
-                                                       ", mean %.0f" % mean(got) if got else "")
-            return "%.0f" % mean(got)
-        print("| %s | %s | %s | %.1f %% |" % (mode, t("time_to_50_s"), t("time_to_80_s"),
+    def f1(ms):
+        return "%.3f / %.3f" % (mean(m["maps"]["odometry"]["raw"]["f1"] for m in ms),
+                                mean(m["maps"]["perfect_odometry"]["raw"]["f1"] for m in ms))
+
+    print("### Exploration (every shipped room, %d s, %d seeds each)\n" % (dur, len(seeds)))
+    print("| mode | collisions | closest (m) | wall coverage | 50 % (s) | 80 % (s) | 90 % (s) "
+          "| raw F1 (odometry / true poses) |\n|---|---|---|---|---|---|---|---|")
+    for mode in MODES:
+        ms = group("explore-" + mode)
+        print("| %s | %d | %.3f | %.3f | %s | %s | %s | %s |" % (
+            mode, sum(m["robot"]["collisions"] for m in ms),
+            min(m["exploration"]["min_clearance_m"] for m in ms),
+            mean(m["exploration"]["wall_coverage"] for m in ms),
+            when(ms, "wall_time_to_50_s"), when(ms, "wall_time_to_80_s"),
+            when(ms, "wall_time_to_90_s"), f1(ms)))
+    print()
+
+    print("### Wall coverage per room (%s, the default mode, %d s, %d seeds)\n"
+          % (MODES[0], dur, len(seeds)))
+    print("| room | wall cells | wall coverage | 90 % (s) | collisions | closest (m) "
+          "| raw F1 (odometry / true poses) |\n|---|---|---|---|---|---|---|")
+    for room in rooms:
+        ms = group("explore-%s-%s" % (MODES[0], room))
+        print("| %s | %d | %.3f | %s | %d | %.3f | %s |" % (
+            room, ms[0]["exploration"]["wall_cells"],
+            mean(m["exploration"]["wall_coverage"] for m in ms), when(ms, "wall_time_to_90_s"),
+            sum(m["robot"]["collisions"] for m in ms),
+            min(m["exploration"]["min_clearance_m"] for m in ms), f1(ms)))
+    print()
+
+    print("### Visiting the free cells (default room, 100 mm cells, %d s, %d seeds)\n"
+          % (cover, len(seeds)))
+    print("| mode | time to 50 % (s) | time to 80 % (s) | coverage at the end |\n|---|---|---|---|")
+    for mode in MODES:
+        ms = group("cover-" + mode)
+        print("| %s | %s | %s | %.1f %% |" % (mode, when(ms, "time_to_50_s"), when(ms, "time_to_80_s"),
                                               100 * mean(m["exploration"]["coverage"] for m in ms)))
+    print()
+
+    if buildings:
+        print("### Building maps (%s, the default mode, %d s, %d seeds)\n"
+              % (MODES[0], bdur, len(seeds[:3])))
+        print("| map | crop (m) | wall cells | wall coverage at 10 min | at the end | 90 % (s) "
+              "| collisions | closest (m) | raw F1 (odometry / true poses) |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for name, yaml, crop in buildings:
+            ms = group("building-" + name)
+            at10 = mean(next((p[1] for p in m["exploration"]["wall_series"] if p[0] >= 599.0),
+                             m["exploration"]["wall_coverage"]) for m in ms)
+            print("| %s | %s | %d | %.3f | %.3f | %s | %d | %.3f | %s |" % (
+                name, " ".join("%g" % c for c in crop) if crop else "all",
+                ms[0]["exploration"]["wall_cells"], at10,
+                mean(m["exploration"]["wall_coverage"] for m in ms), when(ms, "wall_time_to_90_s"),
+                sum(m["robot"]["collisions"] for m in ms),
+                min(m["exploration"]["min_clearance_m"] for m in ms), f1(ms)))
+        print()
+    else:
+        print("(no building maps at %s: that table is left out)\n" % args.maps)
     if args.figure:
         figure(args, res, group, base)
 
@@ -213,15 +293,15 @@ def figure(args, res, group, base):
     ax.legend(fontsize=8)
 
     ax = axes[2]
-    for mode, color in (("random", "tab:gray"), ("tm", "tab:green")):
-        for i, m in enumerate(group("cover-" + mode)):
-            ser = m["exploration"]["series"]
+    for mode, color in zip(MODES, ("tab:green", "tab:gray", "tab:orange")):
+        for i, m in enumerate(group("explore-%s-default" % mode)):
+            ser = m["exploration"]["wall_series"]
             ax.plot([p[0] for p in ser], [100 * p[1] for p in ser], color=color, lw=0.8,
                     label=mode if i == 0 else None)
-    ax.axhline(80, color="k", lw=0.5, ls="--")
+    ax.axhline(90, color="k", lw=0.5, ls="--")
     ax.set_xlabel("time [s]")
-    ax.set_ylabel("reachable cells visited [%]")
-    ax.set_title("exploration: random vs TM-guided (100 mm cells)")
+    ax.set_ylabel("wall cells in a ping's confidence sector [%]")
+    ax.set_title("exploration: wall coverage, default room")
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()
     fig.savefig(args.figure, dpi=80, metadata={"Software": None})
@@ -236,6 +316,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
     ap.add_argument("--figure", help="also draw the results into this PNG")
+    ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
+                    help="the building maps (default: ../shared/maps beside the repository)")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
         sys.exit("sim_report: %s not found: build it first (make sim)" % args.host_sim)

@@ -41,6 +41,7 @@ static const slam_config_t slam_config_defaults = {
     .sweep_stops = 6u,
     .settle_ticks = 3u,
     .echo_timeout_ticks = 4u,
+    .ping_interval_ticks = 6u,
     .servo_pulse_0deg_us = 500u,
     .servo_pulse_180deg_us = 2500u,
     .post_threshold = 0u,
@@ -50,11 +51,12 @@ static const slam_config_t slam_config_defaults = {
     .accel_mm_s2 = 500u,
     .motion_kp_q8 = 64u,
     .motion_ki_q8 = 8u,
-    .explore_mode = EXPLORE_RANDOM,
+    .explore_mode = EXPLORE_WALLS,
     .cruise_mm_s = 200u,
     .turn_mm_s = 100u,
     .avoid_um = 300000u,
     .clearance_um = 130000u,
+    .follow_um = 300000u,
     .square_side_um = 1000000u,
     .square_laps = 1u,
     .explore_seed = 1u,
@@ -238,6 +240,12 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (c->localize > 1u) {
         return "localize";
+    }
+    if (c->ping_interval_ticks == 0u) {
+        return "ping_interval_ticks";
+    }
+    if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
+        return "follow_um";
     }
     return NULL;
 }

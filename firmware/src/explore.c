@@ -1,20 +1,20 @@
 /* SPDX-License-Identifier: MIT */
-/* Exploration: random walk with obstacle avoidance, TM-guided headings, a test square. */
-#include "slam/explore.h"
+/* Exploration: the states, looking, turning, backing off along the trail, and the random,
+ * TM-guided and square modes. The memory and what is ahead are in explore_scan.c, the
+ * weighing of headings in explore_decide.c, the walls mode in explore_walls.c (openings
+ * in explore_door.c, the frontier in explore_seek.c), the map's corridor in
+ * explore_map.c. */
+#include "explore_internal.h"
 
 #include <string.h>
 
-#include "slam/error.h"
-#include "slam/fixed.h"
-
-#define DEG(d) ((bam32_t)((uint64_t)(d) * 0x100000000ull / 360u))
-#define EXPLORE_LOOK_UM 1000000     /* TM rays reach 1 m */
-#define EXPLORE_TURN_DONE DEG(1)    /* a turn ends within 1° */
-#define EXPLORE_TURN_SLOW DEG(20)   /* and slows down over its last 20° */
+#define EXPLORE_TURN_DONE EXPLORE_DEG(1)  /* a turn ends within 1° */
+#define EXPLORE_TURN_SLOW EXPLORE_DEG(20) /* and slows down over its last 20° */
 #define EXPLORE_TURN_MIN_MM_S 30
 #define EXPLORE_TURN_MAX_TICKS 1500u
-#define EXPLORE_TM_REDECIDE_TICKS 600u
-#define EXPLORE_RANDOM_TURN_MASK 1023u /* a random turn on average every 10 s */
+#define EXPLORE_RANDOM_TURN_MASK 1023u    /* a random turn on average every 10 s */
+#define EXPLORE_BACK_MM_S 80
+#define EXPLORE_BACK_REACHED_UM 20000     /* a trail position is reached this close */
 
 void explore_init(explore_t *e, const slam_config_t *cfg)
 {
@@ -26,6 +26,7 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     e->turn_mm_s = cfg->turn_mm_s;
     e->avoid_um = (int32_t)cfg->avoid_um;
     e->clearance_um = (int32_t)cfg->clearance_um;
+    e->follow_um = (int32_t)cfg->follow_um;
     e->mount_x_um = cfg->mount_x_um;
     e->mount_y_um = cfg->mount_y_um;
     e->square_side_um = (int32_t)cfg->square_side_um;
@@ -34,11 +35,22 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     e->tm_max = cfg->tm_max;
     e->leg_x_um = cfg->start_x_um;
     e->leg_y_um = cfg->start_y_um;
+    e->trail_x_um[0] = cfg->start_x_um;
+    e->trail_y_um[0] = cfg->start_y_um;
+    e->trail_len = 1u;
     e->target_heading = fix_bam_from_mdeg(cfg->start_heading_mdeg);
+    e->scan.ahead_um = INT32_MAX;
+    e->scan.right_q10 = INT32_MAX;
+    e->scan.behind_q10 = INT32_MAX;
+    e->map_um = INT32_MAX;
+    explore_map_init(e, cfg);
+    explore_seek_init(e);
     e->decide = true;
+    e->after_turn = EXPLORE_FORWARD;
     switch (e->mode) {
     case EXPLORE_RANDOM:
     case EXPLORE_TM:
+    case EXPLORE_WALLS:
         e->state = EXPLORE_LOOK;
         break;
     case EXPLORE_SQUARE:
@@ -51,7 +63,7 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
 }
 
 /* xorshift32: the exploration's own random stream, seeded by the configuration. */
-static uint32_t rng_below(explore_t *e, uint32_t n)
+uint32_t explore_rng_below(explore_t *e, uint32_t n)
 {
     uint32_t x = e->rng;
     x ^= x << 13;
@@ -61,177 +73,117 @@ static uint32_t rng_below(explore_t *e, uint32_t n)
     return x % n;
 }
 
-static void enter(explore_t *e, explore_state_t s)
+uint32_t explore_isqrt(uint32_t v)
+{
+    uint32_t r = 0u;
+    for (uint32_t b = 1u << 15; b != 0u; b >>= 1) {
+        if ((r + b) * (r + b) <= v) {
+            r += b;
+        }
+    }
+    return r;
+}
+
+void explore_enter(explore_t *e, explore_state_t s)
 {
     e->state = (uint8_t)s;
     e->ticks = 0u;
     e->look_readings = 0u;
 }
 
-/* The latest reading of each stop becomes a world point (or clears the stop). The mapper
- * has just placed the point of a reading inside the confidence sector; farther echoes
- * are too far to be in the way. */
-static void remember(explore_t *e, const sweep_out_t *sw, const mapper_t *m)
-{
-    if (!sw->reading_ready) {
-        return;
-    }
-    uint8_t stop = sw->reading.stop;
-    e->look_readings++;
-    e->obst_seen[stop] = 0u;
-    if (sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)) {
-        e->obst_x_um[stop] = m->last_x_um;
-        e->obst_y_um[stop] = m->last_y_um;
-        e->obst_seen[stop] = e->now;
-    }
-}
-
-/* The remembered point nearest ahead in the robot's corridor; false if none. */
-static bool nearest_ahead(const explore_t *e, const odom_pose_t *pose, int32_t *lateral_um)
-{
-    q1_30_t c = fix_cos(pose->heading);
-    q1_30_t s = fix_sin(pose->heading);
-    int64_t best = INT64_MAX;
-    for (uint8_t n = 0; n <= e->stops; n++) {
-        /* The sweep's stops, then the point of the last stall. */
-        uint8_t i = n < e->stops ? n : (uint8_t)EXPLORE_BUMP;
-        uint32_t life = n < e->stops ? EXPLORE_MEMORY_TICKS : EXPLORE_BUMP_TICKS;
-        if (e->obst_seen[i] == 0u || e->now - e->obst_seen[i] > life) {
-            continue;
-        }
-        /* The point in the robot frame. A remembered point lies within a few metres of the
-         * robot, so the differences fit 32 bits (taken modulo 2^32, which is exact here),
-         * and the 32 x 32-bit products (one SMULL each on a Cortex-M4) fit 64. */
-        int32_t dx = (int32_t)((uint32_t)e->obst_x_um[i] - (uint32_t)pose->x_um);
-        int32_t dy = (int32_t)((uint32_t)e->obst_y_um[i] - (uint32_t)pose->y_um);
-        int64_t ahead = ((int64_t)dx * c + (int64_t)dy * s) >> 30;
-        int64_t side = ((int64_t)dy * c - (int64_t)dx * s) >> 30;
-        bool in_corridor = side > -e->clearance_um && side < e->clearance_um;
-        if (in_corridor && ahead > 0 && ahead < e->mount_x_um + e->avoid_um && ahead < best) {
-            best = ahead;
-            *lateral_um = (int32_t)side;
-        }
-    }
-    return best != INT64_MAX;
-}
-
-bool explore_blocked(const explore_t *e, const odom_pose_t *pose)
-{
-    int32_t lateral;
-    return nearest_ahead(e, pose, &lateral);
-}
-
-static void begin_turn(explore_t *e, const odom_pose_t *pose, int32_t angle)
+void explore_turn_by(explore_t *e, const odom_pose_t *pose, int32_t angle, explore_state_t then)
 {
     e->target_heading = pose->heading + (bam32_t)angle;
+    e->after_turn = (uint8_t)then;
     e->turns++;
-    enter(e, EXPLORE_TURN);
+    e->front = false; /* what lay ahead along a wall is measured again after a turn */
+    e->door = false;
+    explore_enter(e, EXPLORE_TURN);
 }
 
-/* A random turn of min..180° (in binary angle units): away from an obstacle on one
- * side, or either way. */
-static void random_turn(explore_t *e, const odom_pose_t *pose, bam32_t min, int away_from)
+/* ---- the trail ------------------------------------------------------------------------- */
+
+/* A new trail position each EXPLORE_TRAIL_STEP_UM driven. */
+static bool trail_step(explore_t *e, const odom_pose_t *pose)
 {
-    uint32_t span = DEG(180) - min;
-    int32_t angle = (int32_t)(min + rng_below(e, span));
-    int dir = away_from != 0 ? -away_from : (rng_below(e, 2u) != 0u ? 1 : -1);
-    begin_turn(e, pose, dir * angle);
+    uint64_t step = EXPLORE_TRAIL_STEP_UM;
+    if (explore_dist2(pose, e->trail_x_um[e->trail_head], e->trail_y_um[e->trail_head]) <
+        step * step) {
+        return false;
+    }
+    e->trail_head = (uint8_t)((e->trail_head + 1u) % EXPLORE_TRAIL);
+    e->trail_x_um[e->trail_head] = pose->x_um;
+    e->trail_y_um[e->trail_head] = pose->y_um;
+    e->trail_len = (uint8_t)(e->trail_len < EXPLORE_TRAIL ? e->trail_len + 1u : EXPLORE_TRAIL);
+    return true;
 }
 
-/* TM mode, one candidate heading: the visits along a 1 m ray, walked a cell at a time
- * from the centre of the robot's cell in Q16 cell units (no division per cell). Beyond an
- * occupied OM cell, or outside the grid, every cell counts as fully visited, so blocked
- * and short rays lose. The weighing is spread over ticks to keep each one small: one tick
- * starts the ray, then EXPLORE_RAY_CELLS cells a tick, then one tick checks the obstacle
- * memory and compares. */
-static bam32_t candidate_heading(const explore_t *e, const odom_pose_t *pose)
+/* ---- the states ------------------------------------------------------------------------- */
+
+/* A random turn of min..180° (in binary angle units), to the left (dir > 0), the right
+ * (dir < 0) or either way (dir == 0). */
+static void random_turn(explore_t *e, const odom_pose_t *pose, bam32_t min, int dir)
 {
-    return pose->heading + e->candidate * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES);
+    uint32_t span = EXPLORE_DEG(180) - min;
+    int32_t angle = (int32_t)(min + explore_rng_below(e, span));
+    if (dir == 0) {
+        dir = explore_rng_below(e, 2u) != 0u ? 1 : -1;
+    }
+    explore_turn_by(e, pose, dir * angle, EXPLORE_FORWARD);
 }
 
-static void ray_begin(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+/* The paper's avoidance: away from the side of what is ahead. (Always to the left, so
+ * that it ends on the seen side, was measured too: the turns' wheel-base error then adds
+ * up instead of cancelling, and the map's F1 drops by a tenth.) */
+static int away(const explore_t *e)
 {
-    uint32_t steps = EXPLORE_LOOK_UM / e->cell_um;
-    steps = steps < 1u ? 1u : steps;
-    e->ray_cost = 0u;
-    e->ray_left = steps;
-    grid_cell_t start;
-    if (grid_cell_of(g, pose->x_um, pose->y_um, &start) != SLAM_OK) {
-        e->ray_cost = steps * e->tm_max;
-        e->ray_left = 0u;
+    return e->scan.lateral_um > 0 ? -1 : 1;
+}
+
+/* TM mode, something ahead: weigh the ways from straight on to 150° left, so that what
+ * was ahead ends on the right, where the sweep sees it (not straight back: a wall beside
+ * would then be on the blind side). */
+static void tm_avoid(explore_t *e)
+{
+    explore_decide(e, 0u, 6u, EXPLORE_FORWARD);
+}
+
+static void look_step(explore_t *e, const odom_pose_t *pose, bool reading)
+{
+    /* One full pass of the sweep since standing still, then a memory pass that began
+     * after the last of its readings, then decide. */
+    if (e->look_readings < e->stops || reading) {
         return;
     }
-    bam32_t h = candidate_heading(e, pose);
-    e->ray_fx = ((int32_t)start.a << 16) + 0x8000;
-    e->ray_fy = ((int32_t)start.b << 16) + 0x8000;
-    e->ray_dx = fix_cos(h) >> 14; /* one cell, Q16 */
-    e->ray_dy = fix_sin(h) >> 14;
-}
-
-static void ray_walk(explore_t *e, const grid_t *g)
-{
-    for (uint32_t n = 0; n < EXPLORE_RAY_CELLS && e->ray_left > 0u; n++) {
-        e->ray_fx += e->ray_dx;
-        e->ray_fy += e->ray_dy;
-        uint32_t a = (uint32_t)(e->ray_fx >> 16);
-        uint32_t b = (uint32_t)(e->ray_fy >> 16);
-        uint32_t k = b * SLAM_GRID_A + a;
-        if (e->ray_fx < 0 || e->ray_fy < 0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B ||
-            grid_state(g, k) == GRID_OCCUPIED) {
-            e->ray_cost += e->ray_left * e->tm_max;
-            e->ray_left = 0u;
-            return;
-        }
-        e->ray_cost += g->tm[k];
-        e->ray_left--;
-    }
-}
-
-static void decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g, bool reading)
-{
-    if (e->ticks == 1u) {
-        /* Candidates are weighed from a random first one, so ties between equal turns go
-         * a random way. */
-        e->candidate = (uint8_t)rng_below(e, EXPLORE_CANDIDATES);
-        e->weighed = 0u;
-        e->best_cost = UINT32_MAX;
-        e->ray_phase = 0u;
-    }
-    if (e->ray_phase == 0u) {
-        ray_begin(e, pose, g);
-        e->ray_phase = 1u;
+    if (e->look_mark == 0u) {
+        e->look_mark = e->now;
         return;
     }
-    if (e->ray_left > 0u) {
-        ray_walk(e, g);
+    if (e->scan_at <= e->look_mark) {
         return;
     }
-    if (reading) {
-        return; /* the memory check waits for a tick without a reading to map */
-    }
-    uint32_t cost = e->ray_cost;
-    odom_pose_t facing = {pose->x_um, pose->y_um, candidate_heading(e, pose)};
-    if (explore_blocked(e, &facing)) {
-        cost += 2u * EXPLORE_LOOK_UM / e->cell_um * e->tm_max;
-    }
-    /* Among equally visited ways, the smallest turn: 0 for straight on, 6 for back. */
-    uint32_t turn = e->candidate <= EXPLORE_CANDIDATES / 2u ? e->candidate
-                                                          : EXPLORE_CANDIDATES - e->candidate;
-    cost = cost * EXPLORE_CANDIDATES + turn;
-    if (cost < e->best_cost) {
-        e->best_cost = cost;
-        e->best = e->candidate;
-    }
-    e->candidate = (uint8_t)((e->candidate + 1u) % EXPLORE_CANDIDATES);
-    e->ray_phase = 0u;
-    if (++e->weighed >= EXPLORE_CANDIDATES) {
-        e->decide = false;
-        int32_t angle = (int32_t)(e->best * (bam32_t)(0x100000000ull / EXPLORE_CANDIDATES));
-        if (e->best == 0u) {
-            enter(e, EXPLORE_FORWARD);
+    e->look_mark = 0u;
+    bool blocked = explore_ahead_um(e, pose) < e->avoid_um;
+    switch (e->mode) {
+    case EXPLORE_TM:
+        if (blocked) {
+            tm_avoid(e);
+        } else if (e->decide) {
+            explore_decide(e, 0u, EXPLORE_CANDIDATES, EXPLORE_FORWARD);
         } else {
-            begin_turn(e, pose, angle);
+            explore_enter(e, EXPLORE_FORWARD);
         }
+        break;
+    case EXPLORE_WALLS:
+        explore_walls_look(e, pose, blocked);
+        break;
+    default:
+        if (blocked) {
+            random_turn(e, pose, EXPLORE_DEG(90), away(e));
+        } else {
+            explore_enter(e, EXPLORE_FORWARD);
+        }
+        break;
     }
 }
 
@@ -243,16 +195,15 @@ static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
         if (e->mode == EXPLORE_SQUARE) {
             e->leg_x_um = pose->x_um;
             e->leg_y_um = pose->y_um;
-            enter(e, EXPLORE_FORWARD);
+            explore_enter(e, EXPLORE_FORWARD);
         } else {
-            enter(e, EXPLORE_LOOK);
+            explore_enter(e, EXPLORE_LOOK);
         }
-        target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
         return;
     }
     int32_t speed = e->turn_mm_s;
     if (mag < EXPLORE_TURN_SLOW) {
-        speed = (int32_t)((int64_t)speed * mag / EXPLORE_TURN_SLOW);
+        speed = speed * (int32_t)(mag >> 16) / (int32_t)(EXPLORE_TURN_SLOW >> 16);
         speed = speed < EXPLORE_TURN_MIN_MM_S ? EXPLORE_TURN_MIN_MM_S : speed;
     }
     int32_t dir = err > 0 ? 1 : -1; /* counter-clockwise: right wheel forward */
@@ -260,90 +211,190 @@ static void turn_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
     target_mm_s[ODOM_RIGHT] = dir * speed;
 }
 
-/* The squared distance from the start of the leg. As in nearest_ahead(), the differences
- * are taken modulo 2^32 (exact within 2 km, and defined after any encoder glitch); the
- * squares fit 63 bits and their sum 64. */
-static uint64_t leg_dist2(const odom_pose_t *pose, const explore_t *e)
+/* The differences are taken modulo 2^32 (exact within 2 km, and defined after any
+ * encoder glitch); the squares fit 63 bits and their sum 64. */
+uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
 {
-    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)e->leg_x_um);
-    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)e->leg_y_um);
+    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)x_um);
+    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)y_um);
     return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
 }
 
-static void forward_step(explore_t *e, const odom_pose_t *pose, bool reading,
-                         int32_t target_mm_s[2])
+/* The squared distance from the start of the leg. */
+static uint64_t leg_dist2(const odom_pose_t *pose, const explore_t *e)
+{
+    return explore_dist2(pose, e->leg_x_um, e->leg_y_um);
+}
+
+static void square_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = e->cruise_mm_s;
-    if (e->mode == EXPLORE_SQUARE) {
-        int64_t side = e->square_side_um;
-        if (leg_dist2(pose, e) >= (uint64_t)(side * side)) {
-            e->leg++;
-            if (e->laps != 0u && e->leg >= 4u * e->laps) {
-                enter(e, EXPLORE_STOP);
-                target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-            } else {
-                /* Square corners are absolute: start heading + 90° per leg. */
-                e->target_heading += DEG(90);
-                e->turns++;
-                enter(e, EXPLORE_TURN);
-            }
-        }
+    int64_t side = e->square_side_um;
+    if (leg_dist2(pose, e) < (uint64_t)(side * side)) {
         return;
     }
-    /* The corridor is checked in the ticks without a new reading: a reading's tick already
-     * maps it, and the check one tick (2 mm) later keeps the worst tick small. */
-    int32_t lateral = 0;
-    if (!reading && nearest_ahead(e, pose, &lateral)) {
-        e->avoidances++;
+    e->leg++;
+    if (e->laps != 0u && e->leg >= 4u * e->laps) {
+        explore_enter(e, EXPLORE_STOP);
         target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-        if (e->mode == EXPLORE_TM) {
-            enter(e, EXPLORE_DECIDE);
-        } else {
-            random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
-        }
-        return;
-    }
-    if (e->mode == EXPLORE_TM) {
-        if (e->ticks > EXPLORE_TM_REDECIDE_TICKS) {
-            enter(e, EXPLORE_DECIDE);
-        }
-    } else if (e->ticks > EXPLORE_FORWARD_MAX_TICKS ||
-               rng_below(e, EXPLORE_RANDOM_TURN_MASK + 1u) == 0u) {
-        random_turn(e, pose, DEG(30), 0);
+    } else {
+        /* Square corners are absolute: start heading + 90° per leg. */
+        e->target_heading += EXPLORE_DEG(90);
+        e->turns++;
+        explore_enter(e, EXPLORE_TURN);
     }
 }
 
-/* Wheels that stall while driving: back off first, from where the stall happened. */
+static void forward_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
+                         int32_t target_mm_s[2])
+{
+    int32_t ahead = explore_ahead_um(e, pose);
+    if (ahead < e->avoid_um) {
+        e->avoidances++;
+        switch (e->mode) {
+        case EXPLORE_TM:
+            tm_avoid(e);
+            break;
+        case EXPLORE_WALLS:
+            /* Turn so that what is ahead is on the right, and follow it. */
+            explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
+            break;
+        default:
+            random_turn(e, pose, EXPLORE_DEG(90), away(e));
+            break;
+        }
+        return;
+    }
+    int32_t v = explore_speed_mm_s(e, ahead);
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = v;
+    switch (e->mode) {
+    case EXPLORE_TM:
+        if (e->ticks > EXPLORE_TM_REDECIDE_TICKS) {
+            /* On the way: within 60° either side, so that a wall beside is not turned
+             * onto the blind side. */
+            explore_decide(e, EXPLORE_CANDIDATES - 2u, 5u, EXPLORE_FORWARD);
+        }
+        break;
+    case EXPLORE_WALLS:
+        explore_walls_cross(e, pose, g, target_mm_s);
+        break;
+    default:
+        if (e->ticks > EXPLORE_FORWARD_MAX_TICKS ||
+            explore_rng_below(e, EXPLORE_RANDOM_TURN_MASK + 1u) == 0u) {
+            random_turn(e, pose, EXPLORE_DEG(30), 0);
+        }
+        break;
+    }
+}
+
+/* Wheels that stall while driving: back off along the trail first. */
 static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
 {
     if (!stalled || e->mode == EXPLORE_SQUARE ||
-        (e->state != EXPLORE_FORWARD && e->state != EXPLORE_TURN)) {
+        (e->state != EXPLORE_FORWARD && e->state != EXPLORE_FOLLOW && e->state != EXPLORE_PASS &&
+         e->state != EXPLORE_TURN)) {
         return false;
     }
     e->stalls++;
+    e->narrow = false;
+    /* Whatever stopped the robot is just ahead of its body: remember it there. */
+    uint8_t i = e->next_point;
+    e->pt_x_um[i] = pose->x_um + fix_mul_q30(e->clearance_um, fix_cos(pose->heading));
+    e->pt_y_um[i] = pose->y_um + fix_mul_q30(e->clearance_um, fix_sin(pose->heading));
+    e->pt_seen[i] = e->now;
+    e->next_point = (uint8_t)((i + 1u) % EXPLORE_POINTS);
     e->leg_x_um = pose->x_um;
     e->leg_y_um = pose->y_um;
-    /* Whatever stopped the robot is just ahead of its body: remember it there. */
-    e->obst_x_um[EXPLORE_BUMP] = pose->x_um + fix_mul_q30(e->clearance_um, fix_cos(pose->heading));
-    e->obst_y_um[EXPLORE_BUMP] = pose->y_um + fix_mul_q30(e->clearance_um, fix_sin(pose->heading));
-    e->obst_seen[EXPLORE_BUMP] = e->now;
-    enter(e, EXPLORE_BACK);
+    e->back_left = e->trail_len;
+    explore_enter(e, EXPLORE_BACK);
     return true;
 }
 
+/*
+ * Reverse toward the trail positions, newest first: the rear is turned toward the next
+ * one in place when it is more than about 27° off, and steered onto it while reversing
+ * otherwise. Without a trail (a stall at the start) the robot reverses straight.
+ */
 static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     int64_t back = EXPLORE_BACK_UM;
     if (leg_dist2(pose, e) >= (uint64_t)(back * back) || e->ticks > EXPLORE_TURN_MAX_TICKS) {
         e->decide = true; /* TM mode weighs the ways again */
-        if (e->mode == EXPLORE_TM) {
-            enter(e, EXPLORE_LOOK);
-        } else {
-            random_turn(e, pose, DEG(90), 0);
+        e->trail_len = 1u;
+        e->trail_x_um[e->trail_head] = pose->x_um;
+        e->trail_y_um[e->trail_head] = pose->y_um;
+        switch (e->mode) {
+        case EXPLORE_TM:
+            explore_enter(e, EXPLORE_LOOK);
+            break;
+        case EXPLORE_WALLS:
+            explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
+            break;
+        default:
+            random_turn(e, pose, EXPLORE_DEG(90), 0);
+            break;
         }
         return;
     }
-    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = -e->cruise_mm_s / 2;
+    int32_t v = -EXPLORE_BACK_MM_S;
+    while (e->back_left > 0u) {
+        uint8_t i = (uint8_t)((e->trail_head + EXPLORE_TRAIL - (e->trail_len - e->back_left)) %
+                              EXPLORE_TRAIL);
+        int32_t px = (int32_t)((uint32_t)e->trail_x_um[i] - (uint32_t)pose->x_um);
+        int32_t py = (int32_t)((uint32_t)e->trail_y_um[i] - (uint32_t)pose->y_um);
+        q1_30_t c = fix_cos(pose->heading);
+        q1_30_t s = fix_sin(pose->heading);
+        int32_t ahead = (int32_t)(((int64_t)px * c + (int64_t)py * s) >> 30);
+        int32_t side = (int32_t)(((int64_t)py * c - (int64_t)px * s) >> 30);
+        int32_t mag = side < 0 ? -side : side;
+        if (ahead > -EXPLORE_BACK_REACHED_UM && mag < EXPLORE_BACK_REACHED_UM) {
+            e->back_left--; /* reached: on to the older one */
+            continue;
+        }
+        int32_t turn = e->turn_mm_s / 2;
+        if (ahead > 0 || 2 * mag > -ahead) {
+            /* Bring the rear round to it: a point to the left swings the rear left,
+             * which is a clockwise turn. */
+            target_mm_s[ODOM_LEFT] = side > 0 ? turn : -turn;
+            target_mm_s[ODOM_RIGHT] = -target_mm_s[ODOM_LEFT];
+            return;
+        }
+        int32_t steer = side / 1000 * EXPLORE_BACK_MM_S / (-ahead / 1000 + 1);
+        target_mm_s[ODOM_LEFT] = v + steer;
+        target_mm_s[ODOM_RIGHT] = v - steer;
+        return;
+    }
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = v;
+}
+
+/* The background job of a tick without a reading, one at a time so that no tick carries
+ * two: a reading's point into the memory, the walls mode's look at a trail step, or a
+ * slice of the pass over the memory and the map. */
+static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+{
+    if (e->pending != 0u) {
+        explore_remember(e, pose);
+        return;
+    }
+    if (e->trail_due) {
+        e->trail_due = false;
+        explore_walls_trail(e, pose, g);
+        return;
+    }
+    switch (e->state) {
+    case EXPLORE_LOOK:
+    case EXPLORE_FOLLOW:
+    case EXPLORE_PASS:
+        explore_scan_slice(e, pose, g);
+        break;
+    case EXPLORE_FORWARD:
+        if (e->mode != EXPLORE_SQUARE) {
+            explore_scan_slice(e, pose, g);
+        }
+        break;
+    default:
+        break;
+    }
 }
 
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
@@ -351,40 +402,66 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
 {
     e->now++;
     e->ticks++;
-    remember(e, sw, m);
-    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-    if (stall(e, pose, stalled)) {
+    if (sw->reading_ready) {
+        /* This tick maps the reading: only note it, and keep the wheels as they were. */
+        e->look_readings++;
+        /* Its point is copied now: the background loop may map older readings, and
+         * change the mapper's last outcome, before the next tick. */
+        e->pending = sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)
+                         ? 1u
+                         : 0u;
+        e->pending_x_um = m->last_x_um;
+        e->pending_y_um = m->last_y_um;
+        target_mm_s[ODOM_LEFT] = e->target_mm_s[ODOM_LEFT];
+        target_mm_s[ODOM_RIGHT] = e->target_mm_s[ODOM_RIGHT];
         return;
     }
-    switch (e->state) {
-    case EXPLORE_LOOK:
-        /* One full pass of the sweep since standing still, then decide (in a tick without
-         * a reading, like every corridor check). */
-        if (e->look_readings >= e->stops && !sw->reading_ready) {
-            int32_t lateral = 0;
-            bool blocked = nearest_ahead(e, pose, &lateral);
-            if (e->mode == EXPLORE_TM && (blocked || e->decide)) {
-                enter(e, EXPLORE_DECIDE);
-            } else if (blocked) {
-                random_turn(e, pose, DEG(90), lateral > 0 ? 1 : -1);
+    job(e, pose, g);
+    target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
+    if (!stall(e, pose, stalled)) {
+        switch (e->state) {
+        case EXPLORE_LOOK:
+            look_step(e, pose, false);
+            break;
+        case EXPLORE_DECIDE:
+            explore_decide_step(e, pose, g);
+            break;
+        case EXPLORE_TURN:
+            turn_step(e, pose, target_mm_s);
+            break;
+        case EXPLORE_FORWARD:
+            if (e->mode == EXPLORE_SQUARE) {
+                square_step(e, pose, target_mm_s);
             } else {
-                enter(e, EXPLORE_FORWARD);
+                forward_step(e, pose, g, target_mm_s);
             }
+            break;
+        case EXPLORE_FOLLOW:
+            explore_follow_step(e, pose, g, target_mm_s);
+            break;
+        case EXPLORE_DOOR:
+            explore_door_step(e, pose, g, target_mm_s);
+            break;
+        case EXPLORE_SEEK:
+            explore_seek_step(e, pose, g);
+            break;
+        case EXPLORE_FACE:
+            explore_face_step(e, pose, target_mm_s);
+            break;
+        case EXPLORE_PASS:
+            explore_pass_step(e, pose, target_mm_s);
+            break;
+        case EXPLORE_BACK:
+            back_step(e, pose, target_mm_s);
+            break;
+        default:
+            break;
         }
-        break;
-    case EXPLORE_DECIDE:
-        decide_step(e, pose, g, sw->reading_ready);
-        break;
-    case EXPLORE_TURN:
-        turn_step(e, pose, target_mm_s);
-        break;
-    case EXPLORE_FORWARD:
-        forward_step(e, pose, sw->reading_ready, target_mm_s);
-        break;
-    case EXPLORE_BACK:
-        back_step(e, pose, target_mm_s);
-        break;
-    default:
-        break;
+        if ((e->state == EXPLORE_FORWARD || e->state == EXPLORE_FOLLOW) && trail_step(e, pose) &&
+            e->mode == EXPLORE_WALLS) {
+            e->trail_due = true;
+        }
     }
+    e->target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_LEFT];
+    e->target_mm_s[ODOM_RIGHT] = target_mm_s[ODOM_RIGHT];
 }

@@ -10,6 +10,8 @@ void sweep_init(sweep_t *s, const slam_config_t *cfg)
     s->stops = cfg->sweep_stops;
     s->settle_ticks = cfg->settle_ticks;
     s->echo_timeout_ticks = cfg->echo_timeout_ticks;
+    s->ping_interval_ticks = cfg->ping_interval_ticks;
+    s->since_ping = UINT8_MAX; /* no ping yet: the first may go at once */
 
     int32_t span_mdeg = cfg->sweep_last_mdeg - cfg->sweep_first_mdeg;
     int32_t pulse_span_us = (int32_t)cfg->servo_pulse_180deg_us - cfg->servo_pulse_0deg_us;
@@ -68,16 +70,25 @@ static void finish_stop(sweep_t *s, bool echo, uint32_t echo_us, sweep_out_t *ou
 void sweep_step(sweep_t *s, sweep_echo_t echo, uint32_t echo_us, sweep_out_t *out)
 {
     memset(out, 0, sizeof *out);
+    if (s->since_ping < UINT8_MAX) {
+        s->since_ping++;
+    }
     switch (s->phase) {
     case SWEEP_BEGIN:
         begin_stop(s, out);
         break;
     case SWEEP_SETTLE:
-        if (++s->ticks >= s->settle_ticks) {
+        if (s->ticks < s->settle_ticks) {
+            s->ticks++;
+        }
+        /* The servo settles while the last ping's sound dies away: the stop costs the
+         * longer of the two, not their sum. */
+        if (s->ticks >= s->settle_ticks && s->since_ping >= s->ping_interval_ticks) {
             out->trigger = true;
             s->pings++;
             s->phase = SWEEP_WAIT;
             s->ticks = 0u;
+            s->since_ping = 0u;
         }
         break;
     case SWEEP_WAIT:

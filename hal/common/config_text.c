@@ -47,6 +47,7 @@ static const field_t fields[] = {
     F(square_laps, T_U8),
     F(explore_seed, T_U32),           F(save_period_s, T_U16),
     F(localize, T_U8),
+    F(ping_interval_ticks, T_U8),     F(follow_um, T_U32),
 };
 #undef F
 

@@ -32,6 +32,11 @@ static inline double dmin(double a, double b)
     return a < b ? a : b;
 }
 
+static inline double dmax(double a, double b)
+{
+    return a > b ? a : b;
+}
+
 /*
  * cos and sin of a small angle (|x| <= 0.1 rad: the most a wheel turns the body in a tick
  * at ten times the default top speed) by their series (to x^7 and x^8), within 3e-15 of libm;
@@ -112,6 +117,8 @@ struct sim {
     bool sonar_out;          /* a ping is out and not yet reported */
     bool sonar_echo;         /* it will report an echo (else a timeout) */
     uint64_t sonar_ready_us; /* when its echo or timeout is due */
+    uint64_t ring_from_us;   /* the last ping's trigger time */
+    uint32_t ring_us;        /* its sound's round trip to the surface it echoed from; 0: none */
     sim_ping_t ping;
     uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
 
@@ -138,6 +145,7 @@ void sim_params_default(sim_params_t *p)
         .sonar_max_m = 4.0,
         .sonar_timeout_us = 38000.0,
         .sound_mps = 343.0,
+        .sonar_ring_us = 60000.0,
     };
 }
 
@@ -202,6 +210,7 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
         {in(p->sonar_timeout_us, 1.0, 1e7) && isfinite(p->sound_mps) && p->sound_mps > 0.0 &&
              2.0 * p->sonar_max_m / p->sound_mps * 1e6 < p->sonar_timeout_us,
          "p.sonar_timeout_us"},
+        {in(p->sonar_ring_us, 0.0, 1e7), "p.sonar_ring_us"},
         {in(e->wheel_ratio_ed, 0.5, 2.0), "e.wheel_ratio_ed"},
         {in(e->wheel_base_eb, 0.5, 2.0), "e.wheel_base_eb"},
         {in(e->slip_per_mps2, 0.0, 1.0), "e.slip_per_mps2"},
@@ -399,6 +408,24 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
 }
 
 /*
+ * The late echo of the last ping heard by a ping triggered now, µs after the trigger, or
+ * infinity. A ping's sound bounces between the sensor and the surface it echoed from and
+ * comes back at every multiple of its round trip w, audible until ring_us after its
+ * trigger. A trigger sooner than that hears the next return still to come (the first, the
+ * echo itself, has come by then unless a ghost or a late echo ended the last reading).
+ */
+static double late_echo_us(const sim_t *s)
+{
+    uint64_t since = s->time_us - s->ring_from_us;
+    if (s->ring_us == 0u || (double)since >= s->p.sonar_ring_us) {
+        return HOST_INF;
+    }
+    uint64_t k = since / s->ring_us + 1u; /* the first return after now */
+    double at = (double)(k * s->ring_us);
+    return at < s->p.sonar_ring_us ? at - (double)since : HOST_INF;
+}
+
+/*
  * One ping: cast the cone now, decide what comes back and when. Rays go across the cone
  * (edges included) and straight at every round obstacle whose centre is inside it, so a
  * thin post is not missed between two rays. A ray's first hit echoes when it is within
@@ -531,14 +558,25 @@ static void sonar_ping(sim_t *s)
     }
     s->sonar_out = true;
     s->sonar_echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_GHOST;
+    double width = s->sonar_echo ? 2.0 * range / p->sound_mps * 1e6 : HOST_INF;
+    double late = late_echo_us(s);
+    if (late < width && late < p->sonar_timeout_us) {
+        pg->kind = SIM_PING_LATE;
+        s->sonar_echo = true;
+        width = dmax(late, 2.0 * p->sonar_min_m / p->sound_mps * 1e6);
+        range = width * 1e-6 * p->sound_mps / 2.0;
+    }
     if (s->sonar_echo) {
-        double width = 2.0 * range / p->sound_mps * 1e6;
         pg->range_m = range;
         pg->echo_us = (uint32_t)lround(dmin(width, p->sonar_timeout_us - 1.0));
         s->sonar_ready_us = s->time_us + pg->echo_us;
     } else {
         s->sonar_ready_us = s->time_us + (uint64_t)llround(p->sonar_timeout_us);
     }
+    /* This ping's sound rings from the nearest surface that returns it, whatever the
+     * sensor made of it (a dropout loses the echo, not the sound). */
+    s->ring_from_us = s->time_us;
+    s->ring_us = isfinite(echo) ? (uint32_t)lround(2.0 * echo / p->sound_mps * 1e6) : 0u;
 }
 
 int sim_sonar_trigger(sim_t *s)

@@ -131,8 +131,9 @@ static void test_missing_file(void **state)
 static void test_shipped_rooms_load(void **state)
 {
     (void)state;
-    static const char *const names[] = {"default", "obstacles", "clutter", "narrow", "slanted"};
-    for (size_t i = 0; i < 5u; i++) {
+    static const char *const names[] = {"default", "obstacles", "clutter", "narrow", "slanted",
+                                        "flat"};
+    for (size_t i = 0; i < 6u; i++) {
         char path[512];
         snprintf(path, sizeof path, "%s/%s.room", HOST_ROOMS_DIR, names[i]);
         room_t r;
@@ -154,6 +155,12 @@ static void test_shipped_rooms_load(void **state)
         if (i == 3u) { /* the passage lets the body through, and no more than twice over */
             double gap = room_clearance(&r, 2.55, 1.5, 1.0);
             assert_true(gap > ROOM_BODY_RADIUS_M && gap < 2.0 * ROOM_BODY_RADIUS_M);
+        }
+        if (i == 5u) { /* three rooms: each door 0.8 m wide, a jamb 0.4 m from its middle */
+            assert_true(fabs(room_clearance(&r, 3.05, 1.4, 1.0) - 0.4) < 1e-9);
+            assert_true(fabs(room_clearance(&r, 5.4, 2.85, 1.0) - 0.4) < 1e-9);
+            assert_true(room_ray(&r, 2.0, 1.4, 0.0, 10.0, NULL) > 4.0); /* through the door */
+            assert_true(room_ray(&r, 2.0, 3.0, 0.0, 10.0, NULL) < 1.01);  /* not through a wall */
         }
         room_free(&r);
     }

@@ -9,9 +9,14 @@
 /* A 12 m x 8 m hall: its east wall at x = 10 m, its others far away. */
 #define HALL "wall -2 -4 10 -4\nwall 10 -4 10 4\nwall 10 4 -2 4\nwall -2 4 -2 -4\n"
 
-/* Ping and wait: the status at the end and the ticks it took. */
+/* Ping, a measurement cycle (60 ms, the HC-SR04 datasheet's) after the last ping, and
+ * wait: the status at the end and the ticks it took. */
 static hal_sonar_status_t ping(sim_t *s, uint32_t *echo_us, unsigned *ticks)
 {
+    sim_ping_t last = sim_last_ping(s);
+    while (last.kind != SIM_PING_NONE && sim_truth(s).time_us - last.time_us < 60000u) {
+        sim_step(s);
+    }
     assert_int_equal(sim_sonar_trigger(s), HAL_OK);
     unsigned n = 0;
     for (;;) {
@@ -345,6 +350,61 @@ static void test_noise_dropouts_and_ghosts(void **state)
     room_free(&r);
 }
 
+/* Pings sooner than the measurement cycle hear the last ping's sound coming back again:
+ * its echo bounces between the sensor and the wall at every multiple of the round trip. */
+static void test_late_echo_when_triggers_come_sooner(void **state)
+{
+    (void)state;
+    room_t r;
+    test_room(&r, HALL "start 8 0 0\n"); /* 1.95 m: a round trip of 11 370 µs */
+    const uint32_t w = 11370u;
+    static const struct {
+        unsigned ticks;    /* from one trigger to the next */
+        double ring_us;    /* how long the sound rings */
+        sim_ping_kind_t kind;
+        uint32_t echo_us;
+    } cases[] = {
+        {6u, 60000.0, SIM_PING_ECHO, w},           /* 60 ms, as the datasheet asks */
+        {9u, 60000.0, SIM_PING_ECHO, w},
+        {4u, 60000.0, SIM_PING_LATE, 4u * w - 40000u}, /* the fourth return, at 45.5 ms */
+        {5u, 60000.0, SIM_PING_LATE, 5u * w - 50000u}, /* the fifth, at 56.9 ms */
+        {2u, 60000.0, SIM_PING_LATE, 2u * w - 20000u}, /* the second, at 22.7 ms */
+        {4u, 0.0, SIM_PING_ECHO, w},                   /* no ringing: no late echo */
+        {5u, 50000.0, SIM_PING_ECHO, w},               /* the fifth return is not heard */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        sim_params_t p;
+        sim_params_default(&p);
+        p.sonar_ring_us = cases[c].ring_us;
+        sim_errors_t e;
+        sim_errors_ideal(&e);
+        sim_t *s = sim_create(&r, &p, &e, 1u);
+        assert_non_null(s);
+        for (int k = 0; k < 3; k++) {
+            assert_int_equal(sim_sonar_trigger(s), HAL_OK);
+            uint32_t got = 0;
+            hal_sonar_status_t st = HAL_SONAR_BUSY;
+            for (unsigned t = 0; t < cases[c].ticks; t++) {
+                if (st == HAL_SONAR_BUSY) {
+                    st = sim_sonar_poll(s, &got);
+                }
+                sim_step(s);
+            }
+            sim_ping_t pg = sim_last_ping(s);
+            if (k == 0) { /* the first ping has nothing before it */
+                assert_int_equal(pg.kind, SIM_PING_ECHO);
+                continue;
+            }
+            assert_int_equal(st, HAL_SONAR_ECHO);
+            assert_int_equal(pg.kind, cases[c].kind);
+            assert_int_equal(got, cases[c].echo_us);
+            assert_true(fabs(pg.true_range_m - 1.95) < 1e-9); /* the wall is where it was */
+        }
+        sim_destroy(s);
+    }
+    room_free(&r);
+}
+
 static void test_blind_zone_reads_minimum(void **state)
 {
     (void)state;
@@ -373,6 +433,7 @@ int main(void)
         cmocka_unit_test(test_head_on_range),
         cmocka_unit_test(test_echo_waits_for_time_of_flight),
         cmocka_unit_test(test_timeout_after_38_ms),
+        cmocka_unit_test(test_late_echo_when_triggers_come_sooner),
         cmocka_unit_test(test_cone_takes_the_nearest),
         cmocka_unit_test(test_servo_points_the_beam),
         cmocka_unit_test(test_grazing_loses_the_echo),

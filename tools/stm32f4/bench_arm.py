@@ -132,13 +132,15 @@ def main(argv):
         u = tick_unicorn.summarize(per_tick)
         print("    unicorn, code hook:               mean %.1f, worst %d instructions (tick %d)"
               % (u["mean"], u["worst"], u["worst_tick"]))
-        same = sum(1 for (t, _, _), q in zip(per_tick, costs) if t == q)
+        same = sum(1 for (t, _, _, _), q in zip(per_tick, costs) if t == q)
         print("    cross-check: %d of %d ticks identical in both" % (same, len(costs)))
         if same != len(costs) or len(per_tick) != len(costs):
             verdicts.append(False)
             print("    CROSS-CHECK FAILED")
         print("    firmware only (replay HAL excluded): mean %.1f, worst %d; dynamic stack %d bytes"
               % (u["firmware_mean"], u["firmware_worst"], u["stack"]))
+        print("    ticks that complete a sonar reading: worst %d; the others: worst %d"
+              % (u["worst_with_reading"], u["worst_without_reading"]))
         hal = tick_unicorn.measure_hal(robot_elf)
         print("  the robot image's HAL on the tick path (unicorn):")
         for k, v in hal.items():

@@ -96,6 +96,10 @@ class Counter:
         self.excl = 0
         self.it_pending = []  # addresses of the IT block's instructions not seen yet
         self.min_sp = None
+        # A tick that completes a sonar reading posts it to the telemetry: such ticks carry
+        # the map update and are told apart from the others.
+        self.reading_at = m.elf.addr("telem_post_reading") if "telem_post_reading" in m.elf.symbols else None
+        self.reading = False
         self.h_code = m.uc.hook_add(unicorn.UC_HOOK_CODE, self._code)
         # Only writes to the call stack (which starts at STACK_TOP) tell its depth.
         self.h_mem = m.uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, self._mem,
@@ -123,6 +127,8 @@ class Counter:
         if self.it_pending:
             self.it_pending.pop(0)
         self._count(addr)
+        if addr == self.reading_at:
+            self.reading = True
         hw = int.from_bytes(uc.mem_read(addr, 2), "little")
         if hw & 0xFF00 == 0xBF00 and hw & 0xF != 0:  # IT{x{y{z}}} cond
             n = 4 - ((hw & 0xF) & -(hw & 0xF)).bit_length() + 1
@@ -146,11 +152,13 @@ class Counter:
             self.min_sp = addr
 
     def take(self):
-        """(instructions, instructions outside the excluded functions, stack bytes used)."""
+        """(instructions, instructions outside the excluded functions, stack bytes used,
+        whether the tick completed a sonar reading)."""
         depth = self.entry_sp - self.min_sp if self.min_sp is not None else 0
-        out = (self.total, self.total - self.excl, depth)
+        out = (self.total, self.total - self.excl, depth, self.reading)
         self.total = self.excl = 0
         self.min_sp = None
+        self.reading = False
         return out
 
     def close(self):
@@ -191,7 +199,7 @@ def measure_hal(path):
     def cost(label, func, *args):
         c = Counter(m, func, excluded_prefix="\0")
         m.call(func, *args)
-        n, _, depth = c.take()
+        n, _, depth, _ = c.take()
         c.close()
         out[label] = {"instructions": n, "stack": depth}
 
@@ -229,11 +237,14 @@ def summarize(per_tick):
     n = len(per_tick)
     tot = [t[0] for t in per_tick]
     fw = [t[1] for t in per_tick]
+    quiet = [t[0] for t in per_tick if not t[3]]
     return {
         "ticks": n,
         "mean": sum(tot) / n, "worst": max(tot), "worst_tick": tot.index(max(tot)),
         "firmware_mean": sum(fw) / n, "firmware_worst": max(fw),
         "stack": max(t[2] for t in per_tick),
+        "worst_without_reading": max(quiet) if quiet else 0,
+        "worst_with_reading": max((t[0] for t in per_tick if t[3]), default=0),
     }
 
 
@@ -254,6 +265,8 @@ def main(argv):
           "firmware only (replay HAL excluded): mean %.1f, worst %d; stack %d bytes"
           % (s["ticks"], s["mean"], s["worst"], s["worst_tick"], s["firmware_mean"],
              s["firmware_worst"], s["stack"]))
+    print("unicorn: ticks that complete a sonar reading: worst %d; the others: worst %d"
+          % (s["worst_with_reading"], s["worst_without_reading"]))
     if len(args) > 1:
         hal = measure_hal(args[1])
         result["hal"] = hal

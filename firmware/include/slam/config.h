@@ -38,6 +38,7 @@ typedef enum {
     EXPLORE_RANDOM = 1, /**< the paper's random exploration with obstacle avoidance */
     EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
     EXPLORE_SQUARE = 3, /**< drive a square, counter-clockwise (odometry tests) */
+    EXPLORE_WALLS = 4,  /**< follow what is met on the right; leave for the least visited way */
     EXPLORE_MODES
 } explore_mode_t;
 
@@ -100,7 +101,8 @@ typedef struct {
     uint16_t motion_ki_q8;   /**< duty per µm of accumulated error, Q8; 8 */
 
     /* Exploration (§II.E). */
-    uint8_t explore_mode;    /**< an explore_mode_t; EXPLORE_RANDOM */
+    uint8_t explore_mode;    /**< an explore_mode_t; EXPLORE_WALLS (the best wall coverage
+                                  and F1 measured in the simulator) */
     uint16_t cruise_mm_s;    /**< forward speed; 200 */
     uint16_t turn_mm_s;      /**< wheel speed when turning in place; 100 */
     uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
@@ -115,6 +117,14 @@ typedef struct {
     /* Localization (localize.h). */
     uint8_t localize;        /**< 1: correct the pose against OM; 0: odometry alone (the
                                   paper's); 1 */
+
+    /* Sonar timing and the walls mode (after the rest: the telemetry keys follow the
+     * fields' order and never change their ids). */
+    uint8_t ping_interval_ticks; /**< least time from one trigger to the next; 6 (60 ms, the
+                                      HC-SR04 datasheet's measurement cycle: sooner, the
+                                      late echo of one ping is read as the next) */
+    uint32_t follow_um;          /**< walls mode: distance from the axle to what it follows;
+                                      300 mm */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */

@@ -9,7 +9,9 @@
  * At each stop:
  *
  *   1. command the servo (the tick the stop begins);
- *   2. wait settle_ticks for it to get there and settle;
+ *   2. wait settle_ticks for it to get there and settle, and until ping_interval_ticks
+ *      have passed since the last ping (the sensor's measurement cycle: a ping sooner
+ *      may hear the late echo of the one before);
  *   3. trigger the ping;
  *   4. wait for the echo, or for a timeout (the HAL's own, or echo_timeout_ticks);
  *   5. deliver exactly one reading tagged with the stop's servo angle, and begin the next
@@ -68,6 +70,8 @@ typedef struct {
     uint8_t stops;               /**< number of stops n */
     uint8_t settle_ticks;        /**< ticks from servo command to ping */
     uint8_t echo_timeout_ticks;  /**< ticks from ping to giving up */
+    uint8_t ping_interval_ticks; /**< least ticks from one ping to the next */
+    uint8_t since_ping;          /**< ticks since the last ping (saturating) */
     uint8_t seq;                 /**< position in the back-and-forth cycle, 0 .. 2n-1 */
     uint8_t phase;               /**< a sweep_phase_t */
     uint8_t ticks;               /**< ticks spent in the phase */

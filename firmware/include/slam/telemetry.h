@@ -165,10 +165,12 @@ typedef enum {
     X(45, square_laps, U8, 1)                                                                   \
     X(46, explore_seed, U32, 1)                                                                 \
     X(47, save_period_s, U16, 1)                                                                \
-    X(48, localize, U8, 0)
+    X(48, localize, U8, 0)                                                                      \
+    X(49, ping_interval_ticks, U8, 0)                                                           \
+    X(50, follow_um, U32, 1)
 
 /** The highest key id. */
-#define TELEM_CONFIG_KEY_MAX 48u
+#define TELEM_CONFIG_KEY_MAX 50u
 /** Keys the robot itself sets: MODE and CALIBRATE set explore_mode; a new explore_seed
  *  restarts the exploration's random stream. */
 #define TELEM_KEY_EXPLORE_MODE 39u

@@ -159,6 +159,11 @@ typedef struct {
     double sonar_max_m;        /**< 4.0: farther surfaces give no echo */
     double sonar_timeout_us;   /**< 38000 */
     double sound_mps;          /**< 343 */
+    double sonar_ring_us;      /**< how long a ping's sound keeps bouncing between the sensor
+                                    and the surface it echoed from: a trigger sooner than
+                                    this after the last may read the last one's late echo;
+                                    60000 (the HC-SR04 datasheet's measurement cycle);
+                                    0 = never */
 } sim_params_t;
 
 /** Error sources, each with a level; sim_errors_ideal() turns all off (--ideal). */
@@ -211,6 +216,7 @@ typedef enum {
     SIM_PING_DROPOUT,   /**< the echo was lost at random: timeout */
     SIM_PING_GRAZING,   /**< surfaces in range, all at grazing incidence: timeout */
     SIM_PING_NOTHING,   /**< no surface within sonar_max_m in the cone: timeout */
+    SIM_PING_LATE,      /**< the late echo of the previous ping, read as this one's */
 } sim_ping_kind_t;
 
 /** The pose and sonar geometry of the last ping, for logs. */
