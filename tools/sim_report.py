@@ -39,11 +39,13 @@ BUILDING_S = 1800
 
 
 def run(bin_, out, args):
-    """One host_sim run (cached: an existing metrics.json with the same args is reused)."""
+    """One host_sim run (cached: an existing metrics.json of the same args and the same
+    host_sim binary is reused; a rebuilt binary runs again)."""
     stamp = os.path.join(out, "args.json")
+    key = {"args": [str(a) for a in args], "host_sim_mtime_ns": os.stat(bin_).st_mtime_ns}
     if os.path.exists(stamp) and os.path.exists(os.path.join(out, "metrics.json")):
         with open(stamp) as f:
-            if json.load(f) == args:
+            if json.load(f) == key:
                 with open(os.path.join(out, "metrics.json")) as g:
                     return json.load(g)
     cmd = [bin_, "--quiet", "--no-plot", "--out", out] + [str(a) for a in args]
@@ -51,7 +53,7 @@ def run(bin_, out, args):
     if p.returncode != 0:
         sys.exit("sim_report: %s failed:\n%s" % (" ".join(cmd), p.stderr))
     with open(stamp, "w") as f:
-        json.dump(args, f)
+        json.dump(key, f)
     with open(os.path.join(out, "metrics.json")) as f:
         return json.load(f)
 
