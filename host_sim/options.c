@@ -12,7 +12,7 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls"};
+const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls", "umbmark"};
 
 static void usage(FILE *f)
 {
@@ -32,7 +32,8 @@ static void usage(FILE *f)
         "  --duration S         simulated seconds (default 600)\n"
         "  --seed N             seed of every random error and of the exploration (default 1)\n"
         "  --cell MM            grid cell size in mm (default 50)\n"
-        "  --explore MODE       walls | random | tm | square | off (default walls)\n"
+        "  --explore MODE       walls | random | tm | square | umbmark | off (default\n"
+        "                       walls)\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
@@ -193,7 +194,8 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, umbmark, "
+                                  "off)", argv[i]);
             }
         } else if (strcmp(a, "--out") == 0) {
             if (!take(argc, argv, &i, 1)) {
