@@ -186,7 +186,8 @@ typedef struct {
 } sim_errors_t;
 
 void sim_params_default(sim_params_t *p);
-void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario */
+void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario:
+                                               an uncalibrated hobby robot */
 void sim_errors_ideal(sim_errors_t *e);   /**< every error source off */
 
 /**
