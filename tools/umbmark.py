@@ -23,37 +23,45 @@ Written (to stdout, or to --out FILE): the figures as `#` comments and the corre
 --config, and the Linux robot's robot.conf read.
 Exit status: 0 done; 1 the output could not be written; 2 bad input (file:line).
 
-How, with sources. Borenstein & Feng, "Measurement and correction of systematic odometry
-errors in mobile robots", IEEE Trans. Robotics and Automation 12(6), 869-880, 1996 (B&F),
-and the same method in Borenstein, Everett & Feng, "Where am I? Sensors and methods for
-mobile robot positioning", 1996, chapter 5 "Dead-reckoning" (WAI).
+How, with sources. B&F: Borenstein & Feng, "Measurement and correction of systematic
+odometry errors in mobile robots", IEEE Trans. Robotics and Automation 12(6), 869-880,
+1996: its UMBmark section (the bidirectional square path) and its section on correcting
+Type A and Type B errors. WAI: the same method in Borenstein, Everett & Feng, "Where am I?
+Sensors and methods for mobile robot positioning", 1996, chapter 5 "Dead-reckoning"
+(Fig. 5.9 draws both error types). The formulas are numbered [1] to [7] below, each with
+the part of the sources it comes from (the code cites these numbers); where a formula is
+this tool's own, it says so.
 
-1. Centres of gravity of the n runs each way, x_cg,cw = (1/n) sum eps_x,cw and so on; their
-   distances from the origin r_cg = sqrt(x_cg^2 + y_cg^2); the measure of systematic
-   error E_max,syst = max(r_cg,cw, r_cg,ccw)  (B&F, the bidirectional square path test).
+1. The return error of a run, eps = abs - calc; the centres of gravity of the n runs each
+   way, x_cg,cw = (1/n) sum eps_x,cw and so on; their distances from the origin
+   r_cg = sqrt(x_cg^2 + y_cg^2); the measure of systematic error
+   E_max,syst = max(r_cg,cw, r_cg,ccw)  [1] (B&F's UMBmark section, and WAI's).
 2. Type A error alpha: what each nominal 90-degree turn lacks (rad), caused by the wheel
    base, the same sign both ways; Type B error beta: the heading a straight leg gains,
-   caused by unequal wheels, a left turn both ways (B&F, the correction of systematic
-   errors; WAI pp. 140-141 and Fig. 5.9, which define both). To first order, in the frame
-   above, a left (ccw) turn positive, the robot turning 90 - alpha degrees where odometry
-   turns 90:
+   caused by unequal wheels, a left turn both ways (B&F, correction section; WAI Fig. 5.9).
+   To first order, in the frame above, a left (ccw) turn positive, the robot turning
+   90 - alpha degrees where odometry turns 90:
        cw:   x = -2L(alpha + beta),  y = -2L(alpha + beta)
        ccw:  x = -2L(alpha - beta),  y = +2L(alpha - beta)
    (each small rotation d at a point p moves the end point e by d * J(e - p); the turns at
-   the three corners, and each leg's curvature at its middle). Solved with x, these are
-   B&F's expressions  alpha = (x_cg,cw + x_cg,ccw) / (-4L),  beta = (x_cg,cw - x_cg,ccw) / (-4L);
-   with y,  alpha = (y_cg,cw - y_cg,ccw) / (-4L),  beta = (y_cg,cw + y_cg,ccw) / (-4L).
+   the three corners, and each leg's curvature at its middle: this tool's derivation,
+   checked against the simulated robot by the tests). Solved with x, these are B&F's
+   alpha = (x_cg,cw + x_cg,ccw) / (-4L)  [2]  and  beta = (x_cg,cw - x_cg,ccw) / (-4L)  [3]
+   (B&F, correction section; WAI pp. 140-141);
+   with y, by the same geometry (this tool's),
+   alpha = (y_cg,cw - y_cg,ccw) / (-4L),  beta = (y_cg,cw + y_cg,ccw) / (-4L).
    This tool takes the mean of the two, the least-squares solution of all four: their
    second-order terms, as large as a fifth of alpha for a 1.5 m square, largely cancel.
-3. The radius of a curved leg  R = (L/2) / sin(beta/2), the wheel diameter ratio
-   E_d = D_R / D_L = (R + b/2) / (R - b/2)  and the wheel base error
-   E_b = 90 / (90 - alpha), alpha in degrees, the actual wheel base over the nominal (B&F,
-   the correction of systematic errors). b here is the wheel base odometry believes after
-   the correction, nominal x cal_base x E_b.
+3. The radius of a curved leg  R = (L/2) / sin(beta/2)  [4], the wheel diameter ratio
+   E_d = D_R / D_L = (R + b/2) / (R - b/2)  [5], and the wheel base error
+   E_b = b_actual / b_nominal = 90 / (90 - alpha), alpha in degrees  [6] (B&F, correction
+   section; WAI pp. 140-141). b here is the wheel base odometry believes after the
+   correction, nominal x cal_base x E_b.
 4. The correction factors of each wheel's distance per count, c_L = 2 / (E_d + 1) and
-   c_R = 2 / (1/E_d + 1), which keep the mean diameter, and the wheel base times E_b
-   (B&F, the same section; firmware/include/slam/odometry.h). On top of a calibration in
-   force: cal_left' = cal_left c_L, cal_right' = cal_right c_R, cal_base' = cal_base E_b.
+   c_R = 2 / (1/E_d + 1), which keep the mean diameter  [7] (B&F, correction section;
+   firmware/include/slam/odometry.h applies them), and the wheel base times E_b. On top of
+   a calibration in force (this tool's): cal_left' = cal_left c_L,
+   cal_right' = cal_right c_R, cal_base' = cal_base E_b.
 The signs are proven by simulation: tests/sim/test_umbmark_tool.py gives the simulated
 robot a known E_d and E_b and gets them back from its own UMBmark.
 """
@@ -153,13 +161,13 @@ def centre(points):
 def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
     """Every figure of UMBmark and the new calibration; the module docstring says how."""
     L = side_mm
-    xcw, ycw = centre(runs["cw"])
+    xcw, ycw = centre(runs["cw"])  # [1]
     xccw, yccw = centre(runs["ccw"])
-    r_cw, r_ccw = math.hypot(xcw, ycw), math.hypot(xccw, yccw)
-    alpha_x = (xcw + xccw) / (-4.0 * L)
-    alpha_y = (ycw - yccw) / (-4.0 * L)
-    beta_x = (xcw - xccw) / (-4.0 * L)
-    beta_y = (ycw + yccw) / (-4.0 * L)
+    r_cw, r_ccw = math.hypot(xcw, ycw), math.hypot(xccw, yccw)  # [1]
+    alpha_x = (xcw + xccw) / (-4.0 * L)  # [2]
+    alpha_y = (ycw - yccw) / (-4.0 * L)  # the same from y (docstring, 2.)
+    beta_x = (xcw - xccw) / (-4.0 * L)  # [3]
+    beta_y = (ycw + yccw) / (-4.0 * L)  # the same from y (docstring, 2.)
     alpha = (alpha_x + alpha_y) / 2.0
     beta = (beta_x + beta_y) / 2.0
     alpha_deg = math.degrees(alpha)
@@ -167,15 +175,15 @@ def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
         raise Bad("the return errors mean turns wrong by %.0f deg and legs curving by %.0f deg: "
                   "far beyond UMBmark's small angles (check the signs, the units (mm) and "
                   "the side of the square)" % (alpha_deg, math.degrees(beta)))
-    e_b = 90.0 / (90.0 - alpha_deg)
+    e_b = 90.0 / (90.0 - alpha_deg)  # [6]
     b = base_mm * cal[2] * e_b
     if beta == 0.0:
         radius, e_d = math.inf, 1.0
     else:
-        radius = (L / 2.0) / math.sin(beta / 2.0)
-        e_d = (radius + b / 2.0) / (radius - b / 2.0)
-    c_l = 2.0 / (e_d + 1.0)
-    c_r = 2.0 / (1.0 / e_d + 1.0)
+        radius = (L / 2.0) / math.sin(beta / 2.0)  # [4]
+        e_d = (radius + b / 2.0) / (radius - b / 2.0)  # [5]
+    c_l = 2.0 / (e_d + 1.0)  # [7]
+    c_r = 2.0 / (1.0 / e_d + 1.0)  # [7]
     new = (cal[0] * c_l, cal[1] * c_r, cal[2] * e_b)
     for name, v in zip(("cal_left", "cal_right", "cal_base"), new):
         if not CAL_RANGE[0] <= v <= CAL_RANGE[1]:
@@ -185,7 +193,7 @@ def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
     return {
         "n_cw": len(runs["cw"]), "n_ccw": len(runs["ccw"]), "side_mm": L, "base_mm": base_mm,
         "cg_cw": (xcw, ycw), "cg_ccw": (xccw, yccw), "r_cw": r_cw, "r_ccw": r_ccw,
-        "e_max_syst": max(r_cw, r_ccw),
+        "e_max_syst": max(r_cw, r_ccw),  # [1]
         "alpha_deg": alpha_deg, "alpha_x_deg": math.degrees(alpha_x),
         "alpha_y_deg": math.degrees(alpha_y),
         "beta_deg": math.degrees(beta), "beta_x_deg": math.degrees(beta_x),

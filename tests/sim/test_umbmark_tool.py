@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""tools/umbmark.py: the formulas against their first-order model, the signs proven by
+"""tools/umbmark.py: the formulas against their first-order model and a worked example
+computed by hand, the signs proven by
 simulation (a robot with a known E_d and E_b gets them back from its own UMBmark, both
 ways of each), a calibration in force composed, and bad input answered with file:line and
 exit 2, nothing written."""
@@ -73,6 +74,30 @@ check(abs(a["e_max_syst"] - max(math.hypot(*model["cw"][0]), math.hypot(*model["
 a2 = umbmark.analyse(model, L, b, cal=(0.99, 1.01, 1.02))
 check(abs(a2["cal"][0] - 0.99 * a2["c_l"]) < 1e-12 and abs(a2["cal"][2] - 1.02 * a2["e_b"]) < 1e-12,
       "on top of a calibration in force, the factors multiply")
+
+# ---- a worked example, computed by hand ----------------------------------------------------
+# L = 1000 mm, b = 100 mm. cw runs (-30, -30) and (-50, -50): centre (-40, -40), r = 40 sqrt 2
+# = 56.569 mm; ccw runs (-10, 10) and (-30, 30): centre (-20, 20), r = 28.284 mm.
+# alpha = (-40 + -20) / -4000 = 0.015 rad from x, (-40 - 20) / -4000 = 0.015 from y: 0.859437 deg.
+# beta = (-40 - -20) / -4000 = 0.005 rad from x, (-40 + 20) / -4000 = 0.005 from y: 0.286479 deg.
+# E_b = 90 / (90 - 0.859437) = 1.009641; b = 100 E_b = 100.9641 mm.
+# R = 500 / sin(0.0025) = 200000.21 mm; E_d = (R + 50.482) / (R - 50.482) = 1.000505.
+# c_L = 2 / 2.000505 = 0.999748, c_R = 2 / (1 / 1.000505 + 1) = 1.000252.
+hand = write("hand.csv", "direction,x_mm,y_mm\ncw,-30,-30\ncw,-50,-50\nccw,-10,10\nccw,-30,30\n")
+p = run_tool(hand, "--side-mm", 1000, "--base-mm", 100)
+got = keys(p.stdout)
+h = umbmark.calibrate(hand, side_mm=1000.0, base_mm=100.0)[0]
+# (figure: value by hand, within the digits written down)
+expect = {"e_max_syst": (56.569, 5e-4), "r_ccw": (28.284, 5e-4), "alpha_deg": (0.859437, 5e-7),
+          "beta_deg": (0.286479, 5e-7), "e_b": (1.009641, 5e-7), "radius_mm": (200000.21, 5e-3),
+          "e_d": (1.000505, 5e-7)}
+bad_figures = ["%s %.7f, by hand %g" % (k, h[k], v) for k, (v, tol) in expect.items()
+               if abs(h[k] - v) > tol]
+check(p.returncode == 0 and not bad_figures and "E_max,syst = 56.6 mm" in p.stdout
+      and abs(got["cal_left"] - 0.999748) < 1e-6 and abs(got["cal_right"] - 1.000252) < 1e-6
+      and abs(got["cal_base"] - 1.009641) < 1e-6,
+      "a worked example: the tool's figures and lines agree with the hand computation %s\n%s"
+      % (bad_figures, p.stdout))
 
 # ---- the signs, by simulation: the tape measures what a known robot does --------------------
 for ed, eb in ((1.004, 1.02), (0.996, 0.98)):
