@@ -28,6 +28,10 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
 {
     slam_config_default(cfg);
     char err[512];
+    if (o->calibration != NULL && cfgtext_load(o->calibration, cfg, NULL, NULL, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: --calibration: %s\n", err);
+        return -1;
+    }
     if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return -1;
@@ -342,6 +346,17 @@ int main(int argc, char **argv)
             return EXIT_USAGE;
         }
     }
+    /* The shipped calibration belongs to the default robot: not to an ideal one, nor to
+     * one with other wheels. */
+    sim_errors_t defaults;
+    sim_errors_default(&defaults);
+    if (o.calibration == NULL) {
+        bool default_robot = !o.ideal && errors.wheel_ratio_ed == defaults.wheel_ratio_ed &&
+                             errors.wheel_base_eb == defaults.wheel_base_eb;
+        o.calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
+    } else if (strcmp(o.calibration, "none") == 0) {
+        o.calibration = NULL;
+    }
     slam_config_t cfg;
     if (build_config(&o, &room, sx, sy, sth, &cfg) != 0) {
         room_free(&room);
@@ -468,14 +483,27 @@ int main(int argc, char **argv)
     r->marked_x = r->marked_y = INFINITY;
 
     uint64_t ticks = (uint64_t)llround(o.duration_s / TICK_S);
-    bool progress = !o.quiet && isatty(STDERR_FILENO);
+    /* UMBmark says how far it is itself, a line a run. */
+    bool progress = !o.quiet && isatty(STDERR_FILENO) && o.explore != EXPLORE_UMBMARK;
+    experimenter_t tape;
+    experimenter_init(&tape, o.out, o.seed, sx, sy, sth, o.quiet);
+    int tape_rc = 0;
     double t0 = wall_now();
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
         commands_feed(&commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
+        /* UMBmark: a run measured and the robot carried back; the run ends after the last. */
+        tape_rc = experimenter_tick(&tape, sim, &robot);
+        if (tape_rc == 2 || tape_rc < 0) {
+            ticks = k + 1u;
+        }
         observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
+        if (tape_rc > 0) {
+            r->last_x = sx; /* carried, not driven: no path */
+            r->last_y = sy;
+        }
         if (o.realtime) {
             double ahead = (double)(k + 1u) * TICK_S / o.realtime_factor - (wall_now() - t0);
             if (ahead > 0.0) {
@@ -515,6 +543,7 @@ int main(int argc, char **argv)
     if (r->estimates != NULL) {
         bad |= close_out(r->estimates, o.out, "scoring_estimate.csv");
     }
+    bad |= experimenter_close(&tape) | (tape_rc < 0);
 
     /* The hits still held back for matching belong in the map too (a replay does the same). */
     loc_flush(&robot.loc, &robot.mapper, &robot.grid);

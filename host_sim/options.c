@@ -12,7 +12,7 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls"};
+const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls", "umbmark"};
 
 static void usage(FILE *f)
 {
@@ -32,14 +32,24 @@ static void usage(FILE *f)
         "  --duration S         simulated seconds (default 600)\n"
         "  --seed N             seed of every random error and of the exploration (default 1)\n"
         "  --cell MM            grid cell size in mm (default 50)\n"
-        "  --explore MODE       walls | random | tm | square | off (default walls)\n"
+        "  --explore MODE       walls | random | tm | square | umbmark | off (default\n"
+        "                       walls); umbmark: the calibration test, with a simulated\n"
+        "                       person who measures each run's return error (a tape,\n"
+        "                       +-5 mm) into umbmark.csv and puts the robot back; it ends\n"
+        "                       after the last run\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
         "  --error NAME=VALUE   one error level (repeatable): ed, eb (wheel diameter ratio,\n"
         "                       wheel base ratio), slip (per m/s² beyond slip_free m/s²),\n"
         "                       noise, sonar_noise (m), dropout, ghost, grazing (deg)\n"
-        "  --config FILE        firmware configuration, key = value lines\n"
+        "  --calibration FILE   the firmware's odometry calibration (cal_left, cal_right,\n"
+        "                       cal_base: key = value lines, as tools/umbmark.py writes them),\n"
+        "                       or none. Default: host_sim/calibration/default_robot.conf,\n"
+        "                       what make calibrate measured on the default robot; none\n"
+        "                       with --ideal or another ed or eb (another robot)\n"
+        "  --config FILE        firmware configuration, key = value lines (after the\n"
+        "                       calibration)\n"
         "  --set KEY=VALUE      one firmware configuration value (repeatable)\n"
         "outputs:\n"
         "  --out DIR            output folder (default out/sim)\n"
@@ -65,7 +75,8 @@ static void usage(FILE *f)
         "  --help               this text\n"
         "\n"
         "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
-        "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png\n"
+        "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png, and\n"
+        "umbmark.csv when the robot ran UMBmark\n"
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
 
@@ -193,7 +204,8 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, umbmark, "
+                                  "off)", argv[i]);
             }
         } else if (strcmp(a, "--out") == 0) {
             if (!take(argc, argv, &i, 1)) {
@@ -219,6 +231,11 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--config needs a file");
             }
             o->config = argv[i];
+        } else if (strcmp(a, "--calibration") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--calibration needs a file, or none");
+            }
+            o->calibration = argv[i];
         } else if (strcmp(a, "--trace") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--trace needs a file");

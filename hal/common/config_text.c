@@ -48,6 +48,7 @@ static const field_t fields[] = {
     F(explore_seed, T_U32),           F(save_period_s, T_U16),
     F(localize, T_U8),
     F(ping_interval_ticks, T_U8),     F(follow_um, T_U32),
+    F(umbmark_runs, T_U8),            F(umbmark_pause_s, T_U16),
 };
 #undef F
 
