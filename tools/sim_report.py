@@ -142,7 +142,7 @@ def report(args):
         pm = post_means(ms)
         th, k, f1, p, r = tuned(ms)
         post = ms[0]["scenario"]["post"]
-        print("`%s.room` — defaults TH = %d (the paper's), K = %d; tuned TH = %d, K = %d\n"
+        print("`%s.room` — the run's TH = %d, K = %d; tuned TH = %d, K = %d\n"
               % (room, post["threshold"], post["k"], th, k))
         print("| map | precision | recall | F1 |\n|---|---|---|---|")
         for s, label in zip(STEPS, ("raw OM (OM ≥ 1)", "after threshold", "after template",
