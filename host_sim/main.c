@@ -28,7 +28,7 @@ static int build_config(const options_t *o, const room_t *room, double sx, doubl
 {
     slam_config_default(cfg);
     char err[512];
-    if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, err, sizeof err) != 0) {
+    if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return -1;
     }

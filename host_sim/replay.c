@@ -123,7 +123,7 @@ int replay(const options_t *o)
     slam_config_t cfg;
     slam_config_default(&cfg);
     char err[512];
-    if (cfgtext_load(cfgpath, &cfg, NULL, NULL, err, sizeof err) != 0) {
+    if (cfgtext_load(cfgpath, &cfg, NULL, NULL, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
     }
