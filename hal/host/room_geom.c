@@ -142,16 +142,26 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
     double dy = sin(dir);
     double best = HOST_INF;
     double ci = 1.0;
-    for (size_t i = 0; i < r->nboxes; i++) {
-        if (room_in_box(&r->boxes[i], x, y)) {
-            best = 0.0;
+    if (r->index != NULL) {
+        double cd;
+        double sd2;
+        if (room_index_near(r, x, y, 0.0, &cd, &sd2) == 1) {
+            best = 0.0; /* inside a solid box */
+        } else {
+            best = room_index_ray(r, x, y, dx, dy, max_m, &ci);
         }
-    }
-    for (size_t i = 0; i < r->nsegs && best > 0.0; i++) {
-        best = room_hit_segment(&r->segs[i], x, y, dx, dy, best, &ci);
-    }
-    for (size_t i = 0; i < r->ncircles && best > 0.0; i++) {
-        best = room_hit_circle(&r->circles[i], x, y, dx, dy, best, &ci);
+    } else {
+        for (size_t i = 0; i < r->nboxes; i++) {
+            if (room_in_box(&r->boxes[i], x, y)) {
+                best = 0.0;
+            }
+        }
+        for (size_t i = 0; i < r->nsegs && best > 0.0; i++) {
+            best = room_hit_segment(&r->segs[i], x, y, dx, dy, best, &ci);
+        }
+        for (size_t i = 0; i < r->ncircles && best > 0.0; i++) {
+            best = room_hit_circle(&r->circles[i], x, y, dx, dy, best, &ci);
+        }
     }
     if (r->occ != NULL && best > 0.0) {
         double rc = 1.0;
@@ -168,21 +178,6 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
         *cos_incidence = ci;
     }
     return best;
-}
-
-/* Squared distance from a point to a segment. */
-static double seg_dist2(const room_segment_t *s, double x, double y)
-{
-    double ex = s->x2 - s->x1;
-    double ey = s->y2 - s->y1;
-    double wx = x - s->x1;
-    double wy = y - s->y1;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? (wx * ex + wy * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    double ddx = wx - t * ex;
-    double ddy = wy - t * ey;
-    return ddx * ddx + ddy * ddy;
 }
 
 /* Squared distance to the nearest occupied pixel, looking within cap (best2 = cap²). */
@@ -223,29 +218,45 @@ static double raster_dist2(const room_t *r, double x, double y, double cap, doub
 
 double room_clearance(const room_t *r, double x, double y, double cap_m)
 {
-    for (size_t i = 0; i < r->nboxes; i++) {
-        if (room_in_box(&r->boxes[i], x, y)) {
-            return 0.0;
-        }
-    }
     double best = cap_m;
-    for (size_t i = 0; i < r->ncircles; i++) {
-        const room_circle_t *c = &r->circles[i];
-        double d = hypot(x - c->cx, y - c->cy) - c->r;
-        if (d <= 0.0) {
+    /* Squared distances for segments. "found" rather than comparing with cap² again:
+       with x87 arithmetic (-m32) sqrt(cap·cap) need not give back cap exactly. */
+    double best2;
+    bool found = false;
+    if (r->index != NULL) {
+        /* The same arithmetic on the objects near the point: the same answer. */
+        double cd;
+        double sd2;
+        if (room_index_near(r, x, y, cap_m, &cd, &sd2) == 1 || cd <= 0.0) {
             return 0.0;
         }
-        best = fmin(best, d);
-    }
-    /* Squared distances from here on. "found" rather than comparing with cap² again:
-       with x87 arithmetic (-m32) sqrt(cap·cap) need not give back cap exactly. */
-    double best2 = best * best;
-    bool found = false;
-    for (size_t i = 0; i < r->nsegs; i++) {
-        double d2 = seg_dist2(&r->segs[i], x, y);
-        if (d2 < best2) {
-            best2 = d2;
+        best = fmin(best, cd);
+        best2 = best * best;
+        if (sd2 < best2) {
+            best2 = sd2;
             found = true;
+        }
+    } else {
+        for (size_t i = 0; i < r->nboxes; i++) {
+            if (room_in_box(&r->boxes[i], x, y)) {
+                return 0.0;
+            }
+        }
+        for (size_t i = 0; i < r->ncircles; i++) {
+            const room_circle_t *c = &r->circles[i];
+            double d = hypot(x - c->cx, y - c->cy) - c->r;
+            if (d <= 0.0) {
+                return 0.0;
+            }
+            best = fmin(best, d);
+        }
+        best2 = best * best;
+        for (size_t i = 0; i < r->nsegs; i++) {
+            double d2 = room_seg_dist2(&r->segs[i], x, y);
+            if (d2 < best2) {
+                best2 = d2;
+                found = true;
+            }
         }
     }
     if (r->occ != NULL) {
@@ -263,6 +274,20 @@ bool room_disc_free(const room_t *r, double x, double y, double r_m)
     return room_clearance(r, x, y, r_m) >= r_m;
 }
 
+bool room_encloses(const room_t *r, double x, double y, double *open_deg)
+{
+    double reach = 2.0 * hypot(r->max_x - r->min_x, r->max_y - r->min_y) + 1.0;
+    for (int k = 0; k < 8; k++) {
+        if (!(room_ray(r, x, y, (double)k * (HOST_PI / 4.0), reach, NULL) <= reach)) {
+            if (open_deg != NULL) {
+                *open_deg = 45.0 * k;
+            }
+            return false;
+        }
+    }
+    return true;
+}
+
 /* A start candidate: clear, on known free ground, and walled in all round. */
 static bool start_ok(const room_t *r, double x, double y, double clearance)
 {
@@ -277,16 +302,7 @@ static bool start_ok(const room_t *r, double x, double y, double clearance)
             return false;
         }
     }
-    if (!room_disc_free(r, x, y, clearance)) {
-        return false;
-    }
-    double reach = 2.0 * hypot(r->max_x - r->min_x, r->max_y - r->min_y) + 1.0;
-    for (int k = 0; k < 8; k++) {
-        if (room_ray(r, x, y, (double)k * (HOST_PI / 4.0), reach, NULL) > reach) {
-            return false;
-        }
-    }
-    return true;
+    return room_disc_free(r, x, y, clearance) && room_encloses(r, x, y, NULL);
 }
 
 int room_find_start(const room_t *r, double clearance_m, double *x, double *y, double *th)

@@ -121,6 +121,9 @@ struct sim {
     uint32_t ring_us;        /* its sound's round trip to the surface it echoed from; 0: none */
     sim_ping_t ping;
     uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
+    uint32_t *near;          /* a large room's objects near the cone (room_t.index) */
+    uint32_t *stamp;         /* per object: the cone_objects() call that last took it */
+    uint32_t stamp_now;
 
     uint64_t time_us;
     uint64_t ticks;
@@ -243,9 +246,14 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     if (s == NULL) {
         return NULL;
     }
-    s->cand = malloc((room->nsegs + room->ncircles + 1u) * sizeof *s->cand);
-    if (s->cand == NULL) {
-        free(s);
+    size_t nobj = room->nsegs + room->ncircles + 1u;
+    s->cand = malloc(nobj * sizeof *s->cand);
+    if (room->index != NULL) {
+        s->near = malloc(nobj * sizeof *s->near);
+        s->stamp = calloc(nobj, sizeof *s->stamp);
+    }
+    if (s->cand == NULL || (room->index != NULL && (s->near == NULL || s->stamp == NULL))) {
+        sim_destroy(s);
         return NULL;
     }
     s->room = room;
@@ -292,6 +300,8 @@ void sim_destroy(sim_t *s)
 {
     if (s != NULL) {
         free(s->cand);
+        free(s->near);
+        free(s->stamp);
         free(s);
     }
 }
@@ -407,6 +417,22 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
     return best;
 }
 
+/* The segments and circles (as nsegs + i) near the cone, in ascending order (the order a
+ * small room is looked at in), into s->near; returns how many. */
+static size_t cone_objects(sim_t *s, double ox, double oy, double bx, double by, double lx,
+                           double ly, double rx, double ry, double max)
+{
+    const room_t *r = s->room;
+    /* The sector lies within the box of its apex, its edges' ends and its axis' end,
+       grown by the arc's bulge beyond the chord. */
+    double bulge = max * (1.0 - s->cone_c);
+    double x0 = fmin(fmin(ox, ox + max * bx), fmin(ox + max * lx, ox + max * rx)) - bulge;
+    double x1 = fmax(fmax(ox, ox + max * bx), fmax(ox + max * lx, ox + max * rx)) + bulge;
+    double y0 = fmin(fmin(oy, oy + max * by), fmin(oy + max * ly, oy + max * ry)) - bulge;
+    double y1 = fmax(fmax(oy, oy + max * by), fmax(oy + max * ly, oy + max * ry)) + bulge;
+    return room_index_gather(r, x0, y0, x1, y1, s->stamp, &s->stamp_now, s->near);
+}
+
 /*
  * The late echo of the last ping heard by a ping triggered now, µs after the trigger, or
  * infinity. A ping's sound bounces between the sensor and the surface it echoed from and
@@ -462,23 +488,33 @@ static void sonar_ping(sim_t *s)
     double max = p->sonar_max_m;
 
     /* Cull what cannot meet the cone: wholly left of its left edge, right of its right
-       edge, or behind the sensor. */
+       edge, or behind the sensor. A large room offers only the objects near the cone;
+       either way segments come first, then circles (as nsegs + i). */
+    size_t nobj = r->nsegs + r->ncircles;
+    const uint32_t *near = NULL;
+    if (r->index != NULL) {
+        nobj = cone_objects(s, ox, oy, bx, by, lx, ly, rx, ry, max);
+        near = s->near;
+    }
     size_t nseg = 0u;
-    for (size_t i = 0; i < r->nsegs; i++) {
-        const room_segment_t *g = &r->segs[i];
-        double q1x = g->x1 - ox;
-        double q1y = g->y1 - oy;
-        double q2x = g->x2 - ox;
-        double q2y = g->y2 - oy;
-        if ((lx * q1y - ly * q1x > 0.0 && lx * q2y - ly * q2x > 0.0) ||
-            (rx * q1y - ry * q1x < 0.0 && rx * q2y - ry * q2x < 0.0) ||
-            (bx * q1x + by * q1y < 0.0 && bx * q2x + by * q2y < 0.0)) {
+    size_t ncirc = 0u;
+    for (size_t k = 0; k < nobj; k++) {
+        size_t i = near != NULL ? near[k] : k;
+        if (i < r->nsegs) {
+            const room_segment_t *g = &r->segs[i];
+            double q1x = g->x1 - ox;
+            double q1y = g->y1 - oy;
+            double q2x = g->x2 - ox;
+            double q2y = g->y2 - oy;
+            if ((lx * q1y - ly * q1x > 0.0 && lx * q2y - ly * q2x > 0.0) ||
+                (rx * q1y - ry * q1x < 0.0 && rx * q2y - ry * q2x < 0.0) ||
+                (bx * q1x + by * q1y < 0.0 && bx * q2x + by * q2y < 0.0)) {
+                continue;
+            }
+            s->cand[nseg++] = (uint32_t)i;
             continue;
         }
-        s->cand[nseg++] = (uint32_t)i;
-    }
-    size_t ncirc = 0u;
-    for (size_t i = 0; i < r->ncircles; i++) {
+        i -= r->nsegs;
         const room_circle_t *c = &r->circles[i];
         double qx = c->cx - ox;
         double qy = c->cy - oy;
