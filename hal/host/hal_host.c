@@ -90,7 +90,7 @@ void hal_host_step(void)
     if (hh.sim == NULL) {
         return;
     }
-    if (hh.fn != NULL) {
+    if (hh.fn != NULL && !sim_tick_lost(hh.sim)) {
         hh.rec = (trace_tick_t){
             .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
                     sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
@@ -148,7 +148,8 @@ uint32_t hal_time_us(void)
 
 uint32_t hal_tick_overruns(void)
 {
-    return 0u; /* virtual time: a tick never overruns */
+    /* Virtual time: a tick never overruns, but one may be lost (the tick_miss fault). */
+    return hh.sim != NULL ? (uint32_t)sim_truth(hh.sim).ticks_missed : 0u;
 }
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)

@@ -66,7 +66,14 @@ static inline double wrap_pi(double a)
 }
 
 /* Independent random streams, so changing one error level leaves the others' draws. */
-enum { STREAM_WHEELS = 1, STREAM_SONAR = 2 };
+enum { STREAM_WHEELS = 1, STREAM_SONAR = 2, STREAM_FAULTS = 3 };
+
+/* The fault episodes, each with its own stream (STREAM_FAULTS + its number). */
+enum { FAULT_ECHO, FAULT_SERVO, FAULT_ENCODER, FAULT_TICK, FAULTS };
+
+/* An episode lasts this long, uniform, s. */
+#define SIM_EPISODE_MIN_S 0.5
+#define SIM_EPISODE_MAX_S 3.0
 
 struct sim {
     const room_t *room;
@@ -74,6 +81,10 @@ struct sim {
     sim_errors_t e;
     sim_rng_t rng_wheels;
     sim_rng_t rng_sonar;
+    sim_rng_t rng_fault[FAULTS];
+    uint64_t fault_until_us[FAULTS]; /* the episode under way ends then */
+    int stopped_wheel;               /* the encoder that stopped counting */
+    uint64_t ticks_missed;
 
     /* Derived once. */
     double r_nom;            /* nominal wheel radius, m */
@@ -96,6 +107,7 @@ struct sim {
     double omega_cmd[2];     /* what the duty asks for, rad/s */
     int16_t duty[2];
     double enc[2];           /* true wheel rotation, counts */
+    double enc_lost[2];      /* rotation a stopped encoder did not count, counts */
 
     /* Collisions: every point within `margin` of the anchor is known to be free. */
     double ax, ay, margin, margin2;
@@ -164,6 +176,11 @@ void sim_errors_default(sim_errors_t *e)
         .sonar_dropout = 0.03,
         .sonar_ghost = 0.01,
         .grazing_deg = 45.0,
+        .echo_stuck_per_s = 0.0,
+        .servo_lag = 0.0,
+        .servo_stall_per_s = 0.0,
+        .tick_miss = 0.0,
+        .encoder_stop_per_s = 0.0,
     };
 }
 
@@ -223,6 +240,11 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
         {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
         {in(e->sonar_ghost, 0.0, 1.0), "e.sonar_ghost"},
         {in(e->grazing_deg, 0.0, 90.0), "e.grazing_deg"},
+        {in(e->echo_stuck_per_s, 0.0, 10.0), "e.echo_stuck_per_s"},
+        {in(e->servo_lag, 0.0, 0.95), "e.servo_lag"},
+        {in(e->servo_stall_per_s, 0.0, 10.0), "e.servo_stall_per_s"},
+        {in(e->tick_miss, 0.0, 0.9), "e.tick_miss"},
+        {in(e->encoder_stop_per_s, 0.0, 10.0), "e.encoder_stop_per_s"},
     };
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
         if (!checks[i].ok) {
@@ -261,6 +283,9 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->e = *e;
     sim_rng_seed(&s->rng_wheels, seed, STREAM_WHEELS);
     sim_rng_seed(&s->rng_sonar, seed, STREAM_SONAR);
+    for (int f = 0; f < FAULTS; f++) {
+        sim_rng_seed(&s->rng_fault[f], seed, (uint64_t)(STREAM_FAULTS + f));
+    }
 
     /* E_d = D_R / D_L with the mean diameter nominal (Borenstein and Feng). */
     s->r_nom = 0.5 * p->wheel_diameter_m;
@@ -270,7 +295,7 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->counts_per_rad = p->counts_per_rev / (2.0 * HOST_PI);
     s->decay = exp(-DT_S / p->motor_tau_s);
     s->gain = p->motor_tau_s * (1.0 - s->decay);
-    s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S;
+    s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S * (1.0 - e->servo_lag);
     s->cos_graze = e->grazing_deg > 0.0 ? cos(e->grazing_deg * DEG) : 0.0;
     s->omega_per_duty = p->top_speed_mps / HAL_DUTY_MAX / s->r_nom;
     double half = 0.5 * p->sonar_cone_deg * DEG;
@@ -315,6 +340,7 @@ sim_truth_t sim_truth(const sim_t *s)
         .servo_deg = s->servo_deg,
         .wheel_mps = {s->omega[0] * s->r_act[0], s->omega[1] * s->r_act[1]},
         .collisions = s->collisions,
+        .ticks_missed = s->ticks_missed,
         .contact = s->contact,
         .time_us = s->time_us,
         .ticks = s->ticks,
@@ -369,7 +395,8 @@ int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel)
 
 uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel)
 {
-    double c = s->enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
+    int w = wheel == HAL_WHEEL_RIGHT ? 1 : 0;
+    double c = s->enc[w] - s->enc_lost[w];
     /* A quadrature counter counts edges: the floor of the true position, modulo 2^16. */
     int64_t n = (int64_t)c; /* toward zero; |c| stays far below 2^63 */
     if ((double)n > c) {
@@ -592,6 +619,9 @@ static void sonar_ping(sim_t *s)
     } else {
         pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
     }
+    if (s->time_us < s->fault_until_us[FAULT_ECHO]) {
+        pg->kind = SIM_PING_STUCK; /* the line is high before the echo could come */
+    }
     s->sonar_out = true;
     s->sonar_echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_GHOST;
     double width = s->sonar_echo ? 2.0 * range / p->sound_mps * 1e6 : HOST_INF;
@@ -743,6 +773,28 @@ static double sim_move(sim_t *s, double du, double dth)
     return done / n;
 }
 
+/* Perhaps begin an episode of fault f, which comes at @p rate a second. */
+static bool begin_episode(sim_t *s, int f, double rate)
+{
+    if (rate <= 0.0 || s->time_us < s->fault_until_us[f] ||
+        sim_rng_unit(&s->rng_fault[f]) >= rate * DT_S) {
+        return false;
+    }
+    double len = SIM_EPISODE_MIN_S +
+                 (SIM_EPISODE_MAX_S - SIM_EPISODE_MIN_S) * sim_rng_unit(&s->rng_fault[f]);
+    s->fault_until_us[f] = s->time_us + (uint64_t)llround(len * 1e6);
+    return true;
+}
+
+bool sim_tick_lost(sim_t *s)
+{
+    if (s->e.tick_miss <= 0.0 || sim_rng_unit(&s->rng_fault[FAULT_TICK]) >= s->e.tick_miss) {
+        return false;
+    }
+    s->ticks_missed++;
+    return true;
+}
+
 void sim_step(sim_t *s)
 {
     double d[2];
@@ -782,15 +834,30 @@ void sim_step(sim_t *s)
     /* Against an obstacle the wheels stall: they turn only as far as the body moves (the
      * common part of their rotation is cut to what was made; turning in place goes on). */
     double common = 0.5 * (turns[0] + turns[1]) * (1.0 - made);
+    bool enc_stopped = s->time_us < s->fault_until_us[FAULT_ENCODER];
     for (int w = 0; w < 2; w++) {
-        s->enc[w] += (turns[w] - common) * s->counts_per_rad;
+        double counts = (turns[w] - common) * s->counts_per_rad;
+        s->enc[w] += counts;
+        if (enc_stopped && w == s->stopped_wheel) {
+            s->enc_lost[w] += counts;
+        }
     }
 
     double diff = s->servo_cmd_deg - s->servo_deg;
-    if (fabs(diff) <= s->servo_step_deg) {
+    if (s->time_us < s->fault_until_us[FAULT_SERVO]) {
+        /* a stalled horn holds its angle */
+    } else if (fabs(diff) <= s->servo_step_deg) {
         s->servo_deg = s->servo_cmd_deg;
     } else {
         s->servo_deg += diff > 0.0 ? s->servo_step_deg : -s->servo_step_deg;
+    }
+
+    const double rates[3] = {s->e.echo_stuck_per_s, s->e.servo_stall_per_s,
+                             s->e.encoder_stop_per_s};
+    for (int f = 0; f < 3; f++) {
+        if (begin_episode(s, f, rates[f]) && f == FAULT_ENCODER) {
+            s->stopped_wheel = sim_rng_unit(&s->rng_fault[f]) < 0.5 ? 0 : 1;
+        }
     }
 
     s->time_us += HAL_TICK_PERIOD_US;

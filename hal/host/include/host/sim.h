@@ -216,6 +216,18 @@ typedef struct {
     double sonar_ghost;      /**< probability of a ghost echo at a random range */
     double grazing_deg;      /**< a ray hitting a surface beyond this incidence returns no
                                   echo (at every range); 0 = off */
+    /* Faults of the wiring and the timing, each off (0) by default. An episode lasts
+       0.5..3 s (uniform) and a new one may begin once it is over. */
+    double echo_stuck_per_s;   /**< episodes a second in which the echo line sticks high: every
+                                    ping in one times out (SIM_PING_STUCK) */
+    double servo_lag;          /**< share of the servo's speed lost (0 none .. 0.95): it
+                                    reaches each stop late, and the sweep pings early */
+    double servo_stall_per_s;  /**< episodes a second in which the servo horn stalls where it
+                                    is, whatever the pulse says */
+    double tick_miss;          /**< probability that a control tick is lost: the world moves
+                                    on 10 ms, the firmware does not run (an overrun) */
+    double encoder_stop_per_s; /**< episodes a second in which one encoder (either, at random)
+                                    stops counting: the counter holds, then goes on from there */
 } sim_errors_t;
 
 void sim_params_default(sim_params_t *p);
@@ -236,6 +248,7 @@ typedef struct {
     double servo_deg;         /**< where the servo actually is */
     double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
     uint32_t collisions;      /**< times the robot ran into something and was stopped */
+    uint64_t ticks_missed;    /**< control ticks lost to the tick_miss fault */
     bool contact;             /**< the body touches an obstacle now */
     uint64_t time_us;         /**< virtual time since sim_create() */
     uint64_t ticks;           /**< control periods run (sim_step() calls) */
@@ -250,6 +263,7 @@ typedef enum {
     SIM_PING_GRAZING,   /**< surfaces in range, all at grazing incidence: timeout */
     SIM_PING_NOTHING,   /**< no surface within sonar_max_m in the cone: timeout */
     SIM_PING_LATE,      /**< the late echo of the previous ping, read as this one's */
+    SIM_PING_STUCK,     /**< the echo line was stuck high (a fault episode): timeout */
 } sim_ping_kind_t;
 
 /** The pose and sonar geometry of the last ping, for logs. */
@@ -320,9 +334,16 @@ hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us);
 
 /**
  * Advance the world by one control period, HAL_TICK_PERIOD_US: motors, wheels, encoders,
- * the pose with its collisions, the servo, the clock. O(1) away from obstacles.
+ * the pose with its collisions, the servo, the fault episodes, the clock. O(1) away from
+ * obstacles.
  */
 void sim_step(sim_t *s);
+
+/**
+ * Whether the control tick of this period is lost (the tick_miss fault); counted in
+ * sim_truth_t.ticks_missed. Called once a period, before the tick would run.
+ */
+bool sim_tick_lost(sim_t *s);
 
 /* ---- the host backend ---------------------------------------------------------------- */
 
