@@ -305,7 +305,7 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->ray_c = cos(step);
     s->ray_s = sin(step);
     for (unsigned i = 0; i < SIM_BEAM_CACHE; i++) {
-        s->beam[i].deg = NAN; /* matches no angle */
+        s->beam[i].deg = (double)NAN; /* matches no angle */
     }
 
     s->x = room->start_x;
