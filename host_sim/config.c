@@ -78,7 +78,9 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     if (o->has_explore) {
         cfg->explore_mode = (uint8_t)o->explore;
     }
-    if (o->has_seed) {
+    /* The run's seed (1 unless given) seeds the exploration too, unless the file says
+     * otherwise: host_sim and host_sim --seed 1 are one run. */
+    if (o->has_seed || cfgtext_where_line(&w.file, "explore_seed") == 0u) {
         cfg->explore_seed = explore_seed_of(o->seed);
     }
     for (size_t i = 0; i < o->nsets; i++) {

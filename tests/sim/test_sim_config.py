@@ -98,6 +98,14 @@ for args, says in [
     p = sim.run(*args, "--out", sim.out("never"), expect=2)
     check(says in p.stderr, "%s: exit 2, says '%s'" % (" ".join(args), says))
 
+# The default seed is seed 1: the same run with and without --seed 1.
+a = sim.out("default-seed")
+b = sim.out("seed-1")
+sim.run("--duration", 30, "--out", a)
+sim.run("--duration", 30, "--seed", 1, "--out", b)
+check(filecmp.cmp(os.path.join(a, "readings.csv"), os.path.join(b, "readings.csv"), shallow=False),
+      "host_sim and host_sim --seed 1 are one run")
+
 # B6: every seed is its own run, with every error off too.
 logs = {}
 for seed in (0, 1, 2, 3, 4294967296):
