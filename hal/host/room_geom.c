@@ -39,97 +39,28 @@ double room_hit_raster(const room_t *r, double ox, double oy, double dx, double 
                        double max_m, double *cosi)
 {
     const double res = r->occ_res;
-    const double w = (double)r->occ_w;
-    const double h = (double)r->occ_h;
-    double gx = (ox - r->occ_x0) / res; /* pixel units from here on */
-    double gy = (oy - r->occ_y0) / res;
-    double t0 = 0.0;
-    double t1 = max_m / res;
-    int entry_axis = -1; /* which slab the ray entered the raster through */
-
-    /* Clip the ray to the raster's rectangle (slabs). */
-    if (fabs(dx) < 1e-300) {
-        if (gx < 0.0 || gx >= w) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gx / dx;
-        double tb = (w - gx) / dx;
-        double lo = fmin(ta, tb);
-        if (lo > t0) {
-            t0 = lo;
-            entry_axis = 0;
-        }
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (fabs(dy) < 1e-300) {
-        if (gy < 0.0 || gy >= h) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gy / dy;
-        double tb = (h - gy) / dy;
-        double lo = fmin(ta, tb);
-        if (lo > t0) {
-            t0 = lo;
-            entry_axis = 1;
-        }
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (t0 > t1) {
+    room_walk_t w;
+    if (!room_walk_start(&w, (ox - r->occ_x0) / res, (oy - r->occ_y0) / res, dx, dy, max_m / res,
+                         (long)r->occ_w, (long)r->occ_h)) {
         return HOST_INF;
     }
-
-    double px = gx + t0 * dx;
-    double py = gy + t0 * dy;
-    long ix = (long)floor(px);
-    long iy = (long)floor(py);
-    ix = ix < 0 ? 0 : (ix >= (long)r->occ_w ? (long)r->occ_w - 1 : ix);
-    iy = iy < 0 ? 0 : (iy >= (long)r->occ_h ? (long)r->occ_h - 1 : iy);
-    const long sx = dx > 0.0 ? 1 : -1;
-    const long sy = dy > 0.0 ? 1 : -1;
-    const double tdx = fabs(dx) < 1e-300 ? HOST_INF : 1.0 / fabs(dx);
-    const double tdy = fabs(dy) < 1e-300 ? HOST_INF : 1.0 / fabs(dy);
-    double tmx = fabs(dx) < 1e-300 ? HOST_INF
-                                   : t0 + (dx > 0.0 ? ((double)ix + 1.0 - px) : (px - (double)ix)) * tdx;
-    double tmy = fabs(dy) < 1e-300 ? HOST_INF
-                                   : t0 + (dy > 0.0 ? ((double)iy + 1.0 - py) : (py - (double)iy)) * tdy;
-    double t = t0;
     long pix = -1; /* the free pixel before the current one */
     long piy = -1;
-    int axis = entry_axis;
     for (;;) {
-        if (r->occ[(size_t)iy * r->occ_w + (size_t)ix]) {
+        if (r->occ[(size_t)w.iy * r->occ_w + (size_t)w.ix]) {
             double c = -1.0;
             if (pix >= 0) {
                 c = sobel_cos(r, pix, piy, dx, dy);
             }
             if (c < 0.0) {
-                c = axis == 0 ? fabs(dx) : (axis == 1 ? fabs(dy) : 1.0);
+                c = w.axis == 0 ? fabs(dx) : (w.axis == 1 ? fabs(dy) : 1.0);
             }
             *cosi = c;
-            return t * res;
+            return w.t * res;
         }
-        pix = ix;
-        piy = iy;
-        if (tmx < tmy) {
-            t = tmx;
-            tmx += tdx;
-            ix += sx;
-            axis = 0;
-            if (ix < 0 || ix >= (long)r->occ_w) {
-                return HOST_INF;
-            }
-        } else {
-            t = tmy;
-            tmy += tdy;
-            iy += sy;
-            axis = 1;
-            if (iy < 0 || iy >= (long)r->occ_h) {
-                return HOST_INF;
-            }
-        }
-        if (t > t1) {
+        pix = w.ix;
+        piy = w.iy;
+        if (!room_walk_next(&w)) {
             return HOST_INF;
         }
     }

@@ -310,53 +310,14 @@ double room_index_ray(const room_t *r, double ox, double oy, double dx, double d
     const size_t ns = r->nsegs;
     const size_t nc = r->ncircles;
     double best = HOST_INF;
-    double gx = (ox - ix->x0) * ix->inv;
-    double gy = (oy - ix->y0) * ix->inv;
-    double w = (double)ix->nx;
-    double h = (double)ix->ny;
-    /* Clip to the grid (slabs), in cell units of t. */
-    double t0 = 0.0;
-    double t1 = max_m * ix->inv;
-    if (fabs(dx) < 1e-300) {
-        if (gx < 0.0 || gx >= w) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gx / dx;
-        double tb = (w - gx) / dx;
-        t0 = fmax(t0, fmin(ta, tb));
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (fabs(dy) < 1e-300) {
-        if (gy < 0.0 || gy >= h) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gy / dy;
-        double tb = (h - gy) / dy;
-        t0 = fmax(t0, fmin(ta, tb));
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (t0 > t1) {
+    room_walk_t w;
+    if (!room_walk_start(&w, (ox - ix->x0) * ix->inv, (oy - ix->y0) * ix->inv, dx, dy,
+                         max_m * ix->inv, (long)ix->nx, (long)ix->ny)) {
         return HOST_INF;
     }
-    double px = gx + t0 * dx;
-    double py = gy + t0 * dy;
-    long cx = (long)floor(px);
-    long cy = (long)floor(py);
-    cx = cx < 0 ? 0 : (cx >= (long)ix->nx ? (long)ix->nx - 1 : cx);
-    cy = cy < 0 ? 0 : (cy >= (long)ix->ny ? (long)ix->ny - 1 : cy);
-    const long sx = dx > 0.0 ? 1 : -1;
-    const long sy = dy > 0.0 ? 1 : -1;
-    const double tdx = fabs(dx) < 1e-300 ? HOST_INF : 1.0 / fabs(dx);
-    const double tdy = fabs(dy) < 1e-300 ? HOST_INF : 1.0 / fabs(dy);
-    double tmx = fabs(dx) < 1e-300 ? HOST_INF
-                                   : t0 + (dx > 0.0 ? ((double)cx + 1.0 - px) : (px - (double)cx)) * tdx;
-    double tmy = fabs(dy) < 1e-300 ? HOST_INF
-                                   : t0 + (dy > 0.0 ? ((double)cy + 1.0 - py) : (py - (double)cy)) * tdy;
     for (;;) {
         size_t n;
-        const uint32_t *it = room_index_cell(r, (uint32_t)cx, (uint32_t)cy, &n);
+        const uint32_t *it = room_index_cell(r, (uint32_t)w.ix, (uint32_t)w.iy, &n);
         for (size_t k = 0; k < n && best > 0.0; k++) {
             uint32_t id = it[k];
             if (id < ns) {
@@ -365,24 +326,11 @@ double room_index_ray(const room_t *r, double ox, double oy, double dx, double d
                 best = room_hit_circle(&r->circles[id - ns], ox, oy, dx, dy, best, cosi);
             }
         }
-        double t_exit = fmin(tmx, tmy);
-        /* A hit within this cell (plus the padding) is the nearest: later cells lie
+        /* A hit within this cell (short of its padding) is the nearest: later cells lie
          * farther along the ray. */
-        if (best <= (t_exit - INDEX_EPS) * ix->cell || t_exit > t1) {
+        double t_exit = fmin(w.tmx, w.tmy);
+        if (best <= (t_exit - INDEX_EPS) * ix->cell || t_exit > w.t1 || !room_walk_next(&w)) {
             return best;
-        }
-        if (tmx < tmy) {
-            tmx += tdx;
-            cx += sx;
-            if (cx < 0 || cx >= (long)ix->nx) {
-                return best;
-            }
-        } else {
-            tmy += tdy;
-            cy += sy;
-            if (cy < 0 || cy >= (long)ix->ny) {
-                return best;
-            }
         }
     }
 }

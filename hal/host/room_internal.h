@@ -12,6 +12,7 @@
 #define HOST_ROOM_INTERNAL_H
 
 #include <math.h>
+#include <stdbool.h>
 
 #include "host/sim.h"
 
@@ -95,6 +96,108 @@ static inline double room_seg_dist2(const room_segment_t *s, double x, double y)
 static inline int room_in_box(const room_box_t *b, double x, double y)
 {
     return x >= b->x0 && x <= b->x1 && y >= b->y0 && y <= b->y1;
+}
+
+/** A walk through the cells of a grid along a ray (grid DDA); t is in cell sides. */
+typedef struct {
+    long ix, iy;     /**< the cell the walk is in */
+    long nx, ny;     /**< the grid's cells along x and y */
+    long sx, sy;     /**< the step along each axis, ±1 */
+    double tdx, tdy; /**< t between two cell edges across x (y) */
+    double tmx, tmy; /**< t of the next cell edge across x (y) */
+    double t;        /**< t where the walk entered the cell */
+    double t1;       /**< t where it leaves the grid or reaches its end */
+    int axis;        /**< the edge it entered through: 0 across x, 1 across y, -1 none */
+} room_walk_t;
+
+/**
+ * Start a walk from (gx, gy) in cell units along the unit vector (dx, dy), no further
+ * than tmax, clipped to the grid [0, nx] × [0, ny] (slabs).
+ * @return false when the ray misses the grid
+ */
+static inline bool room_walk_start(room_walk_t *w, double gx, double gy, double dx, double dy,
+                                   double tmax, long nx, long ny)
+{
+    const double fw = (double)nx;
+    const double fh = (double)ny;
+    double t0 = 0.0;
+    double t1 = tmax;
+    w->axis = -1;
+    if (fabs(dx) < 1e-300) {
+        if (gx < 0.0 || gx >= fw) {
+            return false;
+        }
+    } else {
+        double ta = -gx / dx;
+        double tb = (fw - gx) / dx;
+        double lo = fmin(ta, tb);
+        if (lo > t0) {
+            t0 = lo;
+            w->axis = 0;
+        }
+        t1 = fmin(t1, fmax(ta, tb));
+    }
+    if (fabs(dy) < 1e-300) {
+        if (gy < 0.0 || gy >= fh) {
+            return false;
+        }
+    } else {
+        double ta = -gy / dy;
+        double tb = (fh - gy) / dy;
+        double lo = fmin(ta, tb);
+        if (lo > t0) {
+            t0 = lo;
+            w->axis = 1;
+        }
+        t1 = fmin(t1, fmax(ta, tb));
+    }
+    if (t0 > t1) {
+        return false;
+    }
+    double px = gx + t0 * dx;
+    double py = gy + t0 * dy;
+    long ix = (long)floor(px);
+    long iy = (long)floor(py);
+    w->ix = ix < 0 ? 0 : (ix >= nx ? nx - 1 : ix);
+    w->iy = iy < 0 ? 0 : (iy >= ny ? ny - 1 : iy);
+    w->nx = nx;
+    w->ny = ny;
+    w->sx = dx > 0.0 ? 1 : -1;
+    w->sy = dy > 0.0 ? 1 : -1;
+    w->tdx = fabs(dx) < 1e-300 ? HOST_INF : 1.0 / fabs(dx);
+    w->tdy = fabs(dy) < 1e-300 ? HOST_INF : 1.0 / fabs(dy);
+    w->tmx = fabs(dx) < 1e-300
+                 ? HOST_INF
+                 : t0 + (dx > 0.0 ? ((double)w->ix + 1.0 - px) : (px - (double)w->ix)) * w->tdx;
+    w->tmy = fabs(dy) < 1e-300
+                 ? HOST_INF
+                 : t0 + (dy > 0.0 ? ((double)w->iy + 1.0 - py) : (py - (double)w->iy)) * w->tdy;
+    w->t = t0;
+    w->t1 = t1;
+    return true;
+}
+
+/** Step into the next cell; false when the walk leaves the grid or passes its end. */
+static inline bool room_walk_next(room_walk_t *w)
+{
+    if (w->tmx < w->tmy) {
+        w->t = w->tmx;
+        w->tmx += w->tdx;
+        w->ix += w->sx;
+        w->axis = 0;
+        if (w->ix < 0 || w->ix >= w->nx) {
+            return false;
+        }
+    } else {
+        w->t = w->tmy;
+        w->tmy += w->tdy;
+        w->iy += w->sy;
+        w->axis = 1;
+        if (w->iy < 0 || w->iy >= w->ny) {
+            return false;
+        }
+    }
+    return w->t <= w->t1;
 }
 
 /** A ray through the raster (grid DDA); INFINITY when nothing is hit within max_m. */

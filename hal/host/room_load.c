@@ -29,18 +29,46 @@ void room_fail(char *err, size_t errlen, const char *path, unsigned line, const 
     }
 }
 
-bool room_next_line(char *buf, size_t len, size_t *pos, char **line)
+int room_lines_open(room_lines_t *l, const char *path, const char *text, size_t len, char *err,
+                    size_t errlen)
 {
-    char *p = buf + *pos;
-    char *eol = memchr(p, '\n', len - *pos);
-    size_t n = eol != NULL ? (size_t)(eol - p) : len - *pos;
-    *line = p;
-    *pos += n + (eol != NULL ? 1u : 0u);
+    l->buf = malloc(len + 1u);
+    if (l->buf == NULL) {
+        room_fail(err, errlen, path, 0u, "out of memory");
+        return -1;
+    }
+    memcpy(l->buf, text, len);
+    l->buf[len] = '\0';
+    l->len = len;
+    l->pos = 0u;
+    l->lineno = 0u;
+    l->path = path;
+    return 0;
+}
+
+int room_lines_next(room_lines_t *l, char **line, char *err, size_t errlen)
+{
+    if (l->pos >= l->len) {
+        return 0;
+    }
+    l->lineno++;
+    char *p = l->buf + l->pos;
+    char *eol = memchr(p, '\n', l->len - l->pos);
+    size_t n = eol != NULL ? (size_t)(eol - p) : l->len - l->pos;
+    l->pos += n + (eol != NULL ? 1u : 0u);
     if (memchr(p, '\0', n) != NULL) {
-        return false;
+        room_fail(err, errlen, l->path, l->lineno, "a NUL byte: not a text file");
+        return -1;
     }
     p[n] = '\0';
-    return true;
+    *line = p;
+    return 1;
+}
+
+void room_lines_close(room_lines_t *l)
+{
+    free(l->buf);
+    l->buf = NULL;
 }
 
 /* A growable array. */
@@ -288,30 +316,19 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
 int room_parse(room_t *out, const char *path, const char *text, size_t len, char *err,
                size_t errlen)
 {
-    char *buf = malloc(len + 1u);
-    if (buf == NULL) {
-        room_fail(err, errlen, path, 0u, "out of memory");
+    room_lines_t lines;
+    if (room_lines_open(&lines, path, text, len, err, errlen) != 0) {
         return -1;
     }
-    memcpy(buf, text, len);
-    buf[len] = '\0';
     room_build_t b = {0};
     room_t r = {0};
     unsigned start_line = 0u;
-    unsigned lineno = 0u;
     int rc = 0;
-    size_t pos = 0u;
-    while (rc == 0 && pos < len) {
-        lineno++;
-        char *line;
-        if (!room_next_line(buf, len, &pos, &line)) {
-            room_fail(err, errlen, path, lineno, "a NUL byte: not a text file");
-            rc = -1;
-            break;
-        }
-        rc = room_statement(&b, &r, &start_line, line, path, lineno, err, errlen);
+    char *line;
+    while (rc == 0 && (rc = room_lines_next(&lines, &line, err, errlen)) > 0) {
+        rc = room_statement(&b, &r, &start_line, line, path, lines.lineno, err, errlen);
     }
-    free(buf);
+    room_lines_close(&lines);
     if (rc == 0 && b.segs.n == 0u && b.circles.n == 0u) {
         room_fail(err, errlen, path, 0u, "no walls or obstacles");
         rc = -1;

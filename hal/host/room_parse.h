@@ -25,12 +25,27 @@
 __attribute__((format(printf, 5, 6))) void room_fail(char *err, size_t errlen, const char *path,
                                                      unsigned line, const char *fmt, ...);
 
+/** Text cut into lines, for the loaders. */
+typedef struct {
+    char *buf;       /**< a copy of the text, cut in place */
+    size_t len, pos;
+    unsigned lineno; /**< the line room_lines_next() gave last, from 1 */
+    const char *path;
+} room_lines_t;
+
+/** Take a copy of @p len bytes of text to cut; -1 with "PATH: out of memory". */
+int room_lines_open(room_lines_t *l, const char *path, const char *text, size_t len, char *err,
+                    size_t errlen);
+
 /**
- * The next line of buf[0, len) from *pos, cut at its newline (buf[len] must be writable);
- * *pos moves past it.
- * @return false when the line holds a NUL byte (no text file does)
+ * The next line, without its newline.
+ * @return 1 a line in *line; 0 the end; -1 a NUL byte in it (no text file has one: err
+ *         names the line)
  */
-bool room_next_line(char *buf, size_t len, size_t *pos, char **line);
+int room_lines_next(room_lines_t *l, char **line, char *err, size_t errlen);
+
+/** Free the copy. */
+void room_lines_close(room_lines_t *l);
 
 /**
  * A whole token as a number.

@@ -257,25 +257,16 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
 static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_yaml_t *y,
                           char *err, size_t errlen)
 {
-    char *text = malloc(len + 1u);
-    if (text == NULL) {
-        room_fail(err, errlen, path, 0u, "out of memory");
+    room_lines_t lines;
+    if (room_lines_open(&lines, path, yaml, len, err, errlen) != 0) {
         return -1;
     }
-    memcpy(text, yaml, len);
-    text[len] = '\0';
     memset(y, 0, sizeof *y);
-    unsigned lineno = 0u;
     int rc = 0;
-    size_t pos = 0u;
-    while (rc == 0 && pos < len) {
-        lineno++;
-        char *line;
-        if (!room_next_line(text, len, &pos, &line)) {
-            room_fail(err, errlen, path, lineno, "a NUL byte: not a text file");
-            rc = -1;
-            break;
-        }
+    char *line;
+    while (rc == 0 && (rc = room_lines_next(&lines, &line, err, errlen)) > 0) {
+        unsigned lineno = lines.lineno;
+        rc = 0;
         /* A '#' at the start or after a blank begins a comment (YAML). */
         for (char *c = line; *c != '\0'; c++) {
             if (*c == '#' && (c == line || isspace((unsigned char)c[-1]))) {
@@ -297,7 +288,7 @@ static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_ya
         char *key = cfgtext_trim(line);
         rc = yaml_value(y, key, cfgtext_trim(colon + 1), path, lineno, err, errlen);
     }
-    free(text);
+    room_lines_close(&lines);
     if (rc != 0) {
         return -1;
     }

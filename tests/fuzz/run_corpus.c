@@ -7,46 +7,25 @@
 #include <sys/stat.h>
 
 #include "fuzz.h"
+#include "hal_common/config_text.h"
 
 static int run_file(const char *path, unsigned *runs)
 {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        fprintf(stderr, "run_corpus: %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    size_t cap = 4096u;
     size_t n = 0u;
-    uint8_t *buf = malloc(cap);
-    while (buf != NULL) {
-        n += fread(buf + n, 1u, cap - n, f);
-        if (n < cap) {
-            break;
-        }
-        uint8_t *grown = realloc(buf, 2u * cap);
-        if (grown == NULL) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = grown;
-        cap *= 2u;
-    }
-    int bad = ferror(f);
-    fclose(f);
-    if (buf == NULL || bad) {
-        fprintf(stderr, "run_corpus: %s: cannot read\n", path);
-        free(buf);
+    char err[512];
+    char *text = cfgtext_read_file(path, (size_t)1 << 24, &n, err, sizeof err);
+    if (text == NULL) {
+        fprintf(stderr, "run_corpus: %s\n", err);
         return -1;
     }
     /* An exact copy, so that reading one byte past the input is caught. */
     uint8_t *exact = malloc(n > 0u ? n : 1u);
     if (exact == NULL) {
-        free(buf);
+        free(text);
         return -1;
     }
-    memcpy(exact, buf, n);
-    free(buf);
+    memcpy(exact, text, n);
+    free(text);
     (void)LLVMFuzzerTestOneInput(exact, n);
     free(exact);
     (*runs)++;

@@ -5,22 +5,6 @@
 
 #include "host_test.h"
 
-/* Loading fails with a message that starts with @p path and holds @p says; the room is
- * left as it was. */
-static void refused(const char *path, const room_crop_t *crop, const char *says)
-{
-    room_t r;
-    room_t before;
-    memset(&r, 0x5A, sizeof r);
-    memcpy(&before, &r, sizeof r);
-    char err[400] = "";
-    assert_int_equal(room_load(&r, path, crop, err, sizeof err), -1);
-    if (strncmp(err, path, strlen(path)) != 0 || strstr(err, says) == NULL) {
-        fail_msg("%s: got \"%s\", want \"%s\"", path, err, says);
-    }
-    assert_memory_equal(&r, &before, sizeof r);
-}
-
 static const char *yaml_for(const char *tag, const char *image, const char *extra)
 {
     char text[1024];
@@ -35,8 +19,8 @@ static const char *yaml_for(const char *tag, const char *image, const char *extr
 static void test_size_limits(void **state)
 {
     (void)state;
-    refused("/dev/zero", NULL, ": larger than 67108864 bytes");
-    refused(HOST_TEST_DIR, NULL, ": is a directory");
+    test_load_refused("/dev/zero", NULL, ": larger than 67108864 bytes");
+    test_load_refused(HOST_TEST_DIR, NULL, ": is a directory");
     const char *yaml = yaml_for("zero.yaml", "/dev/zero", "");
     char want[600];
     snprintf(want, sizeof want, "/dev/zero: larger than 134217728 bytes");
@@ -125,7 +109,7 @@ static void test_crops(void **state)
     (void)state;
     const char *room = test_write("c.room", "wall 0 0 4 0\nstart 1 1 0\n");
     room_crop_t crop = {0.0, 0.0, 1.0, 1.0};
-    refused(room, &crop, "a crop takes part of a ROS map (.yaml); a .room file is taken whole");
+    test_load_refused(room, &crop, ": a crop takes part of a ROS map (.yaml); a .room file is taken whole");
     unlink(room);
     static const char pgm[] = "P5\n4 4\n255\n"
                               "\x00\x00\x00\x00\x00\xff\xff\x00\x00\xff\xff\x00\x00\x00\x00\x00";
