@@ -21,7 +21,6 @@
 #define DATA_BYTES (2u * SLAM_GRID_CELLS)
 #define WRITES ((DATA_BYTES + MAPSTORE_CHUNK - 1u) / MAPSTORE_CHUNK + 1u) /* chunks, header */
 #define HEADER_AT ((long)DATA_BYTES)   /* bytes a save programs before its header */
-#define SAVE_BYTES ((long)DATA_BYTES + (long)sizeof(mapstore_header_t))
 
 static grid_t grid;
 static grid_t loaded;
@@ -107,9 +106,9 @@ static size_t cut_points(long *out)
 {
     size_t n = 0;
     for (uint32_t w = 0; w + 1u < WRITES; w++) {
-        long at = (long)w * MAPSTORE_CHUNK;
-        long len = (long)(DATA_BYTES - w * MAPSTORE_CHUNK < MAPSTORE_CHUNK ? DATA_BYTES - w * MAPSTORE_CHUNK
-                                                                            : MAPSTORE_CHUNK);
+        uint32_t left = DATA_BYTES - w * MAPSTORE_CHUNK;
+        long at = (long)(w * MAPSTORE_CHUNK);
+        long len = (long)(left < MAPSTORE_CHUNK ? left : MAPSTORE_CHUNK);
         const long part[4] = {0, 1, len / 2, len - 1};
         for (int k = 0; k < 4; k++) {
             out[n++] = at + part[k];
