@@ -13,6 +13,7 @@
 
 static struct {
     sim_t *sim;
+    bool lossy;          /* the world may lose ticks (tick_miss) */
     hal_tick_fn fn;
     void *ctx;
     uint64_t t0_us;      /* world time at hal_init() */
@@ -51,6 +52,7 @@ static void storage_power_on(void)
 void hal_host_attach(sim_t *s)
 {
     hh.sim = s;
+    hh.lossy = s != NULL && sim_ticks_lost(s);
     hh.fn = NULL;
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
@@ -90,7 +92,7 @@ void hal_host_step(void)
     if (hh.sim == NULL) {
         return;
     }
-    if (hh.fn != NULL && !sim_tick_lost(hh.sim)) {
+    if (hh.fn != NULL && !(hh.lossy && sim_tick_lost(hh.sim))) {
         hh.rec = (trace_tick_t){
             .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
                     sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},

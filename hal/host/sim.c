@@ -83,6 +83,7 @@ struct sim {
     sim_rng_t rng_sonar;
     sim_rng_t rng_fault[FAULTS];
     uint64_t fault_until_us[FAULTS]; /* the episode under way ends then */
+    bool faults;                     /* an episode fault is on: the tick looks at them */
     int stopped_wheel;               /* the encoder that stopped counting */
     uint64_t ticks_missed;
 
@@ -106,8 +107,7 @@ struct sim {
     double omega[2];         /* wheel angular speeds, rad/s */
     double omega_cmd[2];     /* what the duty asks for, rad/s */
     int16_t duty[2];
-    double enc[2];           /* true wheel rotation, counts */
-    double enc_lost[2];      /* rotation a stopped encoder did not count, counts */
+    double enc[2];           /* wheel rotation the encoders counted, counts */
 
     /* Collisions: every point within `margin` of the anchor is known to be free. */
     double ax, ay, margin, margin2;
@@ -286,6 +286,8 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     for (int f = 0; f < FAULTS; f++) {
         sim_rng_seed(&s->rng_fault[f], seed, (uint64_t)(STREAM_FAULTS + f));
     }
+    s->faults = e->echo_stuck_per_s > 0.0 || e->servo_stall_per_s > 0.0 ||
+                e->encoder_stop_per_s > 0.0;
 
     /* E_d = D_R / D_L with the mean diameter nominal (Borenstein and Feng). */
     s->r_nom = 0.5 * p->wheel_diameter_m;
@@ -395,8 +397,7 @@ int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel)
 
 uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel)
 {
-    int w = wheel == HAL_WHEEL_RIGHT ? 1 : 0;
-    double c = s->enc[w] - s->enc_lost[w];
+    double c = s->enc[wheel == HAL_WHEEL_RIGHT ? 1 : 0];
     /* A quadrature counter counts edges: the floor of the true position, modulo 2^16. */
     int64_t n = (int64_t)c; /* toward zero; |c| stays far below 2^63 */
     if ((double)n > c) {
@@ -442,6 +443,34 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
         }
     }
     return best;
+}
+
+/* The cone of a ping: its apex, the unit vectors of its axis and edges, its reach. */
+typedef struct {
+    double ox, oy, bx, by, lx, ly, rx, ry, max;
+} cone_t;
+
+/* A segment wholly left of the cone's left edge, right of its right edge, or behind the
+ * sensor cannot meet it. */
+static inline bool seg_misses(const cone_t *k, const room_segment_t *g)
+{
+    double q1x = g->x1 - k->ox;
+    double q1y = g->y1 - k->oy;
+    double q2x = g->x2 - k->ox;
+    double q2y = g->y2 - k->oy;
+    return (k->lx * q1y - k->ly * q1x > 0.0 && k->lx * q2y - k->ly * q2x > 0.0) ||
+           (k->rx * q1y - k->ry * q1x < 0.0 && k->rx * q2y - k->ry * q2x < 0.0) ||
+           (k->bx * q1x + k->by * q1y < 0.0 && k->bx * q2x + k->by * q2y < 0.0);
+}
+
+/* The same for a circle, and one beyond the reach. */
+static inline bool circle_misses(const cone_t *k, const room_circle_t *c)
+{
+    double qx = c->cx - k->ox;
+    double qy = c->cy - k->oy;
+    return k->lx * qy - k->ly * qx > c->r || k->rx * qy - k->ry * qx < -c->r ||
+           k->bx * qx + k->by * qy < -c->r ||
+           qx * qx + qy * qy > (k->max + c->r) * (k->max + c->r);
 }
 
 /* The segments and circles (as nsegs + i) near the cone, in ascending order (the order a
@@ -514,42 +543,33 @@ static void sonar_ping(sim_t *s)
     double ry = by * s->cone_c - bx * s->cone_s;
     double max = p->sonar_max_m;
 
-    /* Cull what cannot meet the cone: wholly left of its left edge, right of its right
-       edge, or behind the sensor. A large room offers only the objects near the cone;
-       either way segments come first, then circles (as nsegs + i). */
-    size_t nobj = r->nsegs + r->ncircles;
-    const uint32_t *near = NULL;
-    if (r->index != NULL) {
-        nobj = cone_objects(s, ox, oy, bx, by, lx, ly, rx, ry, max);
-        near = s->near;
-    }
+    /* Cull what cannot meet the cone; a large room offers only the objects near it. */
+    const cone_t cone = {ox, oy, bx, by, lx, ly, rx, ry, max};
     size_t nseg = 0u;
     size_t ncirc = 0u;
-    for (size_t k = 0; k < nobj; k++) {
-        size_t i = near != NULL ? near[k] : k;
-        if (i < r->nsegs) {
-            const room_segment_t *g = &r->segs[i];
-            double q1x = g->x1 - ox;
-            double q1y = g->y1 - oy;
-            double q2x = g->x2 - ox;
-            double q2y = g->y2 - oy;
-            if ((lx * q1y - ly * q1x > 0.0 && lx * q2y - ly * q2x > 0.0) ||
-                (rx * q1y - ry * q1x < 0.0 && rx * q2y - ry * q2x < 0.0) ||
-                (bx * q1x + by * q1y < 0.0 && bx * q2x + by * q2y < 0.0)) {
-                continue;
+    if (r->index == NULL) {
+        for (size_t i = 0; i < r->nsegs; i++) {
+            if (!seg_misses(&cone, &r->segs[i])) {
+                s->cand[nseg++] = (uint32_t)i;
             }
-            s->cand[nseg++] = (uint32_t)i;
-            continue;
         }
-        i -= r->nsegs;
-        const room_circle_t *c = &r->circles[i];
-        double qx = c->cx - ox;
-        double qy = c->cy - oy;
-        if (lx * qy - ly * qx > c->r || rx * qy - ry * qx < -c->r || bx * qx + by * qy < -c->r ||
-            qx * qx + qy * qy > (max + c->r) * (max + c->r)) {
-            continue;
+        for (size_t i = 0; i < r->ncircles; i++) {
+            if (!circle_misses(&cone, &r->circles[i])) {
+                s->cand[nseg + ncirc++] = (uint32_t)i;
+            }
         }
-        s->cand[nseg + ncirc++] = (uint32_t)i;
+    } else {
+        size_t n = cone_objects(s, ox, oy, bx, by, lx, ly, rx, ry, max);
+        for (size_t j = 0; j < n; j++) { /* ascending: every segment before any circle */
+            uint32_t id = s->near[j];
+            if (id < r->nsegs) {
+                if (!seg_misses(&cone, &r->segs[id])) {
+                    s->cand[nseg++] = id;
+                }
+            } else if (!circle_misses(&cone, &r->circles[id - r->nsegs])) {
+                s->cand[nseg + ncirc++] = (uint32_t)(id - r->nsegs);
+            }
+        }
     }
 
     double geo = HOST_INF;  /* nearest surface in the cone */
@@ -619,7 +639,7 @@ static void sonar_ping(sim_t *s)
     } else {
         pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
     }
-    if (s->time_us < s->fault_until_us[FAULT_ECHO]) {
+    if (s->faults && s->time_us < s->fault_until_us[FAULT_ECHO]) {
         pg->kind = SIM_PING_STUCK; /* the line is high before the echo could come */
     }
     s->sonar_out = true;
@@ -786,6 +806,31 @@ static bool begin_episode(sim_t *s, int f, double rate)
     return true;
 }
 
+/* The episodes of the faults in this tick: a stopped encoder did not count the turn it
+ * was given, a stalled servo did not move; and new episodes begin. */
+static void faults_step(sim_t *s, const double turns[2], double common, double servo_before)
+{
+    if (s->time_us < s->fault_until_us[FAULT_ENCODER]) {
+        int w = s->stopped_wheel;
+        s->enc[w] -= (turns[w] - common) * s->counts_per_rad;
+    }
+    if (s->time_us < s->fault_until_us[FAULT_SERVO]) {
+        s->servo_deg = servo_before;
+    }
+    const double rates[3] = {s->e.echo_stuck_per_s, s->e.servo_stall_per_s,
+                             s->e.encoder_stop_per_s};
+    for (int f = 0; f < 3; f++) {
+        if (begin_episode(s, f, rates[f]) && f == FAULT_ENCODER) {
+            s->stopped_wheel = sim_rng_unit(&s->rng_fault[f]) < 0.5 ? 0 : 1;
+        }
+    }
+}
+
+bool sim_ticks_lost(const sim_t *s)
+{
+    return s->e.tick_miss > 0.0;
+}
+
 bool sim_tick_lost(sim_t *s)
 {
     if (s->e.tick_miss <= 0.0 || sim_rng_unit(&s->rng_fault[FAULT_TICK]) >= s->e.tick_miss) {
@@ -834,32 +879,20 @@ void sim_step(sim_t *s)
     /* Against an obstacle the wheels stall: they turn only as far as the body moves (the
      * common part of their rotation is cut to what was made; turning in place goes on). */
     double common = 0.5 * (turns[0] + turns[1]) * (1.0 - made);
-    bool enc_stopped = s->time_us < s->fault_until_us[FAULT_ENCODER];
     for (int w = 0; w < 2; w++) {
-        double counts = (turns[w] - common) * s->counts_per_rad;
-        s->enc[w] += counts;
-        if (enc_stopped && w == s->stopped_wheel) {
-            s->enc_lost[w] += counts;
-        }
+        s->enc[w] += (turns[w] - common) * s->counts_per_rad;
     }
 
+    double servo_before = s->servo_deg;
     double diff = s->servo_cmd_deg - s->servo_deg;
-    if (s->time_us < s->fault_until_us[FAULT_SERVO]) {
-        /* a stalled horn holds its angle */
-    } else if (fabs(diff) <= s->servo_step_deg) {
+    if (fabs(diff) <= s->servo_step_deg) {
         s->servo_deg = s->servo_cmd_deg;
     } else {
         s->servo_deg += diff > 0.0 ? s->servo_step_deg : -s->servo_step_deg;
     }
-
-    const double rates[3] = {s->e.echo_stuck_per_s, s->e.servo_stall_per_s,
-                             s->e.encoder_stop_per_s};
-    for (int f = 0; f < 3; f++) {
-        if (begin_episode(s, f, rates[f]) && f == FAULT_ENCODER) {
-            s->stopped_wheel = sim_rng_unit(&s->rng_fault[f]) < 0.5 ? 0 : 1;
-        }
+    if (s->faults) {
+        faults_step(s, turns, common, servo_before);
     }
-
     s->time_us += HAL_TICK_PERIOD_US;
     s->ticks++;
 }

@@ -345,6 +345,9 @@ void sim_step(sim_t *s);
  */
 bool sim_tick_lost(sim_t *s);
 
+/** Whether the world loses ticks at all (tick_miss > 0): the HAL asks once, at attach. */
+bool sim_ticks_lost(const sim_t *s);
+
 /* ---- the host backend ---------------------------------------------------------------- */
 
 /**
