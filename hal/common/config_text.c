@@ -109,6 +109,7 @@ static const struct {
     {"square_laps", "0..255 (0: for ever)"},
     {"explore_seed", "1..4294967295 (not 0)"},
     {"save_period_s", "0..65535 (0: never)"},
+    {"localize", "0..1 (1: the pose corrected against OM)"},
 };
 
 static int field_index(const char *key)
