@@ -369,4 +369,7 @@ typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
 int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
                 size_t errlen);
 
+/** A row as the robot's tick posted its reading: micrometres, binary angles. */
+loc_reading_t replay_reading(const replay_row_t *row);
+
 #endif /* HOST_SIM_HOST_SIM_H */

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* host_sim --replay: OM rebuilt from a readings.csv through the firmware's own mapper. */
 #include <errno.h>
-#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,12 +20,7 @@ static void replay_row(void *ctx, const replay_row_t *row)
 {
     unsigned *rows = ctx;
     (*rows)++;
-    const loc_reading_t rd = {
-        .ping = {to_um(row->x_m), to_um(row->y_m), to_bam(row->th_rad)},
-        .range_um = row->echo ? (uint32_t)lround(row->range_m * 1e6) : 0u,
-        .servo = fix_bam_from_mdeg((int32_t)lround(row->servo_deg * 1000.0)),
-        .echo = row->echo,
-    };
+    const loc_reading_t rd = replay_reading(row);
     (void)loc_post(&loc, &rd);
     loc_idle(&loc, &mapper, &grid);
 }

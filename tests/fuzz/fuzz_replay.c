@@ -19,12 +19,7 @@ static void map_row(void *ctx, const replay_row_t *row)
     FUZZ_CHECK(row->range_m >= 0.0 && row->range_m <= 1000.0 && (row->echo || row->range_m == 0.0));
     FUZZ_CHECK(fabs(row->x_m) <= 1000.0 && fabs(row->y_m) <= 1000.0 && fabs(row->th_rad) <= 1000.0);
     /* As the replay takes it: posted, then mapped and matched. */
-    const loc_reading_t rd = {
-        .ping = {to_um(row->x_m), to_um(row->y_m), to_bam(row->th_rad)},
-        .range_um = row->echo ? (uint32_t)lround(row->range_m * 1e6) : 0u,
-        .servo = fix_bam_from_mdeg((int32_t)lround(row->servo_deg * 1000.0)),
-        .echo = row->echo,
-    };
+    const loc_reading_t rd = replay_reading(row);
     (void)loc_post(&loc, &rd);
     loc_idle(&loc, &mapper, &grid);
 }
