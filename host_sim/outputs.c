@@ -359,8 +359,11 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
     }
     fprintf(f, "P5\n%lu %lu\n255\n", (unsigned long)g->a, (unsigned long)g->b);
     fwrite(img, 1, (size_t)g->a * g->b, f);
-    if (close_out(f, dir, file) != 0 || !yaml) {
-        return yaml ? -1 : 0;
+    if (close_out(f, dir, file) != 0) {
+        return -1;
+    }
+    if (!yaml) {
+        return 0;
     }
     char text[512];
     if (mapx_yaml(text, sizeof text, file, g->cell_um, g->origin_x_um, g->origin_y_um) < 0) {
