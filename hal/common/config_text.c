@@ -100,16 +100,18 @@ static const struct {
     {"accel_mm_s2", "10..50000"},
     {"motion_kp_q8", "0..2048"},
     {"motion_ki_q8", "0..2048"},
-    {"explore_mode", "0..3 (off, random, tm, square)"},
+    {"explore_mode", "0..4 (off, random, tm, square, walls)"},
     {"cruise_mm_s", "1..5000, at most top_speed_mm_s"},
     {"turn_mm_s", "1..5000, at most top_speed_mm_s"},
     {"avoid_um", "50000..4000000"},
-    {"clearance_um", "10000..2000000"},
+    {"clearance_um", "10000..2000000, below follow_um"},
     {"square_side_um", "100000..100000000"},
     {"square_laps", "0..255 (0: for ever)"},
     {"explore_seed", "1..4294967295 (not 0)"},
     {"save_period_s", "0..65535 (0: never)"},
     {"localize", "0..1 (1: the pose corrected against OM)"},
+    {"ping_interval_ticks", "1..255"},
+    {"follow_um", "50000..2000000, above clearance_um"},
 };
 
 static int field_index(const char *key)
