@@ -18,13 +18,15 @@ SIM_ARGS ?=
 COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
 
-.PHONY: help sim test bench fuzz fuzz-core report compare trace deps deps-sim deps-firmware deps-fuzz \
-        firmware flash debug linux clean \
+.PHONY: help sim calibrate test bench fuzz fuzz-core report compare trace deps deps-sim deps-firmware \
+        deps-fuzz firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
 	@echo "make sim       install what is missing, build, run the default room; picture in $(SIM_OUT)/"
 	@echo "               (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
+	@echo "make calibrate UMBmark on the simulated robot: the calibration make sim uses"
+	@echo "               (host_sim/calibration/default_robot.conf), E_max,syst before and after on 5 seeds"
 	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
 	@echo "               32-bit, ThreadSanitizer on the Linux backend, the STM32F4 images in QEMU)"
 	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
@@ -59,6 +61,14 @@ sim: deps-sim
 	cmake --preset host
 	cmake --build --preset host -j $(JOBS) --target host_sim
 	build/host/host_sim/host_sim --out $(SIM_OUT) $(SIM_ARGS)
+
+# UMBmark as a robot builder follows it, in the simulator: the uncalibrated robot's runs,
+# tools/umbmark.py, verification on five fresh seeds (each uncalibrated and calibrated);
+# writes the calibration host_sim uses by default.
+calibrate: deps-sim
+	cmake --preset host
+	cmake --build --preset host -j $(JOBS) --target host_sim
+	tools/calibrate_sim.py build/host/host_sim/host_sim --out out/calibrate
 
 report: build-host
 	tools/sim_report.py

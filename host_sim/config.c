@@ -11,6 +11,7 @@ static const double PI = HOST_SIM_PI;
 /* The --set options, and where each configuration value came from (for messages). */
 typedef struct {
     const options_t *o;
+    cfgtext_where_t cal;  /* lines of the --calibration file */
     cfgtext_where_t file; /* lines of the --config file */
     char keys[HOST_SIM_MAX_SETS][64];
 } cfg_origin_t;
@@ -27,6 +28,11 @@ static const char *origin(const cfg_origin_t *w, const char *key, char *buf, siz
     unsigned line = cfgtext_where_line(&w->file, key);
     if (line != 0u) {
         snprintf(buf, n, "%s:%u", w->o->config, line);
+        return buf;
+    }
+    line = cfgtext_where_line(&w->cal, key);
+    if (line != 0u) {
+        snprintf(buf, n, "%s:%u", w->o->calibration, line);
         return buf;
     }
     if (w->o->paper && (strcmp(key, "om_mode") == 0 || strncmp(key, "post_", 5) == 0)) {
@@ -63,6 +69,13 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     memset(&w, 0, sizeof w);
     w.o = o;
     char err[512];
+    /* The order, a later one overriding an earlier one: the calibration (the robot's
+     * wheels), the --config file, the options given, each --set. */
+    if (o->calibration != NULL &&
+        cfgtext_load(o->calibration, cfg, NULL, NULL, &w.cal, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: --calibration: %s\n", err);
+        return -1;
+    }
     if (o->config != NULL &&
         cfgtext_load(o->config, cfg, NULL, NULL, &w.file, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
@@ -78,9 +91,10 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     if (o->has_explore) {
         cfg->explore_mode = (uint8_t)o->explore;
     }
-    /* The run's seed (1 unless given) seeds the exploration too, unless the file says
+    /* The run's seed (1 unless given) seeds the exploration too, unless a file says
      * otherwise: host_sim and host_sim --seed 1 are one run. */
-    if (o->has_seed || cfgtext_where_line(&w.file, "explore_seed") == 0u) {
+    if (o->has_seed || (cfgtext_where_line(&w.file, "explore_seed") == 0u &&
+                        cfgtext_where_line(&w.cal, "explore_seed") == 0u)) {
         cfg->explore_seed = explore_seed_of(o->seed);
     }
     for (size_t i = 0; i < o->nsets; i++) {

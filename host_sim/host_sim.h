@@ -21,6 +21,8 @@
 #define HOST_SIM_PI 3.14159265358979323846
 #define TICK_S (HAL_TICK_PERIOD_US * 1e-6) /* the control period, s */
 #define EXIT_USAGE 2                        /* bad options or input */
+/* The calibration `make calibrate` made for the default simulated robot. */
+#define HOST_SIM_CALIBRATION "/host_sim/calibration/default_robot.conf"
 
 /** The geometry shared by every map of a run. */
 typedef struct {
@@ -169,6 +171,8 @@ typedef struct {
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
+    const char *calibration; /* --calibration FILE|none; NULL: the shipped one for the
+                                default robot (main.c resolves it: NULL when none applies) */
     const char *sets[HOST_SIM_MAX_SETS];
     size_t nsets;
     const char *trace;
@@ -371,5 +375,37 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
 
 /** A row as the robot's tick posted its reading: micrometres, binary angles. */
 loc_reading_t replay_reading(const replay_row_t *row);
+
+/* ---- the UMBmark experimenter (experimenter.c) ------------------------------------------ */
+
+#define EXPERIMENTER_CSV "umbmark.csv" /* the measurements, in the output folder */
+
+/** A person with a tape measure beside the UMBmark test (firmware/include/slam/umbmark.h). */
+typedef struct {
+    const char *dir;    /* the output folder */
+    FILE *csv;          /* EXPERIMENTER_CSV, open from the first measurement */
+    bool failed;        /* it could not be written */
+    uint64_t rng;       /* the tape's noise */
+    double start_x, start_y, start_th; /* the start pose in the world, m and rad */
+    unsigned measured;  /* runs measured */
+    bool quiet;
+} experimenter_t;
+
+void experimenter_init(experimenter_t *x, const char *dir, uint64_t seed, double start_x,
+                       double start_y, double start_th, bool quiet);
+
+/**
+ * After each tick: while the robot runs UMBmark and has just finished a run (it stands in
+ * the pause that follows), write the run's return error to DIR/umbmark.csv, the true
+ * position read with the tape's noise minus odometry's, in the start pose's frame, mm
+ * (one line a run: direction,x_mm,y_mm; tools/umbmark.py reads it), and put the robot
+ * back at the start pose (sim_place()). A progress line per run on stderr unless quiet.
+ * @return 0 nothing done, 1 a run measured, 2 the last run measured, -1 failed (the robot
+ *         ran into something: the square does not fit; or the file cannot be written)
+ */
+int experimenter_tick(experimenter_t *x, sim_t *sim, const robot_t *rb);
+
+/** Close the file; -1 with a message when writing it failed. */
+int experimenter_close(experimenter_t *x);
 
 #endif /* HOST_SIM_HOST_SIM_H */

@@ -253,6 +253,7 @@ typedef struct {
     uint8_t *bufs, *scratch;
     post_sweep_t *ps;
     commands_t commands;
+    experimenter_t tape;
 } held_t;
 
 static void release(held_t *h)
@@ -270,6 +271,9 @@ static void release(held_t *h)
     }
     if (h->trajectory != NULL) {
         fclose(h->trajectory);
+    }
+    if (h->tape.csv != NULL) {
+        fclose(h->tape.csv);
     }
     hal_host_attach(NULL);
     if (h->r != NULL && h->r->estimates != NULL) {
@@ -335,6 +339,17 @@ static int run(options_t *o, held_t *h)
         if (apply_error(&errors, o->errors[i]) != 0) {
             return EXIT_USAGE;
         }
+    }
+    /* The shipped calibration belongs to the default robot: not to an ideal one, nor to
+     * one with other wheels. */
+    sim_errors_t defaults;
+    sim_errors_default(&defaults);
+    if (o->calibration == NULL) {
+        bool default_robot = !o->ideal && errors.wheel_ratio_ed == defaults.wheel_ratio_ed &&
+                             errors.wheel_base_eb == defaults.wheel_base_eb;
+        o->calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
+    } else if (strcmp(o->calibration, "none") == 0) {
+        o->calibration = NULL;
     }
     slam_config_t cfg;
     if (build_config(o, room, sx, sy, sth, &cfg) != 0) {
@@ -469,14 +484,27 @@ static int run(options_t *o, held_t *h)
     r->marked_x = r->marked_y = INFINITY;
 
     uint64_t ticks = (uint64_t)llround(o->duration_s / TICK_S);
-    bool progress = !o->quiet && isatty(STDERR_FILENO);
+    /* UMBmark says how far it is itself, a line a run. */
+    bool progress = !o->quiet && isatty(STDERR_FILENO) && o->explore != EXPLORE_UMBMARK;
+    experimenter_t *tape = &h->tape;
+    experimenter_init(tape, o->out, o->seed, sx, sy, sth, o->quiet);
+    int tape_rc = 0;
     double t0 = wall_now();
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
         commands_feed(&h->commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
+        /* UMBmark: a run measured and the robot carried back; the run ends after the last. */
+        tape_rc = experimenter_tick(tape, sim, &robot);
+        if (tape_rc == 2 || tape_rc < 0) {
+            ticks = k + 1u;
+        }
         observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
+        if (tape_rc > 0) {
+            r->last_x = sx; /* carried, not driven: no path */
+            r->last_y = sy;
+        }
         if (k % 1024u == 0u &&
             (write_failed(h->telemetry, o->telemetry) || write_failed(h->trace, o->trace) ||
              write_failed(readings, "readings.csv") || write_failed(trajectory, "trajectory.csv"))) {
@@ -525,6 +553,7 @@ static int run(options_t *o, held_t *h)
         bad |= close_out(r->estimates, o->out, "scoring_estimate.csv");
         r->estimates = NULL;
     }
+    bad |= experimenter_close(tape) | (tape_rc < 0 ? -1 : 0);
     if (bad != 0) {
         return 1;
     }

@@ -13,7 +13,7 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls"};
+const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls", "umbmark"};
 
 /* murmur3's 32-bit finaliser: a bijection that scatters nearby values. */
 static uint32_t mix32(uint32_t x)
@@ -45,8 +45,11 @@ static void usage(FILE *f)
         "  --seed N             seed of every random error and of the exploration (default 1;\n"
         "                       sets explore_seed)\n"
         "  --cell MM            grid cell size in mm (default 50; sets cell_um)\n"
-        "  --explore MODE       walls | random | tm | square | off (default walls; sets\n"
-        "                       explore_mode)\n"
+        "  --explore MODE       walls | random | tm | square | umbmark | off (default\n"
+        "                       walls; sets explore_mode); umbmark: the calibration test,\n"
+        "                       with a simulated person who measures each run's return\n"
+        "                       error (a tape, +-5 mm) into umbmark.csv and puts the robot\n"
+        "                       back; it ends after the last run\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
@@ -59,10 +62,18 @@ static void usage(FILE *f)
         "                       servo_lag 0..0.95 (share of the servo's speed lost);\n"
         "                       servo_stall 0..10 per s (the horn stops); tick_miss\n"
         "                       0..0.9 (per tick); encoder_stop 0..10 per s (a counter stops)\n"
-        "  --config FILE        firmware configuration, key = value lines; its values stand\n"
-        "                       unless an option sets them\n"
+        "  --calibration FILE   the firmware's odometry calibration (cal_left, cal_right,\n"
+        "                       cal_base: key = value lines, as tools/umbmark.py writes them),\n"
+        "                       or none. Default: host_sim/calibration/default_robot.conf,\n"
+        "                       what make calibrate measured on the default robot; none\n"
+        "                       with --ideal or another ed or eb (another robot)\n"
+        "  --config FILE        firmware configuration, key = value lines\n"
         "  --set KEY=VALUE      one firmware configuration value (repeatable); one that\n"
         "                       disagrees with --cell or --explore is refused\n"
+        "                       The configuration is built in this order, a later one\n"
+        "                       overriding an earlier one: the calibration file, the\n"
+        "                       --config file, the options given (--paper, --seed, --cell,\n"
+        "                       --explore), each --set\n"
         "outputs:\n"
         "  --out DIR            output folder (default out/sim)\n"
         "  --trace FILE         also record the HAL trace of the run\n"
@@ -87,7 +98,8 @@ static void usage(FILE *f)
         "  --help               this text\n"
         "\n"
         "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
-        "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png\n"
+        "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png, and\n"
+        "umbmark.csv when the robot ran UMBmark\n"
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
 
@@ -258,7 +270,8 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%.40s' (random, tm, walls, square, off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%.40s' (random, tm, walls, square, "
+                                  "umbmark, off)", argv[i]);
             }
             o->has_explore = true;
         } else if (strcmp(a, "--out") == 0) {
@@ -285,6 +298,11 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--config needs a file");
             }
             o->config = argv[i];
+        } else if (strcmp(a, "--calibration") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--calibration needs a file, or none");
+            }
+            o->calibration = argv[i];
         } else if (strcmp(a, "--trace") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--trace needs a file");

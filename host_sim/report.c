@@ -153,6 +153,14 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "    \"explore\": \"%s\",\n    \"ideal\": %s,\n", explore_names[o->explore],
             o->ideal ? "true" : "false");
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
+    if (o->calibration != NULL) {
+        fprintf(f, "    \"calibration\": \"%s\",\n", o->calibration);
+    } else {
+        fprintf(f, "    \"calibration\": null,\n");
+    }
+    fprintf(f, "    \"cal\": {\"left\": %.9f, \"right\": %.9f, \"base\": %.9f},\n",
+            cfg->cal_left / (double)FIX_Q30_ONE, cfg->cal_right / (double)FIX_Q30_ONE,
+            cfg->cal_base / (double)FIX_Q30_ONE);
     fprintf(f, "    \"om\": {\"mode\": \"%s\", \"hit\": %u, \"miss\": %u, \"om_max\": %u},\n",
             cfg->om_mode == OM_MODE_COUNT ? "count" : "evidence", cfg->om_hit, cfg->om_miss,
             cfg->om_max);
@@ -293,5 +301,6 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
         }
     }
     printf("\n");
+    printf("  calibration     %s\n", o->calibration != NULL ? o->calibration : "none");
     printf("  outputs         %s/\n", o->out);
 }

@@ -237,6 +237,7 @@ static void test_rules_match_the_check(void **state)
         "accel_mm_s2", "motion_kp_q8", "motion_ki_q8", "explore_mode", "cruise_mm_s",
         "turn_mm_s", "avoid_um", "clearance_um", "square_side_um", "square_laps",
         "explore_seed", "save_period_s", "localize", "ping_interval_ticks", "follow_um",
+        "umbmark_runs", "umbmark_pause_s",
     };
     FILE *f = fopen(path, "w+");
     assert_non_null(f);

@@ -114,6 +114,8 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->square_laps = (uint8_t)pick(s, 0, 255);
     c->explore_seed = (uint32_t)pick(s, 1, UINT32_MAX);
     c->save_period_s = (uint16_t)pick(s, 0, 3);
+    c->umbmark_runs = (uint8_t)pick(s, 1, 50);
+    c->umbmark_pause_s = (uint16_t)pick(s, 1, 3); /* so UMBmark's runs begin within a run */
 }
 
 /* The wheels roll about as the duty says, with noise; now and then an encoder jumps by up

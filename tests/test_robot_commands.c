@@ -171,6 +171,7 @@ static void test_mode_and_calibration_run(void **state)
 {
     (void)state;
     cfg.explore_mode = EXPLORE_OFF;
+    cfg.umbmark_pause_s = 1u;
     assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
     run(50);
     assert_true(standing());
@@ -182,15 +183,36 @@ static void test_mode_and_calibration_run(void **state)
     assert_int_equal(robot.cfg.explore_mode, EXPLORE_RANDOM);
     assert_true(robot.pose.x_um > 10000 || robot.pose.heading != 0u);
 
+    /* The calibration run: UMBmark, the pose correction off, odometry put back at the
+     * start pose as the first run begins, after the pause (1 s here). */
+    assert_true(robot.loc.on);
     send(TELEM_CMD_STOP, NULL, 0u);
     send(TELEM_CMD_CALIBRATE, NULL, 0u); /* also drives again */
-    run(150);
+    run(60);
     replies_t r = replies();
     assert_int_equal(r.acks, 2u);
     assert_int_equal(r.cmd, TELEM_CMD_CALIBRATE);
-    assert_int_equal(robot.explore.mode, ROBOT_CALIBRATION_MODE);
+    assert_int_equal(robot.cfg.explore_mode, ROBOT_CALIBRATION_MODE);
+    assert_int_equal(ROBOT_CALIBRATION_MODE, EXPLORE_UMBMARK);
+    assert_true(robot.umbmark.on);
+    assert_false(robot.loc.on);
     assert_int_equal(robot.hold & ROBOT_HOLD_STOP, 0u);
+    assert_true(standing());
+    assert_int_equal(robot.umbmark.run, 0u);
+    run(100);
+    assert_int_equal(robot.umbmark.run, 1u);
+    assert_int_equal(robot.umbmark.state, UMB_LEG);
     assert_false(standing());
+    assert_true(robot.pose.x_um > 0 && robot.pose.x_um < 100000);
+    assert_true(robot.pose.y_um > -2000 && robot.pose.y_um < 2000);
+
+    /* Back to exploring: the correction is on again, from scratch. */
+    const uint8_t tm = EXPLORE_TM;
+    send(TELEM_CMD_MODE, &tm, 1u);
+    run(200);
+    assert_false(robot.umbmark.on);
+    assert_true(robot.loc.on);
+    assert_int_equal(robot.explore.mode, EXPLORE_TM);
 }
 
 static void test_send_map_restarts_the_rows(void **state)

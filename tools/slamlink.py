@@ -91,6 +91,7 @@ KEYS = [
     (45, "square_laps", "U8", 1), (46, "explore_seed", "U32", 1),
     (47, "save_period_s", "U16", 1), (48, "localize", "U8", 0),
     (49, "ping_interval_ticks", "U8", 0), (50, "follow_um", "U32", 1),
+    (51, "umbmark_runs", "U8", 1), (52, "umbmark_pause_s", "U16", 1),
 ]
 KEY_IDS = {name: k for k, name, _, _ in KEYS}
 KEY_BY_ID = {k: (name, typ, live) for k, name, typ, live in KEYS}

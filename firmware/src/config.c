@@ -62,6 +62,8 @@ static const slam_config_t slam_config_defaults = {
     .explore_seed = 1u,
     .save_period_s = 60u,
     .localize = 1u,
+    .umbmark_runs = 5u,
+    .umbmark_pause_s = 90u,
 };
 
 void slam_config_default(slam_config_t *cfg)
@@ -246,6 +248,12 @@ static const char *first_bad_field(const slam_config_t *c)
     }
     if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
         return "follow_um";
+    }
+    if (!in_range_u(c->umbmark_runs, 1u, 50u)) {
+        return "umbmark_runs";
+    }
+    if (!in_range_u(c->umbmark_pause_s, 1u, 3600u)) {
+        return "umbmark_pause_s";
     }
     return NULL;
 }

@@ -23,13 +23,20 @@ void odom_init(odom_t *o, const slam_config_t *cfg, uint16_t left, uint16_t righ
             (q48_16_t)fix_muldiv_u64(dc_per_eb, 1u << 17, counts * cfg->wheel_base_um);
     }
 
-    o->x_um = (q48_16_t)cfg->start_x_um * FIX_Q16_ONE;
-    o->y_um = (q48_16_t)cfg->start_y_um * FIX_Q16_ONE;
-    o->heading_q16 = (uint64_t)fix_bam_from_mdeg(cfg->start_heading_mdeg) << 16;
+    const odom_pose_t start = {cfg->start_x_um, cfg->start_y_um,
+                               fix_bam_from_mdeg(cfg->start_heading_mdeg)};
+    odom_set_pose(o, &start);
     o->last_count[ODOM_LEFT] = left;
     o->last_count[ODOM_RIGHT] = right;
     o->step_um[ODOM_LEFT] = 0;
     o->step_um[ODOM_RIGHT] = 0;
+}
+
+void odom_set_pose(odom_t *o, const odom_pose_t *p)
+{
+    o->x_um = (q48_16_t)p->x_um * FIX_Q16_ONE;
+    o->y_um = (q48_16_t)p->y_um * FIX_Q16_ONE;
+    o->heading_q16 = (uint64_t)p->heading << 16;
 }
 
 /* Counts moved since the last reading of a wrapping 16-bit counter, in [-32768, 32767]. */

@@ -22,6 +22,8 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     mapper_init(&r->mapper, cfg);
     loc_init(&r->loc, cfg);
     explore_init(&r->explore, cfg);
+    umbmark_init(&r->umbmark, cfg);
+    r->loc.on = r->loc.on && !r->umbmark.on; /* UMBmark measures odometry itself */
     motion_init(&r->motion, cfg);
     grid_init(&r->grid, cfg);
     r->pose = odom_pose(&r->odom);
@@ -113,7 +115,15 @@ void robot_tick(robot_t *r)
      * waits where it is and the robot comes to a stand. */
     int32_t target_mm_s[2] = {0, 0};
     bool hold = r->hold != 0u;
-    if (!hold) {
+    if (hold) {
+        /* stand */
+    } else if (r->umbmark.on) {
+        if (umbmark_step(&r->umbmark, &odom, target_mm_s)) {
+            /* A run begins where the robot has been put: the start pose. */
+            odom_set_pose(&r->odom, &r->umbmark.start);
+            r->pose = r->umbmark.start;
+        }
+    } else {
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
                      motion_stalled(&r->motion), target_mm_s);
     }

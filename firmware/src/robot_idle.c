@@ -54,6 +54,14 @@ static void robot_reconfigure(robot_t *r, bool reseed)
     e->leaves = leaves;
     e->doors = doors;
     e->seeks = seeks;
+    /* Into or out of the UMBmark test: the pose correction starts afresh (the hits it
+     * held back are dropped), off while the test runs and puts odometry back at every run. */
+    bool was = r->umbmark.on;
+    umbmark_init(&r->umbmark, &r->cfg);
+    if (was != r->umbmark.on) {
+        loc_init(&r->loc, &r->cfg);
+        r->loc.on = r->loc.on && !r->umbmark.on;
+    }
     hal_critical_exit(irq);
 }
 

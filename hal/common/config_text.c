@@ -48,6 +48,7 @@ static const field_t fields[] = {
     F(explore_seed, T_U32),           F(save_period_s, T_U16),
     F(localize, T_U8),
     F(ping_interval_ticks, T_U8),     F(follow_um, T_U32),
+    F(umbmark_runs, T_U8),            F(umbmark_pause_s, T_U16),
 };
 #undef F
 #define NFIELDS (sizeof fields / sizeof fields[0])
@@ -100,7 +101,7 @@ static const struct {
     {"accel_mm_s2", "10..50000"},
     {"motion_kp_q8", "0..2048"},
     {"motion_ki_q8", "0..2048"},
-    {"explore_mode", "0..4 (off, random, tm, square, walls)"},
+    {"explore_mode", "0..5 (off, random, tm, square, walls, umbmark)"},
     {"cruise_mm_s", "1..5000, at most top_speed_mm_s"},
     {"turn_mm_s", "1..5000, at most top_speed_mm_s"},
     {"avoid_um", "50000..4000000"},
@@ -112,6 +113,8 @@ static const struct {
     {"localize", "0..1 (1: the pose corrected against OM)"},
     {"ping_interval_ticks", "1..255"},
     {"follow_um", "50000..2000000, above clearance_um"},
+    {"umbmark_runs", "1..50 (runs each way)"},
+    {"umbmark_pause_s", "1..3600 (standing still before and after each run)"},
 };
 
 static int field_index(const char *key)

@@ -164,11 +164,13 @@ void sim_params_default(sim_params_t *p)
     };
 }
 
+/* The systematic errors are an uncalibrated hobby robot's (hal/host/README.md says from
+ * what); the firmware's shipped calibration, host_sim/calibration/, is UMBmark's of them. */
 void sim_errors_default(sim_errors_t *e)
 {
     *e = (sim_errors_t){
-        .wheel_ratio_ed = 1.0002,
-        .wheel_base_eb = 1.002,
+        .wheel_ratio_ed = 1.005,
+        .wheel_base_eb = 1.03,
         .slip_per_mps2 = 0.3,
         .slip_free_mps2 = 0.5,
         .wheel_noise = 0.01,

@@ -133,6 +133,32 @@ static void test_encoders_count_rotation_and_wrap(void **state)
     sim_destroy(s);
 }
 
+/* A person carrying the robot back to its start (UMBmark's experimenter): the encoders
+ * keep their counts, the wheels stand, and it drives on from there. */
+static void test_place_keeps_the_encoders(void **state)
+{
+    (void)state;
+    sim_t *s = test_ideal_world(&big);
+    drive(s, 500, 800, 200);
+    drive(s, 0, 0, 100);
+    uint16_t left = sim_encoder_count(s, HAL_WHEEL_LEFT);
+    uint16_t right = sim_encoder_count(s, HAL_WHEEL_RIGHT);
+    assert_true(left != 0u && right != left);
+    assert_int_equal(sim_place(s, 1.0, -2.0, 0.5), 0);
+    sim_truth_t t = sim_truth(s);
+    assert_true(t.x == 1.0 && t.y == -2.0 && t.th == 0.5);
+    assert_true(t.wheel_mps[0] == 0.0 && t.wheel_mps[1] == 0.0);
+    assert_int_equal(sim_encoder_count(s, HAL_WHEEL_LEFT), left);
+    assert_int_equal(sim_encoder_count(s, HAL_WHEEL_RIGHT), right);
+    drive(s, 0, 0, 10);
+    t = sim_truth(s);
+    assert_true(t.x == 1.0 && t.y == -2.0 && t.th == 0.5);
+    drive(s, 500, 500, 100); /* straight on along its new heading */
+    t = sim_truth(s);
+    assert_true(t.x > 1.0 && fabs(atan2(t.y + 2.0, t.x - 1.0) - 0.5) < 1e-6);
+    sim_destroy(s);
+}
+
 static void test_ideal_odometry_matches_truth(void **state)
 {
     (void)state;
@@ -555,6 +581,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_motor_first_order),
         cmocka_unit_test(test_encoders_count_rotation_and_wrap),
+        cmocka_unit_test(test_place_keeps_the_encoders),
         cmocka_unit_test(test_ideal_odometry_matches_truth),
         cmocka_unit_test(test_unequal_wheels_curve_the_path),
         cmocka_unit_test(test_wheel_base_error_scales_turns),

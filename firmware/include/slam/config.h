@@ -39,6 +39,7 @@ typedef enum {
     EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
     EXPLORE_SQUARE = 3, /**< drive a square, counter-clockwise (odometry tests) */
     EXPLORE_WALLS = 4,  /**< follow what is met on the right; leave for the least visited way */
+    EXPLORE_UMBMARK = 5, /**< the UMBmark test that calibrates odometry (umbmark.h) */
     EXPLORE_MODES
 } explore_mode_t;
 
@@ -125,6 +126,10 @@ typedef struct {
                                       late echo of one ping is read as the next) */
     uint32_t follow_um;          /**< walls mode: distance from the axle to what it follows;
                                       300 mm */
+    /* Calibration (umbmark.h): the UMBmark test on the square of square_side_um. */
+    uint8_t umbmark_runs;     /**< runs in each direction, 1..50; 5 (Borenstein & Feng) */
+    uint16_t umbmark_pause_s; /**< standing still before and after each run, to measure
+                                   and put the robot back, 1..3600 s; 90 */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */

@@ -64,6 +64,12 @@ enum { ODOM_LEFT = 0, ODOM_RIGHT = 1 };
 void odom_init(odom_t *o, const slam_config_t *cfg, uint16_t left, uint16_t right);
 
 /**
+ * Put the pose somewhere (the start pose, when the robot has been put back there); the
+ * gains and the counters' reference stay: the next step counts from the last. ISR-safe.
+ */
+void odom_set_pose(odom_t *o, const odom_pose_t *p);
+
+/**
  * One odometry step from the encoder counters now (Eq. 8-12). ISR-safe, O(1).
  * @param left, right  raw 16-bit counters, increasing when the wheel rolls forward
  */

@@ -27,6 +27,7 @@
 #include "slam/odometry.h"
 #include "slam/sweep.h"
 #include "slam/telemetry.h"
+#include "slam/umbmark.h"
 
 /** All state of the robot's firmware. */
 typedef struct {
@@ -36,6 +37,7 @@ typedef struct {
     mapper_t mapper;       /**< Algorithm C.1 */
     loc_t loc;             /**< pose correction; readings mapped by robot_idle() */
     explore_t explore;     /**< where to go */
+    umbmark_t umbmark;     /**< the calibration test, instead of exploring (EXPLORE_UMBMARK) */
     motion_t motion;       /**< wheel speed control */
     grid_t grid;           /**< OM and TM */
     odom_pose_t pose;      /**< the pose after the last tick's odometry step */
@@ -60,10 +62,12 @@ typedef struct {
 #define ROBOT_HOLD_STOP 0x04u
 
 /**
- * What the calibration run (the CALIBRATE command) drives: the square of square_side_um
- * and square_laps, counter-clockwise, from where the robot stands.
+ * What the calibration run (the CALIBRATE command) drives: the UMBmark test (umbmark.h),
+ * umbmark_runs squares of square_side_um each way from the configured start pose, where
+ * a person puts the robot during the pause before each run. While it runs the pose is
+ * odometry alone (the correction of localize.h is off: odometry is what it measures).
  */
-#define ROBOT_CALIBRATION_MODE EXPLORE_SQUARE
+#define ROBOT_CALIBRATION_MODE EXPLORE_UMBMARK
 
 /**
  * Check the configuration and start the robot: motors off, pose at the configured start,

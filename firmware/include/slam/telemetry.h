@@ -167,10 +167,12 @@ typedef enum {
     X(47, save_period_s, U16, 1)                                                                \
     X(48, localize, U8, 0)                                                                      \
     X(49, ping_interval_ticks, U8, 0)                                                           \
-    X(50, follow_um, U32, 1)
+    X(50, follow_um, U32, 1)                                                                    \
+    X(51, umbmark_runs, U8, 1)                                                                  \
+    X(52, umbmark_pause_s, U16, 1)
 
 /** The highest key id. */
-#define TELEM_CONFIG_KEY_MAX 50u
+#define TELEM_CONFIG_KEY_MAX 52u
 /** Keys the robot itself sets: MODE and CALIBRATE set explore_mode; a new explore_seed
  *  restarts the exploration's random stream. */
 #define TELEM_KEY_EXPLORE_MODE 39u

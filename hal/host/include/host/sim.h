@@ -231,7 +231,8 @@ typedef struct {
 } sim_errors_t;
 
 void sim_params_default(sim_params_t *p);
-void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario */
+void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario:
+                                               an uncalibrated hobby robot */
 void sim_errors_ideal(sim_errors_t *e);   /**< every error source off */
 
 /**
@@ -299,7 +300,9 @@ sim_truth_t sim_truth(const sim_t *s);
 sim_ping_t sim_last_ping(const sim_t *s);
 
 /**
- * Put the robot somewhere else (tests, scenarios): wheels stopped, contact cleared.
+ * Put the robot somewhere else (tests, scenarios, UMBmark's experimenter carrying it back
+ * to the start): wheels stopped, contact cleared; the encoders keep their counts, as when
+ * a person lifts the robot and sets it down.
  * @return 0, or -1 when its body disc there touches an obstacle (nothing changes)
  */
 int sim_place(sim_t *s, double x, double y, double th);

@@ -1,0 +1,166 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""tools/umbmark.py: the formulas against their first-order model and a worked example
+computed by hand, the signs proven by
+simulation (a robot with a known E_d and E_b gets them back from its own UMBmark, both
+ways of each), a calibration in force composed, and bad input answered with file:line and
+exit 2, nothing written."""
+import math
+import os
+import subprocess
+import sys
+
+from simtest import Sim, check
+
+sim = Sim()
+tool = os.path.join(sim.src, "tools", "umbmark.py")
+sys.path.insert(0, os.path.join(sim.src, "tools"))
+import umbmark  # noqa: E402
+
+
+def run_tool(*args):
+    return subprocess.run(["/usr/bin/python3", tool] + [str(a) for a in args],
+                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def write(name, text):
+    path = sim.out(name)
+    with open(path, "w") as f:
+        f.write(text)
+    return path
+
+
+def keys(text):
+    out = {}
+    for line in text.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if "=" in line:
+            k, v = (s.strip() for s in line.split("=", 1))
+            out[k] = float(v)
+    return out
+
+
+# ---- the command line ---------------------------------------------------------------------
+p = run_tool("--help")
+check(p.returncode == 0 and "usage: tools/umbmark.py" in p.stdout and "Borenstein" in p.stdout
+      and "Exit status" in p.stdout, "--help: usage, sources and exit status")
+p = run_tool()
+check(p.returncode == 2, "no arguments: the usage, exit 2")
+p = run_tool("--template")
+lines = [s for s in p.stdout.splitlines() if s and not s.startswith("#")]
+check(p.returncode == 0 and lines[0] == "direction,x_mm,y_mm" and lines.count("cw,,") == 5
+      and lines.count("ccw,,") == 5, "--template: a header and five empty runs each way")
+
+# ---- the formulas against the first-order model they invert ---------------------------------
+L, b = 2000.0, 130.0
+alpha, beta = math.radians(1.5), math.radians(-0.8)
+model = {"cw": [(-2 * L * (alpha + beta), -2 * L * (alpha + beta))] * 5,
+         "ccw": [(-2 * L * (alpha - beta), 2 * L * (alpha - beta))] * 5}
+a = umbmark.analyse(model, L, b)
+R = (L / 2) / math.sin(beta / 2)
+check(abs(a["alpha_deg"] - 1.5) < 1e-9 and abs(a["beta_deg"] + 0.8) < 1e-9
+      and abs(a["alpha_x_deg"] - a["alpha_y_deg"]) < 1e-9,
+      "alpha and beta come back from the model, the x and y forms alike (%.6f, %.6f deg)"
+      % (a["alpha_deg"], a["beta_deg"]))
+e_b = 90.0 / 88.5
+e_d = (R + b * e_b / 2) / (R - b * e_b / 2)
+check(abs(a["e_b"] - e_b) < 1e-12 and abs(a["e_d"] - e_d) < 1e-12 and a["e_d"] < 1.0,
+      "E_b = 90/(90 - alpha) = %.6f, E_d = (R + b/2)/(R - b/2) = %.6f (legs curving right: "
+      "the left wheel larger)" % (a["e_b"], a["e_d"]))
+check(abs(a["cal"][0] - 2 / (e_d + 1)) < 1e-12 and abs(a["cal"][1] - 2 / (1 / e_d + 1)) < 1e-12
+      and abs(a["cal"][2] - e_b) < 1e-12, "c_L = 2/(E_d + 1), c_R = 2/(1/E_d + 1), cal_base = E_b")
+check(abs(a["e_max_syst"] - max(math.hypot(*model["cw"][0]), math.hypot(*model["ccw"][0]))) < 1e-9,
+      "E_max,syst is the larger distance of the two centres of gravity (%.1f mm)" % a["e_max_syst"])
+a2 = umbmark.analyse(model, L, b, cal=(0.99, 1.01, 1.02))
+check(abs(a2["cal"][0] - 0.99 * a2["c_l"]) < 1e-12 and abs(a2["cal"][2] - 1.02 * a2["e_b"]) < 1e-12,
+      "on top of a calibration in force, the factors multiply")
+
+# ---- a worked example, computed by hand ----------------------------------------------------
+# L = 1000 mm, b = 100 mm. cw runs (-30, -30) and (-50, -50): centre (-40, -40), r = 40 sqrt 2
+# = 56.569 mm; ccw runs (-10, 10) and (-30, 30): centre (-20, 20), r = 28.284 mm.
+# alpha = (-40 + -20) / -4000 = 0.015 rad from x, (-40 - 20) / -4000 = 0.015 from y: 0.859437 deg.
+# beta = (-40 - -20) / -4000 = 0.005 rad from x, (-40 + 20) / -4000 = 0.005 from y: 0.286479 deg.
+# E_b = 90 / (90 - 0.859437) = 1.009641; b = 100 E_b = 100.9641 mm.
+# R = 500 / sin(0.0025) = 200000.21 mm; E_d = (R + 50.482) / (R - 50.482) = 1.000505.
+# c_L = 2 / 2.000505 = 0.999748, c_R = 2 / (1 / 1.000505 + 1) = 1.000252.
+hand = write("hand.csv", "direction,x_mm,y_mm\ncw,-30,-30\ncw,-50,-50\nccw,-10,10\nccw,-30,30\n")
+p = run_tool(hand, "--side-mm", 1000, "--base-mm", 100)
+got = keys(p.stdout)
+h = umbmark.calibrate(hand, side_mm=1000.0, base_mm=100.0)[0]
+# (figure: value by hand, within the digits written down)
+expect = {"e_max_syst": (56.569, 5e-4), "r_ccw": (28.284, 5e-4), "alpha_deg": (0.859437, 5e-7),
+          "beta_deg": (0.286479, 5e-7), "e_b": (1.009641, 5e-7), "radius_mm": (200000.21, 5e-3),
+          "e_d": (1.000505, 5e-7)}
+bad_figures = ["%s %.7f, by hand %g" % (k, h[k], v) for k, (v, tol) in expect.items()
+               if abs(h[k] - v) > tol]
+check(p.returncode == 0 and not bad_figures and "E_max,syst = 56.6 mm" in p.stdout
+      and abs(got["cal_left"] - 0.999748) < 1e-6 and abs(got["cal_right"] - 1.000252) < 1e-6
+      and abs(got["cal_base"] - 1.009641) < 1e-6,
+      "a worked example: the tool's figures and lines agree with the hand computation %s\n%s"
+      % (bad_figures, p.stdout))
+
+# ---- the signs, by simulation: the tape measures what a known robot does --------------------
+for ed, eb in ((1.004, 1.02), (0.996, 0.98)):
+    out = sim.out("umb-%g-%g" % (ed, eb))
+    sim.run("--explore", "umbmark", "--ideal", "--error", "ed=%g" % ed, "--error", "eb=%g" % eb,
+            "--set", "square_side_um=1500000", "--set", "umbmark_pause_s=1", "--duration", 3000,
+            "--out", out)
+    p = run_tool(os.path.join(out, "umbmark.csv"), "--config", os.path.join(out, "config.txt"))
+    got = keys(p.stdout)
+    est = umbmark.calibrate(os.path.join(out, "umbmark.csv"), os.path.join(out, "config.txt"))[0]
+    # Within a tenth of each error: what the first-order formulas and a +-5 mm tape allow.
+    check(p.returncode == 0 and abs(est["e_d"] - ed) < 0.1 * abs(ed - 1)
+          and abs(est["e_b"] - eb) < 0.1 * abs(eb - 1)
+          and abs(got["cal_base"] - est["e_b"]) < 1e-6,
+          "a robot with E_d %g and E_b %g: UMBmark measures %.5f and %.5f" % (ed, eb, est["e_d"],
+                                                                            est["e_b"]))
+
+# ---- a real robot's configuration, and --out ----------------------------------------------
+runs = write("runs.csv", "# measured by hand\ndirection,x_mm,y_mm\ncw,-120,-95\ncw,-131,-88\n"
+                         "\nCCW , 40, -30 # a comment\nccw,35,-41\n")
+conf = write("robot.conf", "gpio_chip = pinctrl-bcm2711  # a Linux robot's key\n"
+                           "square_side_um = 1200000\nwheel_base_um = 140000\n"
+                           "cal_left = 1.0\ncal_right = 1.0\ncal_base = 1.01\n")
+dest = sim.out("cal.conf")
+p = run_tool(runs, "--config", conf, "--out", dest)
+with open(dest) as f:
+    written = f.read()
+check(p.returncode == 0 and written == p.stdout.replace("# written to %s\n" % dest, "")
+      and "L = 1200 mm" in written and "b = 140.0 mm" in written
+      and "(Borenstein & Feng drive 5 each way)" in written
+      and set(keys(written)) == {"cal_left", "cal_right", "cal_base"},
+      "robot.conf gives L, b and the calibration in force; --out holds what was printed")
+p = run_tool(runs, "--side-mm", 1200)
+check(p.returncode == 0 and keys(p.stdout)["cal_base"] != keys(written)["cal_base"],
+      "--side-mm without a configuration: no calibration in force")
+
+# ---- bad input: the file and line, exit 2, nothing written --------------------------------
+bad = [
+    ("cw,1,2\nccw,3\n", "bad.csv:2:", "expected 'cw|ccw,x_mm,y_mm'"),
+    ("cw,1,2\nup,3,4\n", "bad.csv:2:", "neither cw nor ccw"),
+    ("cw,1,2\nccw,three,4\n", "bad.csv:2:", "x_mm 'three' is not a number"),
+    ("cw,1,nan\nccw,3,4\n", "bad.csv:1:", "not a finite number"),
+    ("cw,,\nccw,3,4\n", "bad.csv:1:", "missing"),
+    ("cw,1,2\ndirection,x_mm,y_mm\nccw,3,4\n", "bad.csv:2:", "header must come before"),
+    ("cw,1,2\ncw,3,4\n", "bad.csv:", "no ccw runs"),
+    ("cw,-900000,10\nccw,5,5\n", "bad.csv:", "small angles"),
+]
+with open(dest) as f:
+    before = f.read()
+for text, where, what in bad:
+    path = write("bad.csv", text)
+    p = run_tool(path, "--side-mm", 1500, "--out", dest)
+    with open(dest) as f:
+        same = f.read() == before
+    check(p.returncode == 2 and where in p.stderr and what in p.stderr and same
+          and "Traceback" not in p.stderr,
+          "bad runs: %s" % p.stderr.strip())
+for args, what in (((runs,), "side of the square is unknown"),
+                   ((runs, "--side-mm", "-3"), "--side-mm must be a positive"),
+                   ((runs, "--bogus"), "unknown option"),
+                   ((sim.out("nothing.csv"), "--side-mm", 1), "cannot read"),
+                   ((runs, "--config", write("c.conf", "square_side_um 100\n")), "c.conf:1:")):
+    p = run_tool(*args)
+    check(p.returncode == 2 and what in p.stderr and "Traceback" not in p.stderr,
+          "bad options: %s" % p.stderr.strip().splitlines()[0])
+sim.done()
