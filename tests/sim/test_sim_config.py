@@ -2,7 +2,9 @@
 # SPDX-License-Identifier: MIT
 """host_sim's firmware configuration: one source of truth.
 
-The --config file's values stand unless an option sets them; two options that set one
+The configuration is built in one order, a later one overriding an earlier one: the
+calibration file, the --config file, the options given, each --set. The --config file's
+values stand unless an option sets them; two options that set one
 value differently are refused; a key given twice is refused (in a file or with --set);
 what the banner and metrics.json report is what the firmware ran with; and every seed is
 its own run, even with every error source off.
@@ -118,4 +120,33 @@ for seed in (0, 1, 2, 3, 4294967296):
 for a, b in ((0, 1), (2, 3), (1, 4294967296)):
     check(logs[a] != logs[b] and logs["cfg%d" % a] != logs["cfg%d" % b],
           "--ideal --seed %d and %d: different exploration seeds and runs" % (a, b))
+# The order: the calibration file, then --config, then --set, each later one overriding.
+def near(c, key, value):
+    return abs(float(c[key]) - value) < 1e-4
+
+
+cal = write("order-cal.conf", "cal_left = 0.99\ncal_right = 1.01\ncal_base = 1.02\n")
+conf = write("order.conf", "cal_left = 0.98\n")
+out = sim.out("order-cal")
+sim.run("--calibration", cal, "--duration", 5, "--out", out)
+c = config_of(out)
+check(near(c, "cal_left", 0.99) and near(c, "cal_right", 1.01) and near(c, "cal_base", 1.02),
+      "the calibration file's values reach the firmware")
+out = sim.out("order-all")
+sim.run("--calibration", cal, "--config", conf, "--set", "cal_base=1.01", "--duration", 5,
+        "--out", out)
+c = config_of(out)
+check(near(c, "cal_left", 0.98) and near(c, "cal_right", 1.01) and near(c, "cal_base", 1.01),
+      "--config overrides the calibration file, --set overrides both")
+out = sim.out("order-default")
+sim.run("--config", conf, "--duration", 5, "--out", out)
+c = config_of(out)
+check(near(c, "cal_left", 0.98) and near(c, "cal_right", 1.002575),
+      "--config overrides the default robot's calibration key by key")
+bad = write("bad-cal.conf", "cal_right = 1.0\ncal_left = 2\n")
+p = sim.run("--calibration", bad, "--out", sim.out("never"), expect=2)
+check("bad-cal.conf:2" in p.stderr and "cal_left" in p.stderr and
+      not os.path.exists(sim.out("never")),
+      "a calibration value out of range: exit 2, naming the file's line and key")
+
 sim.done()
