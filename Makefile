@@ -16,8 +16,10 @@ FUZZ_SEED ?= 1000
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
 COMPARE_ARGS ?=
+FUZZ_SECONDS ?= 60
 
-.PHONY: help sim calibrate test bench fuzz-core report compare trace deps deps-sim deps-firmware firmware flash debug linux clean \
+.PHONY: help sim calibrate test bench fuzz fuzz-core report compare trace deps deps-sim deps-firmware \
+        deps-fuzz firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
 help:
@@ -35,6 +37,7 @@ help:
 	@echo "make compare   the firmware's mapper beside OctoMap on the same logs: P/R/F1 and"
 	@echo "               instructions per reading (installs OctoMap; tools/compare.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
+	@echo "make fuzz      the parsers' libFuzzer targets (clang), FUZZ_SECONDS each (default 60)"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
 	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash); BOARD= as above"
@@ -50,6 +53,9 @@ deps-sim:
 
 deps-firmware:
 	@tools/install-deps.sh firmware
+
+deps-fuzz:
+	@tools/install-deps.sh fuzz
 
 sim: deps-sim
 	cmake --preset host
@@ -84,6 +90,13 @@ trace: build-host
 	build/host/host_sim/host_sim --duration 60 --seed 1 --set start_cell_a=80 \
 	    --set start_cell_b=80 --trace tests/data/default_room_60s.trace \
 	    --out out/trace --no-plot --quiet
+
+# The fuzz targets of tests/fuzz, built with clang's libFuzzer and run one after another;
+# what they find stays in build/fuzz/corpus, a crash in build/fuzz/artifacts.
+fuzz: deps-fuzz
+	cmake --preset fuzz
+	cmake --build --preset fuzz -j $(JOBS)
+	tools/fuzz.py --seconds $(FUZZ_SECONDS)
 
 $(addprefix build-,$(TEST_PRESETS)): build-%: deps
 	cmake --preset $*

@@ -113,11 +113,36 @@ char *fmt_fixed(char *out, double v, int decimals, char sep);
  */
 const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
 
-/** Open DIR/NAME for writing; NULL with a message on stderr when it fails. */
+/**
+ * Open DIR/NAME (or the path NAME when dir is NULL) for writing. A regular file (or a new
+ * one) is written under a temporary name beside it and takes its name only at
+ * outputs_commit(), so a run that fails leaves the earlier file as it was; a device or a
+ * pipe is written in place.
+ * @return the file, or NULL with a message on stderr
+ */
 FILE *open_out(const char *dir, const char *name);
 
 /** Close a file opened by open_out(); -1 with a message when the write failed. */
 int close_out(FILE *f, const char *dir, const char *name);
+
+/** Give every file open_out() wrote its name; -1 with a message when one could not. */
+int outputs_commit(void);
+
+/** Remove the temporary files of open_out(), and the folders make_dirs() created if they
+ *  are empty: the earlier outputs stay as they were. */
+void outputs_discard(void);
+
+/**
+ * Check, changing nothing, that an output folder can be written: it is a writable
+ * directory (none of @p names, a NULL-terminated list, being there as anything but a
+ * regular file), or the nearest existing folder above it is one.
+ * @param what  the option, for the message ("--out")
+ * @return 0, or -1 with a message naming the option and the path
+ */
+int check_out_dir(const char *what, const char *dir, const char *const *names);
+
+/** The same for an output file: not a directory, writable, in a writable folder. */
+int check_out_file(const char *what, const char *path);
 
 /** Create a directory and its parents; -1 with a message on stderr. */
 int make_dirs(const char *path);
@@ -139,6 +164,7 @@ typedef struct {
     uint64_t seed;
     double cell_mm;
     int explore;
+    bool has_seed, has_cell, has_explore; /* given on the command line */
     const char *out;
     bool ideal;
     bool paper;
@@ -166,8 +192,31 @@ extern const char *const explore_names[EXPLORE_MODES];
 /** Parse the command line (--help prints and exits); 0, or EXIT_USAGE with a message. */
 int parse_options(int argc, char **argv, options_t *o);
 
+/**
+ * Every output path of a run, checked before anything is written (check_out_dir(),
+ * check_out_file()): --out, --trace, --telemetry, and that no two of them name one file.
+ * @return 0, or -1 with a message
+ */
+int check_outputs(const options_t *o);
+
 /** One --error NAME=VALUE onto the error levels; 0, or -1 with a message. */
 int apply_error(sim_errors_t *e, const char *nv);
+
+/**
+ * The run's firmware configuration (config.c): defaults, then the --config file, then
+ * what the options set (--paper, --cell, --explore, --seed, then each --set in turn), then the
+ * scenario's start pose (sx, sy in m, sth in rad) and the grid placement (the room in the
+ * middle of the grid, unless start_cell_a/b were set). Refused with a message naming the
+ * option, or the file, line and key: a value two options set differently, a key given
+ * twice, a start pose in the file that is not the scenario's, a room that does not fit
+ * the grid, any value slam_config_check() refuses (with its valid range).
+ * @return 0, or -1 with a message
+ */
+int build_config(const options_t *o, const room_t *room, double sx, double sy, double sth,
+                 slam_config_t *cfg);
+
+/** The firmware's explore_seed for a run's --seed: distinct for seeds 0 .. 2^32 - 3. */
+uint32_t explore_seed_of(uint64_t seed);
 
 /* Units: the firmware's µm and binary angles from metres and radians, and back. */
 static inline int32_t to_um(double m)
@@ -300,6 +349,32 @@ int commands_load(const char *path, commands_t *c);
 void commands_feed(commands_t *c, uint64_t tick);
 
 void commands_free(commands_t *c);
+
+/** One row of a readings.csv, as the replay maps it. */
+typedef struct {
+    double servo_deg;       /**< -360..360 */
+    bool echo;              /**< an echo (status ok, far or near); else a timeout */
+    double range_m;         /**< 0..1000 with an echo; 0 */
+    double x_m, y_m;        /**< odometry pose of the ping, within 1 km */
+    double th_rad;          /**< within ±1000 rad */
+} replay_row_t;
+
+typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
+
+/**
+ * Read a readings.csv: its header (the columns of CSV_READINGS_HEADER, found by name, in
+ * any order among others), then every row, each checked whole (the numbers within the
+ * ranges above, a status of ok, far, near or timeout, a range only with an echo) and
+ * handed to @p fn in order.
+ * @param name  the file's name, for messages
+ * @return 0, or -1 with "NAME:LINE: what is wrong" in err (an empty file, a NUL byte, a
+ *         line of 512 characters or more, a wrong header, a malformed row)
+ */
+int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
+                size_t errlen);
+
+/** A row as the robot's tick posted its reading: micrometres, binary angles. */
+loc_reading_t replay_reading(const replay_row_t *row);
 
 /* ---- the UMBmark experimenter (experimenter.c) ------------------------------------------ */
 

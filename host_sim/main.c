@@ -23,78 +23,6 @@ static const double PI = HOST_SIM_PI;
 #define TRAJECTORY_EVERY 10u     /* trajectory.csv: one row per 0.1 s */
 #define COVERAGE_EVERY 1000u     /* the coverage series: one point per 10 s */
 
-static int build_config(const options_t *o, const room_t *room, double sx, double sy,
-                        double sth, slam_config_t *cfg)
-{
-    slam_config_default(cfg);
-    char err[512];
-    if (o->calibration != NULL && cfgtext_load(o->calibration, cfg, NULL, NULL, err, sizeof err) != 0) {
-        fprintf(stderr, "host_sim: --calibration: %s\n", err);
-        return -1;
-    }
-    if (o->config != NULL && cfgtext_load(o->config, cfg, NULL, NULL, err, sizeof err) != 0) {
-        fprintf(stderr, "host_sim: %s\n", err);
-        return -1;
-    }
-    if (o->paper) {
-        slam_config_paper(cfg);
-    }
-    cfg->cell_um = (uint32_t)lround(o->cell_mm * 1000.0);
-    cfg->explore_mode = (uint8_t)o->explore;
-    cfg->explore_seed = (uint32_t)(o->seed ^ (o->seed >> 32)) | 1u;
-    bool start_cell_set = false;
-    for (size_t i = 0; i < o->nsets; i++) {
-        char key[64];
-        const char *eq = strchr(o->sets[i], '=');
-        size_t len = (size_t)(eq - o->sets[i]);
-        if (len >= sizeof key) {
-            fprintf(stderr, "host_sim: --set: key too long\n");
-            return -1;
-        }
-        memcpy(key, o->sets[i], len);
-        key[len] = '\0';
-        if (cfgtext_set(cfg, key, eq + 1, err, sizeof err) != 0) {
-            fprintf(stderr, "host_sim: --set: %s\n", err);
-            return -1;
-        }
-        start_cell_set |= strncmp(key, "start_cell_", 11) == 0;
-    }
-    cfg->start_x_um = to_um(sx);
-    cfg->start_y_um = to_um(sy);
-    cfg->start_heading_mdeg = (int32_t)lround(remainder(sth, 2.0 * PI) * 180000.0 / PI);
-    /* Put the middle of the room at the middle of the grid, unless the start cell was set
-     * (to record a trace for a robot with a smaller grid, say). */
-    double cell = cfg->cell_um * 1e-6;
-    double cx = (room->min_x + room->max_x) / 2.0;
-    double cy = (room->min_y + room->max_y) / 2.0;
-    long a0 = (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
-    long b0 = (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
-    if (start_cell_set) {
-        a0 = cfg->start_cell_a;
-        b0 = cfg->start_cell_b;
-    }
-    double ox = sx - (double)a0 * cell - cell / 2.0;
-    double oy = sy - (double)b0 * cell - cell / 2.0;
-    if (a0 < 0 || b0 < 0 || a0 >= (long)SLAM_GRID_A || b0 >= (long)SLAM_GRID_B ||
-        ox > room->min_x || oy > room->min_y || ox + SLAM_GRID_A * cell < room->max_x ||
-        oy + SLAM_GRID_B * cell < room->max_y) {
-        fprintf(stderr,
-                "host_sim: the room (%.1f x %.1f m) does not fit the %ux%u grid of %.0f mm "
-                "cells (%.1f x %.1f m): use a larger --cell or a smaller --crop\n",
-                room->max_x - room->min_x, room->max_y - room->min_y, (unsigned)SLAM_GRID_A,
-                (unsigned)SLAM_GRID_B, cell * 1e3, SLAM_GRID_A * cell, SLAM_GRID_B * cell);
-        return -1;
-    }
-    cfg->start_cell_a = (uint16_t)a0;
-    cfg->start_cell_b = (uint16_t)b0;
-    const char *bad = NULL;
-    if (slam_config_check(cfg, &bad) != SLAM_OK) {
-        fprintf(stderr, "host_sim: configuration: %s is out of its valid range\n", bad);
-        return -1;
-    }
-    return 0;
-}
-
 /* The robot as built matches the firmware's nominal configuration; the error levels make
  * the real one differ. */
 static void build_params(const slam_config_t *cfg, sim_params_t *p)
@@ -296,53 +224,119 @@ static double wall_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-int main(int argc, char **argv)
+/* The start pose must lie inside the room: rays in eight directions all meet a wall. */
+static int check_enclosed(const options_t *o, const room_t *room, double sx, double sy)
 {
-    options_t o;
-    int rc = parse_options(argc, argv, &o);
-    if (rc != 0) {
-        return rc;
+    double dir_deg = 0.0;
+    if (room_encloses(room, sx, sy, &dir_deg)) {
+        return 0;
     }
-    if (o.replay != NULL) {
-        return replay(&o);
+    char who[1100];
+    if (o->has_start) {
+        snprintf(who, sizeof who, "--start %g %g", sx, sy);
+    } else if (room->start_line != 0u) {
+        snprintf(who, sizeof who, "%s:%u: start pose (%g, %g)", o->room, room->start_line, sx, sy);
+    } else {
+        snprintf(who, sizeof who, "%s: start pose (%g, %g)", o->room, sx, sy);
     }
+    fprintf(stderr, "host_sim: %s is outside the room: a ray toward %.0f deg meets no wall\n",
+            who, dir_deg);
+    return -1;
+}
 
-    /* Everything that can be wrong with the input is checked before anything is written. */
+/* What a run holds; freed in one place whatever happened. */
+typedef struct {
     room_t room;
+    sim_t *sim;
+    FILE *readings, *trajectory, *trace, *telemetry;
+    run_t *r;
+    uint8_t *bufs, *scratch;
+    post_sweep_t *ps;
+    commands_t commands;
+    experimenter_t tape;
+} held_t;
+
+static void release(held_t *h)
+{
+    hal_host_uart_sink(NULL);
+    if (h->trace != NULL) {
+        hal_host_trace(NULL);
+        fclose(h->trace);
+    }
+    if (h->telemetry != NULL) {
+        fclose(h->telemetry);
+    }
+    if (h->readings != NULL) {
+        fclose(h->readings);
+    }
+    if (h->trajectory != NULL) {
+        fclose(h->trajectory);
+    }
+    if (h->tape.csv != NULL) {
+        fclose(h->tape.csv);
+    }
+    hal_host_attach(NULL);
+    if (h->r != NULL && h->r->estimates != NULL) {
+        fclose(h->r->estimates);
+    }
+    free(h->ps);
+    free(h->scratch);
+    free(h->bufs);
+    free(h->r);
+    sim_destroy(h->sim);
+    room_free(&h->room);
+    commands_free(&h->commands);
+}
+
+/* A write error in a file being written as the robot runs: say which, once. */
+static bool write_failed(FILE *f, const char *name)
+{
+    if (f != NULL && ferror(f)) {
+        fprintf(stderr, "host_sim: writing %s failed: %s\n", name, strerror(errno));
+        return true;
+    }
+    return false;
+}
+
+/* Checks the input, then the outputs, then runs: 0, EXIT_USAGE or 1. */
+static int run(options_t *o, held_t *h)
+{
+    /* Everything that can be wrong with the input is checked before anything is written. */
     char err[1024];
-    if (room_load(&room, o.room, o.has_crop ? &o.crop : NULL, err, sizeof err) != 0) {
+    if (room_load(&h->room, o->room, o->has_crop ? &o->crop : NULL, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
     }
+    room_t *room = &h->room;
     sim_params_t params;
     sim_params_default(&params);
-    double sx = room.start_x;
-    double sy = room.start_y;
-    double sth = room.start_th;
-    if (o.has_start) {
-        sx = o.start_x;
-        sy = o.start_y;
-        sth = o.start_deg * PI / 180.0;
-        if (!room_disc_free(&room, sx, sy, params.body_radius_m)) {
-            fprintf(stderr, "host_sim: --start %.3f %.3f is inside or against an obstacle\n", sx, sy);
-            room_free(&room);
+    double sx = room->start_x;
+    double sy = room->start_y;
+    double sth = room->start_th;
+    if (o->has_start) {
+        sx = o->start_x;
+        sy = o->start_y;
+        sth = o->start_deg * PI / 180.0;
+        if (!room_disc_free(room, sx, sy, params.body_radius_m)) {
+            fprintf(stderr, "host_sim: --start %g %g is inside or against an obstacle\n", sx, sy);
             return EXIT_USAGE;
         }
-    } else if (!room.has_start &&
-               room_find_start(&room, params.body_radius_m + 0.05, &sx, &sy, &sth) != 0) {
-        fprintf(stderr, "host_sim: %s: no free start pose; give one with --start\n", o.room);
-        room_free(&room);
+    } else if (!room->has_start &&
+               room_find_start(room, params.body_radius_m + 0.05, &sx, &sy, &sth) != 0) {
+        fprintf(stderr, "host_sim: %s: no free start pose; give one with --start\n", o->room);
+        return EXIT_USAGE;
+    }
+    if (check_enclosed(o, room, sx, sy) != 0) {
         return EXIT_USAGE;
     }
     sim_errors_t errors;
-    if (o.ideal) {
+    if (o->ideal) {
         sim_errors_ideal(&errors);
     } else {
         sim_errors_default(&errors);
     }
-    for (size_t i = 0; i < o.nerrors; i++) {
-        if (apply_error(&errors, o.errors[i]) != 0) {
-            room_free(&room);
+    for (size_t i = 0; i < o->nerrors; i++) {
+        if (apply_error(&errors, o->errors[i]) != 0) {
             return EXIT_USAGE;
         }
     }
@@ -350,94 +344,100 @@ int main(int argc, char **argv)
      * one with other wheels. */
     sim_errors_t defaults;
     sim_errors_default(&defaults);
-    if (o.calibration == NULL) {
-        bool default_robot = !o.ideal && errors.wheel_ratio_ed == defaults.wheel_ratio_ed &&
+    if (o->calibration == NULL) {
+        bool default_robot = !o->ideal && errors.wheel_ratio_ed == defaults.wheel_ratio_ed &&
                              errors.wheel_base_eb == defaults.wheel_base_eb;
-        o.calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
-    } else if (strcmp(o.calibration, "none") == 0) {
-        o.calibration = NULL;
+        o->calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
+    } else if (strcmp(o->calibration, "none") == 0) {
+        o->calibration = NULL;
     }
     slam_config_t cfg;
-    if (build_config(&o, &room, sx, sy, sth, &cfg) != 0) {
-        room_free(&room);
+    if (build_config(o, room, sx, sy, sth, &cfg) != 0) {
         return EXIT_USAGE;
     }
-    commands_t commands = {0};
-    if (o.commands != NULL && (rc = commands_load(o.commands, &commands)) != 0) {
-        room_free(&room);
-        return rc;
+    /* One source of truth: what the report says is what the firmware runs with. */
+    o->cell_mm = cfg.cell_um / 1000.0;
+    o->explore = cfg.explore_mode;
+    if (o->commands != NULL) {
+        int rc = commands_load(o->commands, &h->commands);
+        if (rc != 0) {
+            return rc;
+        }
     }
     build_params(&cfg, &params);
     /* The world starts the robot at the room's start pose: the one chosen above. */
-    room.start_x = sx;
-    room.start_y = sy;
-    room.start_th = sth;
+    room->start_x = sx;
+    room->start_y = sy;
+    room->start_th = sth;
     const char *bad_param = NULL;
     if (sim_params_check(&params, &errors, &bad_param) != 0) {
         fprintf(stderr, "host_sim: the simulated robot refuses %s\n", bad_param);
-        room_free(&room);
         return EXIT_USAGE;
     }
-    sim_t *sim = sim_create(&room, &params, &errors, o.seed);
-    if (sim == NULL) {
-        fprintf(stderr, "host_sim: the robot does not fit at the start pose (%.3f, %.3f)\n", sx, sy);
-        room_free(&room);
+    h->sim = sim_create(room, &params, &errors, o->seed);
+    if (h->sim == NULL) {
+        fprintf(stderr, "host_sim: the robot does not fit at the start pose (%g, %g)\n", sx, sy);
+        return EXIT_USAGE;
+    }
+    if (check_outputs(o) != 0) {
         return EXIT_USAGE;
     }
 
-    if (make_dirs(o.out) != 0) {
-        room_free(&room);
+    /* From here on only a failure while running can go wrong: exit 1, and every file of
+     * --out that was there before stays as it was. */
+    size_t ncells = (size_t)SLAM_GRID_CELLS;
+    h->r = calloc(1, sizeof *h->r);
+    h->bufs = calloc(9u, ncells);
+    h->scratch = calloc(2u, SLAM_GRID_A);
+    h->ps = calloc(1, sizeof *h->ps);
+    if (h->r == NULL || h->bufs == NULL || h->scratch == NULL || h->ps == NULL) {
+        fprintf(stderr, "host_sim: out of memory\n");
         return 1;
     }
-    FILE *cfgf = open_out(o.out, "config.txt");
+    if (make_dirs(o->out) != 0) {
+        return 1;
+    }
+    FILE *cfgf = open_out(o->out, "config.txt");
     if (cfgf == NULL) {
-        room_free(&room);
         return 1;
     }
     fprintf(cfgf, "# firmware configuration of this run (host_sim --replay reads it)\n");
     cfgtext_write(cfgf, &cfg);
-    if (close_out(cfgf, o.out, "config.txt") != 0) {
-        room_free(&room);
+    if (close_out(cfgf, o->out, "config.txt") != 0) {
         return 1;
     }
-    FILE *readings = open_out(o.out, "readings.csv");
-    FILE *trajectory = open_out(o.out, "trajectory.csv");
-    FILE *trace = NULL;
-    if (o.trace != NULL) {
-        trace = fopen(o.trace, "w");
-        if (trace == NULL) {
-            fprintf(stderr, "host_sim: cannot write %s: %s\n", o.trace, strerror(errno));
-        }
-    }
-    FILE *telemetry = NULL;
-    if (o.telemetry != NULL) {
-        telemetry = fopen(o.telemetry, "wb");
-        if (telemetry == NULL) {
-            fprintf(stderr, "host_sim: cannot write %s: %s\n", o.telemetry, strerror(errno));
-        }
-    }
-    run_t *r = calloc(1, sizeof *r);
-    size_t ncells = (size_t)SLAM_GRID_CELLS;
-    uint8_t *bufs = calloc(9u, ncells);
-    uint8_t *scratch = calloc(2u, SLAM_GRID_A);
-    if (readings == NULL || trajectory == NULL || (o.trace != NULL && trace == NULL) ||
-        (o.telemetry != NULL && telemetry == NULL) || r == NULL || bufs == NULL ||
-        scratch == NULL) {
-        fprintf(stderr, "host_sim: cannot start the run (out of memory, or an output file)\n");
+    h->readings = open_out(o->out, "readings.csv");
+    h->trajectory = open_out(o->out, "trajectory.csv");
+    if (h->readings == NULL || h->trajectory == NULL) {
         return 1;
     }
+    if (o->trace != NULL && (h->trace = open_out(NULL, o->trace)) == NULL) {
+        return 1;
+    }
+    if (o->telemetry != NULL) {
+        /* Written as it goes, in place: a viewer may be following the file. */
+        h->telemetry = fopen(o->telemetry, "wb");
+        if (h->telemetry == NULL) {
+            fprintf(stderr, "host_sim: cannot write %s: %s\n", o->telemetry, strerror(errno));
+            return 1;
+        }
+    }
+    FILE *readings = h->readings;
+    FILE *trajectory = h->trajectory;
+    run_t *r = h->r;
     fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
     fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
-    if (o.scoring) {
-        r->estimates = open_out(o.out, "scoring_estimate.csv");
+    if (o->scoring) {
+        r->estimates = open_out(o->out, "scoring_estimate.csv");
         if (r->estimates == NULL) {
             return 1;
         }
         fprintf(r->estimates, "%s\n", CSV_ESTIMATE_HEADER);
     }
 
+    sim_t *sim = h->sim;
     hal_host_attach(sim);
-    if (o.storage != NULL) {
+    if (o->storage != NULL) {
         /* Room for a record of this grid: the robot now saves its maps every
          * save_period_s, and stands still while a save begins, as a real one does. */
         hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
@@ -449,15 +449,16 @@ int main(int argc, char **argv)
     }
     grid_init(&ideal_grid, &cfg);
     mapper_init(&ideal_mapper, &cfg);
-    if (trace != NULL) {
-        trace_write_header(trace, &cfg);
-        hal_host_trace(trace);
+    if (h->trace != NULL) {
+        trace_write_header(h->trace, &cfg);
+        hal_host_trace(h->trace);
     }
-    if (telemetry != NULL) {
-        setvbuf(telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
-        hal_host_uart_sink(telemetry);
+    if (h->telemetry != NULL) {
+        setvbuf(h->telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
+        hal_host_uart_sink(h->telemetry);
     }
 
+    uint8_t *bufs = h->bufs;
     r->geom = map_geom_of(&robot.grid);
     r->truth = bufs;
     r->observable = bufs + ncells;
@@ -468,12 +469,12 @@ int main(int argc, char **argv)
     uint8_t *work = bufs + 6u * ncells;
     r->wall = bufs + 7u * ncells;
     r->wall_seen = bufs + 8u * ncells;
-    room_rasterize(&room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
+    room_rasterize(room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
                    r->geom.b, r->truth);
     grid_cell_t start;
     (void)grid_cell_of(&robot.grid, cfg.start_x_um, cfg.start_y_um, &start);
-    reachable_cells(&room, &params, r, grid_index(start));
-    if (walls_init(r, &room, &params, cfg.confidence_radius_um * 1e-6, grid_index(start)) != 0) {
+    reachable_cells(room, &params, r, grid_index(start));
+    if (walls_init(r, room, &params, cfg.confidence_radius_um * 1e-6, grid_index(start)) != 0) {
         fprintf(stderr, "host_sim: out of memory\n");
         return 1;
     }
@@ -482,20 +483,20 @@ int main(int argc, char **argv)
     r->last_y = sy;
     r->marked_x = r->marked_y = INFINITY;
 
-    uint64_t ticks = (uint64_t)llround(o.duration_s / TICK_S);
+    uint64_t ticks = (uint64_t)llround(o->duration_s / TICK_S);
     /* UMBmark says how far it is itself, a line a run. */
-    bool progress = !o.quiet && isatty(STDERR_FILENO) && o.explore != EXPLORE_UMBMARK;
-    experimenter_t tape;
-    experimenter_init(&tape, o.out, o.seed, sx, sy, sth, o.quiet);
+    bool progress = !o->quiet && isatty(STDERR_FILENO) && o->explore != EXPLORE_UMBMARK;
+    experimenter_t *tape = &h->tape;
+    experimenter_init(tape, o->out, o->seed, sx, sy, sth, o->quiet);
     int tape_rc = 0;
     double t0 = wall_now();
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
-        commands_feed(&commands, k);
+        commands_feed(&h->commands, k);
         robot_idle(&robot); /* the robot's background loop runs between ticks */
         /* UMBmark: a run measured and the robot carried back; the run ends after the last. */
-        tape_rc = experimenter_tick(&tape, sim, &robot);
+        tape_rc = experimenter_tick(tape, sim, &robot);
         if (tape_rc == 2 || tape_rc < 0) {
             ticks = k + 1u;
         }
@@ -504,8 +505,13 @@ int main(int argc, char **argv)
             r->last_x = sx; /* carried, not driven: no path */
             r->last_y = sy;
         }
-        if (o.realtime) {
-            double ahead = (double)(k + 1u) * TICK_S / o.realtime_factor - (wall_now() - t0);
+        if (k % 1024u == 0u &&
+            (write_failed(h->telemetry, o->telemetry) || write_failed(h->trace, o->trace) ||
+             write_failed(readings, "readings.csv") || write_failed(trajectory, "trajectory.csv"))) {
+            return 1;
+        }
+        if (o->realtime) {
+            double ahead = (double)(k + 1u) * TICK_S / o->realtime_factor - (wall_now() - t0);
             if (ahead > 0.0) {
                 struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
                 nanosleep(&ts, NULL);
@@ -516,7 +522,7 @@ int main(int argc, char **argv)
             int bar = (int)(done * 30.0);
             double w = wall_now() - t0;
             fprintf(stderr, "\r  simulating %7.1f s / %.0f s [%-30.*s] %3.0f%%  %6.0fx real time ",
-                    (double)(k + 1u) * TICK_S, o.duration_s, bar,
+                    (double)(k + 1u) * TICK_S, o->duration_s, bar,
                     "##############################", done * 100.0,
                     w > 0 ? (double)(k + 1u) * TICK_S / w : 0.0);
         }
@@ -525,91 +531,111 @@ int main(int argc, char **argv)
     if (progress) {
         fprintf(stderr, "\n");
     }
-    if (telemetry != NULL) {
+    int bad = 0;
+    if (h->telemetry != NULL) {
         hal_host_uart_sink(NULL);
-        if (fclose(telemetry) != 0) {
-            fprintf(stderr, "host_sim: writing %s failed\n", o.telemetry);
-            return 1;
+        bad |= write_failed(h->telemetry, o->telemetry) ? -1 : 0;
+        if (fclose(h->telemetry) != 0 && bad == 0) {
+            fprintf(stderr, "host_sim: writing %s failed: %s\n", o->telemetry, strerror(errno));
+            bad = -1;
         }
+        h->telemetry = NULL;
     }
-    if (trace != NULL) {
+    if (h->trace != NULL) {
         hal_host_trace(NULL); /* writes the end line */
-        if (fclose(trace) != 0) {
-            fprintf(stderr, "host_sim: writing %s failed\n", o.trace);
-            return 1;
-        }
+        bad |= close_out(h->trace, NULL, o->trace);
+        h->trace = NULL;
     }
-    int bad = close_out(readings, o.out, "readings.csv") | close_out(trajectory, o.out, "trajectory.csv");
+    bad |= close_out(readings, o->out, "readings.csv");
+    bad |= close_out(trajectory, o->out, "trajectory.csv");
+    h->readings = h->trajectory = NULL;
     if (r->estimates != NULL) {
-        bad |= close_out(r->estimates, o.out, "scoring_estimate.csv");
+        bad |= close_out(r->estimates, o->out, "scoring_estimate.csv");
+        r->estimates = NULL;
     }
-    bad |= experimenter_close(&tape) | (tape_rc < 0);
+    bad |= experimenter_close(tape) | (tape_rc < 0 ? -1 : 0);
+    if (bad != 0) {
+        return 1;
+    }
 
     /* The hits still held back for matching belong in the map too (a replay does the same). */
     loc_flush(&robot.loc, &robot.mapper, &robot.grid);
 
     chain_scores_t odo;
     chain_scores_t ideal;
-    score_chain(r, robot.grid.om, &cfg, post, scratch, &odo);
-    score_chain(r, ideal_grid.om, &cfg, ideal_post, scratch, &ideal);
-    post_sweep_t *ps = calloc(1, sizeof *ps);
-    if (ps == NULL) {
-        return 1;
-    }
-    sweep_post(r, robot.grid.om, &cfg, work, scratch, ps);
+    score_chain(r, robot.grid.om, &cfg, post, h->scratch, &odo);
+    score_chain(r, ideal_grid.om, &cfg, ideal_post, h->scratch, &ideal);
+    post_sweep_t *ps = h->ps;
+    sweep_post(r, robot.grid.om, &cfg, work, h->scratch, ps);
 
     /* Every map in the one trinary meaning (hal_common/mapexport.h); TM as counts. */
     const uint32_t A = r->geom.a;
     const uint32_t B = r->geom.b;
     mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, NULL, A, B, work);
-    bad |= write_map(o.out, "om", &r->geom, work, true);
+    bad |= write_map(o->out, "om", &r->geom, work, true);
     mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, post, A, B, work);
-    bad |= write_map(o.out, "om_post", &r->geom, work, true);
+    bad |= write_map(o->out, "om_post", &r->geom, work, true);
     mapx_trinary(cfg.om_mode, ideal_grid.om, ideal_grid.tm, NULL, A, B, work);
-    bad |= write_map(o.out, "om_ideal", &r->geom, work, true);
+    bad |= write_map(o->out, "om_ideal", &r->geom, work, true);
     mapx_counts(robot.grid.tm, cfg.tm_max, A, B, work);
-    bad |= write_map(o.out, "tm", &r->geom, work, false);
+    bad |= write_map(o->out, "tm", &r->geom, work, false);
     if (truth_image(&r->geom, r->truth, grid_index(start), work) != 0) {
         fprintf(stderr, "host_sim: out of memory\n");
         return 1;
     }
-    bad |= write_map(o.out, "truth", &r->geom, work, true);
-    if (o.scoring) {
+    bad |= write_map(o->out, "truth", &r->geom, work, true);
+    if (o->scoring) {
         /* What score_map() counts against, for a scorer outside this program
          * (tools/compare.py): black where a mask is set, the orientation of om.pgm. */
         mapx_counts(r->truth, 1u, A, B, work);
-        bad |= write_map(o.out, "scoring_truth", &r->geom, work, false);
+        bad |= write_map(o->out, "scoring_truth", &r->geom, work, false);
         mapx_counts(r->observable, 1u, A, B, work);
-        bad |= write_map(o.out, "scoring_observable", &r->geom, work, false);
+        bad |= write_map(o->out, "scoring_observable", &r->geom, work, false);
     }
-    bad |= write_metrics(&o, &room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
-    if (o.storage != NULL) {
-        bad |= write_storage(o.storage);
+    bad |= write_metrics(o, room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
+    if (o->storage != NULL) {
+        bad |= write_storage(o->storage);
     }
-    FILE *tf = open_out(o.out, "timing.json");
-    if (tf != NULL) {
-        fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
-                    "\"real_time_factor\": %.0f}\n",
-                wall_s, (unsigned long long)ticks, wall_s > 0 ? (double)ticks / wall_s : 0.0,
-                wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
-        bad |= close_out(tf, o.out, "timing.json");
+    FILE *tf = open_out(o->out, "timing.json");
+    if (tf == NULL) {
+        return 1;
     }
-    if (!o.quiet) {
-        print_summary(&o, r, &odo, &ideal, ps, wall_s, ticks, sim, &robot);
+    fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
+                "\"real_time_factor\": %.0f}\n",
+            wall_s, (unsigned long long)ticks, wall_s > 0 ? (double)ticks / wall_s : 0.0,
+            wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
+    bad |= close_out(tf, o->out, "timing.json");
+    if (bad != 0 || outputs_commit() != 0) {
+        return 1;
     }
-    if (o.plot && bad == 0) {
-        plot_figure(o.out, o.quiet);
+    if (!o->quiet) {
+        print_summary(o, r, &odo, &ideal, ps, wall_s, ticks, sim, &robot);
     }
-    if (commands.dropped != 0u) {
+    if (o->plot) {
+        plot_figure(o->out, o->quiet);
+    }
+    if (h->commands.dropped != 0u) {
         fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
-                o.commands, commands.dropped);
+                o->commands, h->commands.dropped);
     }
-    commands_free(&commands);
-    free(ps);
-    free(scratch);
-    free(bufs);
-    free(r);
-    sim_destroy(sim);
-    room_free(&room);
-    return bad ? 1 : 0;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    options_t o;
+    int rc = parse_options(argc, argv, &o);
+    if (rc != 0) {
+        return rc;
+    }
+    if (o.replay != NULL) {
+        return replay(&o);
+    }
+    static held_t held;
+    rc = run(&o, &held);
+    if (rc != 0) {
+        outputs_discard();
+    }
+    release(&held);
+    return rc;
 }

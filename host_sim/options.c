@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* host_sim's command line: the options, their checks, and --help. */
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -13,6 +14,17 @@
 #endif
 
 const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls", "umbmark"};
+
+/* murmur3's 32-bit finaliser: a bijection that scatters nearby values. */
+static uint32_t mix32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x85EBCA6Bu;
+    x ^= x >> 13;
+    x *= 0xC2B2AE35u;
+    x ^= x >> 16;
+    return x;
+}
 
 static void usage(FILE *f)
 {
@@ -30,27 +42,38 @@ static void usage(FILE *f)
         "                       become walls\n"
         "  --start X Y DEG      start pose (default: the room's, or a free spot)\n"
         "  --duration S         simulated seconds (default 600)\n"
-        "  --seed N             seed of every random error and of the exploration (default 1)\n"
-        "  --cell MM            grid cell size in mm (default 50)\n"
+        "  --seed N             seed of every random error and of the exploration (default 1;\n"
+        "                       sets explore_seed)\n"
+        "  --cell MM            grid cell size in mm (default 50; sets cell_um)\n"
         "  --explore MODE       walls | random | tm | square | umbmark | off (default\n"
-        "                       walls); umbmark: the calibration test, with a simulated\n"
-        "                       person who measures each run's return error (a tape,\n"
-        "                       +-5 mm) into umbmark.csv and puts the robot back; it ends\n"
-        "                       after the last run\n"
+        "                       walls; sets explore_mode); umbmark: the calibration test,\n"
+        "                       with a simulated person who measures each run's return\n"
+        "                       error (a tape, +-5 mm) into umbmark.csv and puts the robot\n"
+        "                       back; it ends after the last run\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
-        "  --error NAME=VALUE   one error level (repeatable): ed, eb (wheel diameter ratio,\n"
-        "                       wheel base ratio), slip (per m/s² beyond slip_free m/s²),\n"
-        "                       noise, sonar_noise (m), dropout, ghost, grazing (deg)\n"
+        "  --error NAME=VALUE   one error level (repeatable), within its range:\n"
+        "                       ed, eb 0.8..1.2 (wheel diameter ratio, wheel base ratio);\n"
+        "                       slip 0..1 per m/s² beyond slip_free 0..100 m/s²;\n"
+        "                       noise 0..0.5 (wheel travel, 1 sigma); sonar_noise 0..1 m;\n"
+        "                       dropout, ghost 0..1 (per ping); grazing 0..90 deg;\n"
+        "                       echo_stuck 0..10 per s (the echo line sticks high);\n"
+        "                       servo_lag 0..0.95 (share of the servo's speed lost);\n"
+        "                       servo_stall 0..10 per s (the horn stops); tick_miss\n"
+        "                       0..0.9 (per tick); encoder_stop 0..10 per s (a counter stops)\n"
         "  --calibration FILE   the firmware's odometry calibration (cal_left, cal_right,\n"
         "                       cal_base: key = value lines, as tools/umbmark.py writes them),\n"
         "                       or none. Default: host_sim/calibration/default_robot.conf,\n"
         "                       what make calibrate measured on the default robot; none\n"
         "                       with --ideal or another ed or eb (another robot)\n"
-        "  --config FILE        firmware configuration, key = value lines (after the\n"
-        "                       calibration)\n"
-        "  --set KEY=VALUE      one firmware configuration value (repeatable)\n"
+        "  --config FILE        firmware configuration, key = value lines\n"
+        "  --set KEY=VALUE      one firmware configuration value (repeatable); one that\n"
+        "                       disagrees with --cell or --explore is refused\n"
+        "                       The configuration is built in this order, a later one\n"
+        "                       overriding an earlier one: the calibration file, the\n"
+        "                       --config file, the options given (--paper, --seed, --cell,\n"
+        "                       --explore), each --set\n"
         "outputs:\n"
         "  --out DIR            output folder (default out/sim)\n"
         "  --trace FILE         also record the HAL trace of the run\n"
@@ -91,31 +114,50 @@ static int fail_usage(const char *fmt, ...)
     return EXIT_USAGE;
 }
 
-static bool parse_double(const char *s, double lo, double hi, double *out)
+typedef enum { NUM_OK, NUM_BAD, NUM_RANGE } num_t;
+
+/* A whole decimal number, nothing before or after it. */
+static num_t parse_double(const char *s, double lo, double hi, double *out)
 {
     char *end = NULL;
     errno = 0;
     double v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno != 0 || !isfinite(v) || v < lo || v > hi) {
-        return false;
+    if (end == s || *end != '\0' || isspace((unsigned char)*s) || isnan(v)) {
+        return NUM_BAD;
+    }
+    if (errno == ERANGE || !isfinite(v) || v < lo || v > hi) {
+        return NUM_RANGE;
     }
     *out = v;
-    return true;
+    return NUM_OK;
 }
 
-static bool parse_u64(const char *s, uint64_t *out)
+/* Digits only: strtoull would take " -1" as 2^64 - 1. */
+static num_t parse_u64(const char *s, uint64_t *out)
 {
+    if (!isdigit((unsigned char)*s)) {
+        return NUM_BAD;
+    }
     char *end = NULL;
     errno = 0;
-    if (*s == '-') {
-        return false;
-    }
     unsigned long long v = strtoull(s, &end, 10);
-    if (end == s || *end != '\0' || errno != 0) {
-        return false;
+    if (*end != '\0') {
+        return NUM_BAD;
+    }
+    if (errno == ERANGE) {
+        return NUM_RANGE;
     }
     *out = v;
-    return true;
+    return NUM_OK;
+}
+
+/* "OPTION: 'TEXT' is not a number" or "... is out of range LO..HI". */
+static int bad_number(const char *option, const char *text, num_t why, double lo, double hi)
+{
+    if (why == NUM_RANGE) {
+        return fail_usage("%s: '%.40s' is out of range %g..%g", option, text, lo, hi);
+    }
+    return fail_usage("%s: '%.40s' is not a number", option, text);
 }
 
 /* Takes the n arguments after an option; false if there are fewer, or if one of them is
@@ -162,8 +204,10 @@ int parse_options(int argc, char **argv, options_t *o)
             }
             double *v[4] = {&o->crop.x, &o->crop.y, &o->crop.w, &o->crop.h};
             for (int k = 0; k < 4; k++) {
-                if (!parse_double(argv[i - 3 + k], -1e6, 1e6, v[k])) {
-                    return fail_usage("--crop: '%s' is not a number", argv[i - 3 + k]);
+                num_t r = parse_double(argv[i - 3 + k], -ROOM_MAX_COORD_M, ROOM_MAX_COORD_M, v[k]);
+                if (r != NUM_OK) {
+                    return bad_number("--crop", argv[i - 3 + k], r, -ROOM_MAX_COORD_M,
+                                      ROOM_MAX_COORD_M);
                 }
             }
             if (o->crop.w <= 0.0 || o->crop.h <= 0.0) {
@@ -174,25 +218,47 @@ int parse_options(int argc, char **argv, options_t *o)
             if (!take(argc, argv, &i, 3)) {
                 return fail_usage("--start needs X Y DEG");
             }
-            if (!parse_double(argv[i - 2], -1e6, 1e6, &o->start_x) ||
-                !parse_double(argv[i - 1], -1e6, 1e6, &o->start_y) ||
-                !parse_double(argv[i], -360.0, 360.0, &o->start_deg)) {
-                return fail_usage("--start: expected X Y in metres and DEG in -360..360");
+            double *v[3] = {&o->start_x, &o->start_y, &o->start_deg};
+            const double lim[3] = {ROOM_MAX_COORD_M, ROOM_MAX_COORD_M, 360.0};
+            for (int k = 0; k < 3; k++) {
+                num_t r = parse_double(argv[i - 2 + k], -lim[k], lim[k], v[k]);
+                if (r != NUM_OK) {
+                    return bad_number("--start", argv[i - 2 + k], r, -lim[k], lim[k]);
+                }
             }
             o->has_start = true;
         } else if (strcmp(a, "--duration") == 0) {
-            if (!take(argc, argv, &i, 1) || !parse_double(argv[i], 0.01, 1e6, &o->duration_s)) {
+            if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--duration needs seconds between 0.01 and 1000000");
             }
+            num_t r = parse_double(argv[i], 0.01, 1e6, &o->duration_s);
+            if (r != NUM_OK) {
+                return bad_number("--duration", argv[i], r, 0.01, 1e6);
+            }
         } else if (strcmp(a, "--seed") == 0) {
-            if (!take(argc, argv, &i, 1) || !parse_u64(argv[i], &o->seed)) {
+            if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--seed needs a whole number >= 0");
             }
+            num_t r = parse_u64(argv[i], &o->seed);
+            if (r == NUM_RANGE) {
+                return fail_usage("--seed: '%.40s' is out of range 0..18446744073709551615", argv[i]);
+            }
+            if (r != NUM_OK) {
+                return fail_usage("--seed: '%.40s' is not a whole number >= 0", argv[i]);
+            }
+            o->has_seed = true;
         } else if (strcmp(a, "--cell") == 0) {
-            if (!take(argc, argv, &i, 1) || !parse_double(argv[i], 5.0, 1000.0, &o->cell_mm) ||
-                o->cell_mm != floor(o->cell_mm)) {
+            if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--cell needs whole millimetres between 5 and 1000");
             }
+            num_t r = parse_double(argv[i], 5.0, 1000.0, &o->cell_mm);
+            if (r != NUM_OK) {
+                return bad_number("--cell", argv[i], r, 5.0, 1000.0);
+            }
+            if (o->cell_mm != floor(o->cell_mm)) {
+                return fail_usage("--cell: '%.40s' is not whole millimetres", argv[i]);
+            }
+            o->has_cell = true;
         } else if (strcmp(a, "--explore") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--explore needs a mode");
@@ -204,9 +270,10 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%s' (random, tm, walls, square, umbmark, "
-                                  "off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%.40s' (random, tm, walls, square, "
+                                  "umbmark, off)", argv[i]);
             }
+            o->has_explore = true;
         } else if (strcmp(a, "--out") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--out needs a folder");
@@ -223,7 +290,7 @@ int parse_options(int argc, char **argv, options_t *o)
             }
             size_t *n = err ? &o->nerrors : &o->nsets;
             if (*n == HOST_SIM_MAX_SETS) {
-                return fail_usage("too many %s options", a);
+                return fail_usage("more than %u %s options", HOST_SIM_MAX_SETS, a);
             }
             (err ? o->errors : o->sets)[(*n)++] = argv[i];
         } else if (strcmp(a, "--config") == 0) {
@@ -260,8 +327,10 @@ int parse_options(int argc, char **argv, options_t *o)
             o->realtime = true;
             /* An optional factor: the next word, when it is not an option. */
             if (i + 1 < argc && strncmp(argv[i + 1], "--", 2) != 0) {
-                if (!parse_double(argv[++i], 0.1, 1000.0, &o->realtime_factor)) {
-                    return fail_usage("--realtime: FACTOR must be a number from 0.1 to 1000");
+                num_t r = parse_double(argv[++i], 0.1, 1000.0, &o->realtime_factor);
+                if (r != NUM_OK) {
+                    return fail_usage("--realtime FACTOR: '%.40s' is %s 0.1..1000", argv[i],
+                                      r == NUM_RANGE ? "out of range" : "not a number in");
                 }
             }
         } else if (strcmp(a, "--replay") == 0) {
@@ -282,39 +351,64 @@ int parse_options(int argc, char **argv, options_t *o)
     return 0;
 }
 
+/* The --error names, their fields and ranges: within what sim_params_check() takes. */
+static const struct {
+    const char *name;
+    size_t offset;
+    double lo, hi;
+} error_names[] = {
+    {"ed", offsetof(sim_errors_t, wheel_ratio_ed), 0.8, 1.2},
+    {"eb", offsetof(sim_errors_t, wheel_base_eb), 0.8, 1.2},
+    {"slip", offsetof(sim_errors_t, slip_per_mps2), 0.0, 1.0},
+    {"slip_free", offsetof(sim_errors_t, slip_free_mps2), 0.0, 100.0},
+    {"noise", offsetof(sim_errors_t, wheel_noise), 0.0, 0.5},
+    {"sonar_noise", offsetof(sim_errors_t, sonar_noise_m), 0.0, 1.0},
+    {"dropout", offsetof(sim_errors_t, sonar_dropout), 0.0, 1.0},
+    {"ghost", offsetof(sim_errors_t, sonar_ghost), 0.0, 1.0},
+    {"grazing", offsetof(sim_errors_t, grazing_deg), 0.0, 90.0},
+    {"echo_stuck", offsetof(sim_errors_t, echo_stuck_per_s), 0.0, 10.0},
+    {"servo_lag", offsetof(sim_errors_t, servo_lag), 0.0, 0.95},
+    {"servo_stall", offsetof(sim_errors_t, servo_stall_per_s), 0.0, 10.0},
+    {"tick_miss", offsetof(sim_errors_t, tick_miss), 0.0, 0.9},
+    {"encoder_stop", offsetof(sim_errors_t, encoder_stop_per_s), 0.0, 10.0},
+};
+
 /* --error NAME=VALUE onto the error levels. */
 int apply_error(sim_errors_t *e, const char *nv)
 {
-    static const struct {
-        const char *name;
-        size_t offset;
-        double lo, hi;
-    } names[] = {
-        {"ed", offsetof(sim_errors_t, wheel_ratio_ed), 0.8, 1.2},
-        {"eb", offsetof(sim_errors_t, wheel_base_eb), 0.8, 1.2},
-        {"slip", offsetof(sim_errors_t, slip_per_mps2), 0.0, 1.0},
-        {"slip_free", offsetof(sim_errors_t, slip_free_mps2), 0.0, 100.0},
-        {"noise", offsetof(sim_errors_t, wheel_noise), 0.0, 1.0},
-        {"sonar_noise", offsetof(sim_errors_t, sonar_noise_m), 0.0, 1.0},
-        {"dropout", offsetof(sim_errors_t, sonar_dropout), 0.0, 1.0},
-        {"ghost", offsetof(sim_errors_t, sonar_ghost), 0.0, 1.0},
-        {"grazing", offsetof(sim_errors_t, grazing_deg), 0.0, 90.0},
-    };
     const char *eq = strchr(nv, '=');
     size_t len = (size_t)(eq - nv);
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        if (strlen(names[i].name) == len && strncmp(nv, names[i].name, len) == 0) {
+    for (size_t i = 0; i < sizeof error_names / sizeof error_names[0]; i++) {
+        if (strlen(error_names[i].name) == len && strncmp(nv, error_names[i].name, len) == 0) {
             double v;
-            if (!parse_double(eq + 1, names[i].lo, names[i].hi, &v)) {
-                fprintf(stderr, "host_sim: --error %s: the value must lie in %g..%g\n",
-                        names[i].name, names[i].lo, names[i].hi);
+            num_t r = parse_double(eq + 1, error_names[i].lo, error_names[i].hi, &v);
+            if (r != NUM_OK) {
+                fprintf(stderr, "host_sim: --error %s: '%.40s' is %s %g..%g\n", error_names[i].name,
+                        eq + 1, r == NUM_BAD ? "not a number in" : "out of range",
+                        error_names[i].lo, error_names[i].hi);
                 return -1;
             }
-            memcpy((char *)e + names[i].offset, &v, sizeof v);
+            memcpy((char *)e + error_names[i].offset, &v, sizeof v);
             return 0;
         }
     }
-    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (ed, eb, slip, slip_free, "
-                    "noise, sonar_noise, dropout, ghost, grazing)\n", (int)len, nv);
+    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (", (int)(len > 40u ? 40u : len),
+            nv);
+    for (size_t i = 0; i < sizeof error_names / sizeof error_names[0]; i++) {
+        fprintf(stderr, "%s%s", i ? ", " : "", error_names[i].name);
+    }
+    fprintf(stderr, ")\n");
     return -1;
+}
+
+uint32_t explore_seed_of(uint64_t seed)
+{
+    /* A bijection of 32-bit words (murmur3's finaliser) applied to the low word mixed
+     * with a hash of the high one: seeds 0 .. 2^32 - 3 each get their own stream, and
+     * nearby seeds get unrelated ones. Zero is no xorshift state, so the seed that would
+     * map there (2^32 - 1) shares the stream of 2^32 - 2: the one collision below 2^32. */
+    uint32_t hi = (uint32_t)(seed >> 32);
+    uint32_t h = hi == 0u ? 0u : mix32(hi ^ 0x9E3779B9u);
+    uint32_t v = mix32(((uint32_t)seed ^ h) + 1u);
+    return v != 0u ? v : mix32(0xFFFFFFFFu);
 }

@@ -1,10 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* Output files of a run: directories, PGM maps with their ROS YAML, checked writes. */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* realpath */
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "hal_common/mapexport.h"
 #include "host_sim.h"
@@ -52,6 +53,11 @@ const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um)
     return range_um < s->range_min_um ? "near" : "ok";
 }
 
+/* The folders make_dirs() created, removed again when a run fails. */
+#define DIRS_MAX 16
+static char dirs[DIRS_MAX][4096];
+static size_t ndirs;
+
 int make_dirs(const char *path)
 {
     char buf[4096];
@@ -64,7 +70,11 @@ int make_dirs(const char *path)
         if (*p == '/' || *p == '\0') {
             char c = *p;
             *p = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+            if (mkdir(buf, 0777) == 0) {
+                if (ndirs < DIRS_MAX) {
+                    snprintf(dirs[ndirs++], sizeof dirs[0], "%s", buf);
+                }
+            } else if (errno != EEXIST) {
                 fprintf(stderr, "host_sim: cannot create %s: %s\n", buf, strerror(errno));
                 return -1;
             }
@@ -82,25 +92,260 @@ int make_dirs(const char *path)
     return 0;
 }
 
+/* ---- checks before anything is written -------------------------------------------------- */
+
+/* The directory part of a path ("." for a bare name). */
+static void dir_of(const char *path, char *out, size_t n)
+{
+    const char *slash = strrchr(path, '/');
+    if (slash == NULL) {
+        snprintf(out, n, ".");
+    } else if (slash == path) {
+        snprintf(out, n, "/");
+    } else {
+        snprintf(out, n, "%.*s", (int)(slash - path), path);
+    }
+}
+
+static int bad_output(const char *what, const char *path, const char *why, const char *more)
+{
+    fprintf(stderr, "host_sim: %s %s: %s%s\n", what, path, why, more != NULL ? more : "");
+    return -1;
+}
+
+/* A directory we may create files in. */
+static int writable_dir(const char *what, const char *path, const char *dir)
+{
+    struct stat st;
+    if (stat(dir, &st) != 0) {
+        fprintf(stderr, "host_sim: %s %s: %s: %s\n", what, path, dir, strerror(errno));
+        return -1;
+    }
+    if (!S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "host_sim: %s %s: %s is not a directory\n", what, path, dir);
+        return -1;
+    }
+    if (access(dir, W_OK | X_OK) != 0) {
+        fprintf(stderr, "host_sim: %s %s: cannot create files in %s: %s\n", what, path, dir,
+                strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+int check_out_dir(const char *what, const char *dir, const char *const *names)
+{
+    char buf[4096];
+    if (dir[0] == '\0' || strlen(dir) >= sizeof buf - 256u) {
+        return bad_output(what, dir, "not a usable folder name", NULL);
+    }
+    struct stat st;
+    if (stat(dir, &st) == 0) {
+        if (!S_ISDIR(st.st_mode)) {
+            return bad_output(what, dir, "exists and is not a directory", NULL);
+        }
+        if (writable_dir(what, dir, dir) != 0) {
+            return -1;
+        }
+        for (size_t i = 0; names != NULL && names[i] != NULL; i++) {
+            snprintf(buf, sizeof buf, "%s/%s", dir, names[i]);
+            if (stat(buf, &st) == 0 && !S_ISREG(st.st_mode)) {
+                return bad_output(what, dir, names[i], " is there and is not a regular file");
+            }
+        }
+        return 0;
+    }
+    if (errno != ENOENT && errno != ENOTDIR) {
+        return bad_output(what, dir, strerror(errno), NULL);
+    }
+    /* It will be created: the nearest existing folder above it must take new folders. */
+    snprintf(buf, sizeof buf, "%s", dir);
+    for (;;) {
+        char parent[4096];
+        dir_of(buf, parent, sizeof parent);
+        if (stat(parent, &st) == 0 || (errno != ENOENT && errno != ENOTDIR) ||
+            strcmp(parent, buf) == 0) {
+            return writable_dir(what, dir, parent);
+        }
+        snprintf(buf, sizeof buf, "%s", parent);
+    }
+}
+
+int check_out_file(const char *what, const char *path)
+{
+    struct stat st;
+    if (path[0] == '\0') {
+        return bad_output(what, "''", "an empty file name", NULL);
+    }
+    if (stat(path, &st) == 0) {
+        if (S_ISDIR(st.st_mode)) {
+            return bad_output(what, path, "is a directory", NULL);
+        }
+        if (access(path, W_OK) != 0) {
+            return bad_output(what, path, strerror(errno), NULL);
+        }
+        if (!S_ISREG(st.st_mode)) {
+            return 0; /* a device or a pipe is written in place */
+        }
+    } else if (errno != ENOENT && errno != ENOTDIR) {
+        return bad_output(what, path, strerror(errno), NULL);
+    }
+    char dir[4096];
+    dir_of(path, dir, sizeof dir);
+    return writable_dir(what, path, dir);
+}
+
+/* ---- the outputs of a run ---------------------------------------------------------------- */
+
+/* The files a run writes into --out. */
+static const char *const out_names[] = {
+    "config.txt", "readings.csv", "trajectory.csv", "metrics.json", "timing.json",
+    "om.pgm", "om.yaml", "om_post.pgm", "om_post.yaml", "om_ideal.pgm", "om_ideal.yaml",
+    "tm.pgm", "truth.pgm", "truth.yaml", "figure.png",
+    "scoring_truth.pgm", "scoring_observable.pgm", "scoring_estimate.csv", NULL,
+};
+
+/* A path with its folder resolved, to tell whether two options name the same file. */
+static void resolved(const char *path, char *out, size_t n)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    snprintf(dir, sizeof dir, "%.*s", slash == NULL ? 1 : (int)(slash - path),
+             slash == NULL ? "." : (slash == path ? "/" : path));
+    char *real = realpath(dir, NULL);
+    if (real != NULL) {
+        snprintf(out, n, "%s/%s", real, slash != NULL ? slash + 1 : path);
+        free(real);
+    } else {
+        snprintf(out, n, "%s", path);
+    }
+}
+
+int check_outputs(const options_t *o)
+{
+    static const char *const slots[] = {"slot0.bin", "slot1.bin", NULL};
+    if (check_out_dir("--out", o->out, out_names) != 0 ||
+        (o->storage != NULL && check_out_dir("--storage", o->storage, slots) != 0) ||
+        (o->trace != NULL && check_out_file("--trace", o->trace) != 0) ||
+        (o->telemetry != NULL && check_out_file("--telemetry", o->telemetry) != 0)) {
+        return -1;
+    }
+    char a[8192];
+    char b[8192];
+    const char *files[2] = {o->trace, o->telemetry};
+    const char *opts[2] = {"--trace", "--telemetry"};
+    for (int i = 0; i < 2; i++) {
+        if (files[i] == NULL) {
+            continue;
+        }
+        resolved(files[i], a, sizeof a);
+        if (i == 0 && files[1] != NULL) {
+            resolved(files[1], b, sizeof b);
+            if (strcmp(a, b) == 0) {
+                fprintf(stderr, "host_sim: --trace and --telemetry name the same file %s\n", a);
+                return -1;
+            }
+        }
+        for (size_t k = 0; out_names[k] != NULL; k++) {
+            char p[4400];
+            snprintf(p, sizeof p, "%s/%s", o->out, out_names[k]);
+            resolved(p, b, sizeof b);
+            if (strcmp(a, b) == 0) {
+                fprintf(stderr, "host_sim: %s %s is a file the run writes into --out\n", opts[i],
+                        files[i]);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* ---- files written whole or not at all ---------------------------------------------------- */
+
+#define OUT_MAX 32
+
+/* Files opened for writing: their temporary and their final names. */
+static struct {
+    char tmp[4096]; /* "" when written in place */
+    char final[4096];
+} outs[OUT_MAX];
+static size_t nouts;
+
+static void join(char *out, size_t n, const char *dir, const char *name)
+{
+    if (dir != NULL) {
+        snprintf(out, n, "%s/%s", dir, name);
+    } else {
+        snprintf(out, n, "%s", name);
+    }
+}
+
 FILE *open_out(const char *dir, const char *name)
 {
-    char path[4096];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *f = fopen(path, "wb");
-    if (f == NULL) {
-        fprintf(stderr, "host_sim: cannot write %s: %s\n", path, strerror(errno));
+    if (nouts == OUT_MAX) {
+        fprintf(stderr, "host_sim: more than %d output files\n", OUT_MAX);
+        return NULL;
     }
+    char *final = outs[nouts].final;
+    char *tmp = outs[nouts].tmp;
+    join(final, sizeof outs[0].final, dir, name);
+    struct stat st;
+    tmp[0] = '\0';
+    if (stat(final, &st) != 0 || S_ISREG(st.st_mode)) {
+        char d[4096];
+        dir_of(final, d, sizeof d);
+        const char *slash = strrchr(final, '/');
+        snprintf(tmp, sizeof outs[0].tmp, "%.3800s/.%.200s.tmp%ld", d,
+                 slash != NULL ? slash + 1 : final, (long)getpid());
+    }
+    FILE *f = fopen(tmp[0] != '\0' ? tmp : final, "wb");
+    if (f == NULL) {
+        fprintf(stderr, "host_sim: cannot write %s: %s\n", final, strerror(errno));
+        return NULL;
+    }
+    nouts++;
     return f;
 }
 
 int close_out(FILE *f, const char *dir, const char *name)
 {
     int bad = ferror(f);
+    int err = errno;
     if (fclose(f) != 0 || bad) {
-        fprintf(stderr, "host_sim: writing %s/%s failed\n", dir, name);
+        char path[4096];
+        join(path, sizeof path, dir, name);
+        fprintf(stderr, "host_sim: writing %s failed: %s\n", path, strerror(bad ? err : errno));
         return -1;
     }
     return 0;
+}
+
+int outputs_commit(void)
+{
+    int rc = 0;
+    for (size_t i = 0; i < nouts; i++) {
+        if (outs[i].tmp[0] != '\0' && rename(outs[i].tmp, outs[i].final) != 0) {
+            fprintf(stderr, "host_sim: cannot write %s: %s\n", outs[i].final, strerror(errno));
+            (void)unlink(outs[i].tmp);
+            rc = -1;
+        }
+    }
+    nouts = 0;
+    ndirs = 0;
+    return rc;
+}
+
+void outputs_discard(void)
+{
+    for (size_t i = 0; i < nouts; i++) {
+        if (outs[i].tmp[0] != '\0') {
+            (void)unlink(outs[i].tmp);
+        }
+    }
+    nouts = 0;
+    while (ndirs > 0) {
+        (void)rmdir(dirs[--ndirs]); /* only what this run created, and only if empty */
+    }
 }
 
 int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img,
@@ -114,8 +359,11 @@ int write_map(const char *dir, const char *name, const map_geom_t *g, const uint
     }
     fprintf(f, "P5\n%lu %lu\n255\n", (unsigned long)g->a, (unsigned long)g->b);
     fwrite(img, 1, (size_t)g->a * g->b, f);
-    if (close_out(f, dir, file) != 0 || !yaml) {
-        return yaml ? -1 : 0;
+    if (close_out(f, dir, file) != 0) {
+        return -1;
+    }
+    if (!yaml) {
+        return 0;
     }
     char text[512];
     if (mapx_yaml(text, sizeof text, file, g->cell_um, g->origin_x_um, g->origin_y_um) < 0) {

@@ -119,10 +119,12 @@ static void json_sweep(FILE *f, const post_sweep_t *ps)
             ps->best_th, ps->best_k, b->precision, b->recall, b->f1);
 }
 
-/* Grid cells an MCU would need to hold this room, plus a cell of margin each side. */
-static uint32_t cells_needed(double span_m, double cell_m)
+/* Grid cells an MCU would need to hold this room, plus a cell of margin each side. In
+ * whole micrometres: a quotient of doubles rounds differently with x87 (-m32). */
+static uint32_t cells_needed(double span_m, uint32_t cell_um)
 {
-    return (uint32_t)ceil(span_m / cell_m) + 2u;
+    uint64_t span_um = (uint64_t)llround(span_m * 1e6);
+    return (uint32_t)((span_um + cell_um - 1u) / cell_um) + 2u;
 }
 
 int write_metrics(const options_t *o, const room_t *room, const run_t *r,
@@ -225,8 +227,8 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
 
     double span_x = room->max_x - room->min_x;
     double span_y = room->max_y - room->min_y;
-    uint32_t na = cells_needed(span_x, r->geom.cell_m);
-    uint32_t nb = cells_needed(span_y, r->geom.cell_m);
+    uint32_t na = cells_needed(span_x, cfg->cell_um);
+    uint32_t nb = cells_needed(span_y, cfg->cell_um);
     size_t state = sizeof(robot_t) - 2u * (size_t)SLAM_GRID_CELLS;
     fprintf(f, "  \"ram\": {\"grid_a\": %u, \"grid_b\": %u, \"maps_bytes\": %lu, "
                "\"state_bytes\": %zu, \"total_bytes\": %lu}\n}\n",

@@ -2,6 +2,7 @@
 /* Tests of the configuration as text: round trip, every kind of bad input, file errors. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -54,7 +55,7 @@ static void test_round_trip_is_exact(void **state)
     slam_config_t d;
     slam_config_default(&d);
     char err[256] = "";
-    assert_int_equal(cfgtext_load(path, &d, NULL, NULL, err, sizeof err), 0);
+    assert_int_equal(cfgtext_load(path, &d, NULL, NULL, NULL, err, sizeof err), 0);
     assert_memory_equal(&c, &d, sizeof c);
 }
 
@@ -117,8 +118,10 @@ static void test_set_values_and_errors(void **state)
     assert_memory_equal(&c, &keep, sizeof c);
 }
 
-static int take_pins(void *ctx, const char *key, const char *value, char *err, size_t n)
+static int take_pins(void *ctx, const char *key, const char *value, unsigned line, char *err,
+                     size_t n)
 {
+    (void)line;
     int *count = ctx;
     if (strcmp(key, "gpio_chip") == 0) {
         (*count)++;
@@ -143,26 +146,149 @@ static void test_file_errors_name_file_and_line(void **state)
         {"\n\nom_max = lots\n", ":3: om_max = 'lots'"},
         {"nope = 1\n", ":1: unknown key 'nope'"},
         {"gpio_chip = gpiochip9\n", ":1: bad chip"},
-        {"wheel_base_um = 0\n", "wheel_base_um is out of its valid range"},
+        {"wheel_base_um = 0\n", ":1: wheel_base_um = 0 is out of its valid range: 50000..1000000"},
+        /* The check names the key, its value, its rule and the line that set it. */
+        {"sweep_first_mdeg = 65000\n\nsweep_stops = 1\n",
+         ":3: sweep_stops = 1 is out of its valid range: 1..16, and 1 only when "
+         "sweep_first_mdeg equals sweep_last_mdeg"},
+        /* A bad value the file did not set is named as such. */
+        {"om_mode = 0\nom_max = 2\npost_threshold = 3\n",
+         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"},
+        {"top_speed_mm_s = 150\n", ": cruise_mm_s = 200 is out of its valid range: 1..5000, at "
+                                   "most top_speed_mm_s (not set in the file)"},
+        /* A core key twice. */
+        {"wheel_base_um = 140000\n# again:\nwheel_base_um = 150000\n",
+         ":3: wheel_base_um is given twice (first on line 1)"},
+        /* Numbers beyond the type say so, not "not a number". */
+        {"wheel_base_um = 99999999999999999999999\n", ":1: wheel_base_um = '99999999999999999999999': "
+                                                   "out of range 0..4294967295"},
+        {"cal_left = 1e999\n", ":1: cal_left = '1e999': must lie between -2 and 2"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         write_file(cases[i].text);
         int count = 0;
         err[0] = '\0';
-        assert_int_equal(cfgtext_load(path, &c, take_pins, &count, err, sizeof err), -1);
+        assert_int_equal(cfgtext_load(path, &c, take_pins, &count, NULL, err, sizeof err), -1);
         if (strstr(err, cases[i].want) == NULL || strstr(err, path) == NULL) {
             fail_msg("case %zu: message '%s' lacks '%s'", i, err, cases[i].want);
         }
         assert_memory_equal(&c, &keep, sizeof c); /* nothing changed */
     }
-    assert_int_equal(cfgtext_load("/nonexistent/robot.conf", &c, NULL, NULL, err, sizeof err), -1);
+    assert_int_equal(cfgtext_load("/nonexistent/robot.conf", &c, NULL, NULL, NULL, err, sizeof err), -1);
     assert_non_null(strstr(err, "/nonexistent/robot.conf: cannot open"));
     /* Comments, blanks, spaces, and a backend's own key. */
     write_file("  # robot\n\n wheel_base_um=135000   # measured\ngpio_chip = gpiochip0\n");
     int count = 0;
-    assert_int_equal(cfgtext_load(path, &c, take_pins, &count, err, sizeof err), 0);
+    cfgtext_where_t where;
+    assert_int_equal(cfgtext_load(path, &c, take_pins, &count, &where, err, sizeof err), 0);
     assert_int_equal(c.wheel_base_um, 135000u);
     assert_int_equal(count, 1);
+    assert_int_equal(cfgtext_where_line(&where, "wheel_base_um"), 3u);
+    assert_int_equal(cfgtext_where_line(&where, "om_max"), 0u);
+    assert_int_equal(cfgtext_where_line(&where, "gpio_chip"), 0u); /* not a core key */
+}
+
+/* Text that is not a configuration: NUL bytes, endless lines, huge files, a directory. */
+static void test_not_text(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    slam_config_t keep = c;
+    char err[256] = "";
+    static const char nul[] = "om_max = 9\nwheel_base_um = 14\0000000\n";
+    assert_int_equal(cfgtext_parse("mem.conf", nul, sizeof nul - 1u, &c, NULL, NULL, NULL, err,
+                                   sizeof err),
+                     -1);
+    assert_non_null(strstr(err, "mem.conf:2: a NUL byte"));
+    static char longline[2000];
+    memset(longline, ' ', sizeof longline);
+    memcpy(longline, "om_max = 9", 10);
+    assert_int_equal(cfgtext_parse("mem.conf", longline, sizeof longline, &c, NULL, NULL, NULL,
+                                   err, sizeof err),
+                     -1);
+    assert_non_null(strstr(err, "mem.conf:1: line longer than 511 characters"));
+    /* No newline at the end is fine. */
+    assert_int_equal(cfgtext_parse("mem.conf", "om_max = 8", 10u, &c, NULL, NULL, NULL, err,
+                                   sizeof err),
+                     0);
+    assert_int_equal(c.om_max, 8u);
+    c = keep;
+    assert_int_equal(cfgtext_load("/dev/zero", &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/dev/zero: larger than 1048576 bytes"));
+    assert_int_equal(cfgtext_load("/tmp", &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, "/tmp: is a directory"));
+    assert_memory_equal(&c, &keep, sizeof c);
+}
+
+/* Every rule that states a range "lo..hi" agrees with slam_config_check() at both ends:
+ * the messages cannot drift from the firmware unnoticed. */
+static void test_rules_match_the_check(void **state)
+{
+    (void)state;
+    static const char *const keys[] = {
+        "wheel_diameter_left_um", "wheel_diameter_right_um", "wheel_base_um",
+        "encoder_counts_per_rev", "cal_left", "cal_right", "cal_base", "start_x_um",
+        "start_y_um", "start_heading_mdeg", "cell_um", "start_cell_a", "start_cell_b",
+        "om_max", "tm_max", "om_mode", "om_hit", "om_miss", "confidence_radius_um", "range_min_um", "sound_speed_mm_per_s",
+        "mount_x_um", "mount_y_um", "mount_yaw_mdeg", "sweep_first_mdeg", "sweep_last_mdeg",
+        "sweep_stops", "settle_ticks", "echo_timeout_ticks", "servo_pulse_0deg_us",
+        "servo_pulse_180deg_us", "post_threshold", "post_template_k", "post_insert", "top_speed_mm_s",
+        "accel_mm_s2", "motion_kp_q8", "motion_ki_q8", "explore_mode", "cruise_mm_s",
+        "turn_mm_s", "avoid_um", "clearance_um", "square_side_um", "square_laps",
+        "explore_seed", "save_period_s", "localize", "ping_interval_ticks", "follow_um",
+        "umbmark_runs", "umbmark_pause_s",
+    };
+    FILE *f = fopen(path, "w+");
+    assert_non_null(f);
+    slam_config_t d;
+    slam_config_default(&d);
+    cfgtext_write(f, &d);
+    rewind(f);
+    char key[64];
+    char value[64];
+    size_t n = 0;
+    while (fscanf(f, "%63s = %63s\n", key, value) == 2) { /* every field has a rule */
+        if (cfgtext_rule(key) == NULL) {
+            fail_msg("%s has no rule", key);
+        }
+        n++;
+    }
+    fclose(f);
+    assert_int_equal(n, sizeof keys / sizeof keys[0]);
+    char err[256];
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
+        const char *rule = cfgtext_rule(keys[i]);
+        assert_non_null(rule);
+        const char *dots = strstr(rule, "..");
+        char *end_lo = NULL;
+        char *end_hi = NULL;
+        double lo = dots != NULL ? strtod(rule, &end_lo) : 0.0;
+        double hi = dots != NULL ? strtod(dots + 2, &end_hi) : 0.0;
+        if (dots == NULL || end_lo == rule || (end_lo != dots && end_lo != dots + 1) ||
+            end_hi == dots + 2) {
+            fail_msg("%s: rule '%s' does not begin with lo..hi", keys[i], rule);
+        }
+        bool plain = *end_hi == '\0' || *end_hi == ' '; /* no ", and ..." condition */
+        bool fraction = strncmp(keys[i], "cal_", 4) == 0;
+        double step = fraction ? 0.001 : 1.0;
+        const double probe[4] = {lo, hi, lo - step, hi + step};
+        for (int k = 0; k < 4; k++) {
+            if (k < 2 && !plain) {
+                continue; /* the bound depends on another field */
+            }
+            slam_config_t c;
+            slam_config_default(&c);
+            char text[40];
+            snprintf(text, sizeof text, fraction ? "%.3f" : "%.0f", probe[k]);
+            bool ok = cfgtext_set(&c, keys[i], text, err, sizeof err) == 0 &&
+                      slam_config_check(&c, NULL) == 0;
+            if (ok != (k < 2)) {
+                fail_msg("%s = %s: the rule '%s' says %s, the check says %s", keys[i], text, rule,
+                         k < 2 ? "valid" : "invalid", ok ? "valid" : "invalid");
+            }
+        }
+    }
 }
 
 int main(void)
@@ -172,6 +298,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_raw_round_trip, setup, teardown),
         cmocka_unit_test_setup_teardown(test_set_values_and_errors, setup, teardown),
         cmocka_unit_test_setup_teardown(test_file_errors_name_file_and_line, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_not_text, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_rules_match_the_check, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -13,7 +13,7 @@
 #include "slam/error.h"
 #include "slam/robot.h"
 #include "slam/telemetry.h"
-#include "test_frames.h"
+#include "telem_decode.h"
 
 static robot_t robot;
 static slam_config_t cfg;
@@ -189,6 +189,75 @@ static void test_short_writes_are_counted_and_resynchronised(void **state)
     assert_true(found);
 }
 
+
+/* Every frame the firmware sends unpacks by its type (tests/support/telem_decode.c); a
+ * frame with a good CRC and the wrong length for its type, or an unknown type, is refused
+ * rather than read past its end. */
+static void test_decoder_checks_lengths(void **state)
+{
+    (void)state;
+    telem_t t;
+    telem_init(&t);
+    static grid_t g;
+    grid_init(&g, &cfg);
+    telem_status_t st = {7u, 6u, 5u, 4u, 3u, 2u, 1u, 2u, 0u};
+    odom_pose_t p = {-5, 6, 0x80000000u};
+    telem_post_pose(&t, 9u, &p);
+    telem_post_reading(&t, 10u, 2u, 1u, -155000, 123456u, &p);
+    telem_idle(&t, &g, &cfg, &st, 100u);
+    telem_send_ack(&t, TELEM_CMD_STOP);
+    telem_send_error(&t, TELEM_CMD_SET, TELEM_ERR_KEY, 99u);
+    telem_send_config(&t, &cfg, 3u);
+    size_t pos = 0;
+    frame_t f;
+    tdec_msg_t m;
+    unsigned bad = 0;
+    unsigned kinds = 0;
+    while (next_frame(fake_hal.uart, fake_hal.uart_len, &pos, &f, &bad)) {
+        assert_int_equal(tdec_decode(&f, &m), 0);
+        kinds |= 1u << m.type;
+        if (m.type == TELEM_READING) {
+            assert_int_equal(m.servo_mdeg, -155000);
+            assert_int_equal(m.range_um, 123456u);
+            assert_int_equal(m.x_um, -5);
+            assert_int_equal(m.heading, 0x80000000u);
+        } else if (m.type == TELEM_STATUS) {
+            assert_int_equal(m.status[0], 7u);
+            assert_int_equal(m.explore_mode, 2u);
+        } else if (m.type == TELEM_HELLO) {
+            assert_int_equal(m.a, SLAM_GRID_A);
+            assert_int_equal(m.cell_um, cfg.cell_um);
+            assert_int_equal(m.confidence_radius_um, cfg.confidence_radius_um);
+            assert_int_equal(m.om_mode, cfg.om_mode);
+        } else if (m.type == TELEM_ERROR) {
+            assert_int_equal(m.key, 99u);
+        } else if (m.type == TELEM_CONFIG) {
+            assert_int_equal(m.value, cfg.wheel_base_um);
+        }
+    }
+    assert_int_equal(kinds, (1u << TELEM_HELLO) | (1u << TELEM_POSE) | (1u << TELEM_READING) |
+                                (1u << TELEM_MAP_ROW) | (1u << TELEM_STATUS) | (1u << TELEM_ACK) |
+                                (1u << TELEM_ERROR) | (1u << TELEM_CONFIG));
+    uint8_t buf[TELEM_FRAME_MAX];
+    uint8_t pl[48] = {0};
+    const struct {
+        uint8_t type, len;
+        int rc;
+    } cases[] = {
+        {TELEM_POSE, 15u, -2},   {TELEM_POSE, 17u, -2},   {TELEM_READING, 16u, -2},
+        {TELEM_HELLO, 19u, -2},  {TELEM_STATUS, 32u, -2}, {TELEM_MAP_ROW, 4u, -2},
+        {TELEM_MAP_ROW, 5u, -3}, {TELEM_ACK, 0u, -2},     {TELEM_CONFIG, 4u, -2},
+        {9u, 3u, -1},            {0u, 0u, -1},
+    };
+    pl[0] = 2u; /* a MAP_ROW of map 2 */
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        size_t n = telem_frame(buf, cases[i].type, pl, cases[i].len);
+        pos = 0;
+        bad = 0;
+        assert_true(next_frame(buf, n, &pos, &f, &bad));
+        assert_int_equal(tdec_decode(&f, &m), cases[i].rc);
+    }
+}
 
 /* ---- commands ---------------------------------------------------------------------------- */
 
@@ -401,6 +470,7 @@ int main(void)
         cmocka_unit_test_setup(test_ring_drops_when_full_and_counts, setup),
         cmocka_unit_test_setup(test_robot_stream_decodes, setup),
         cmocka_unit_test_setup(test_short_writes_are_counted_and_resynchronised, setup),
+        cmocka_unit_test_setup(test_decoder_checks_lengths, setup),
         cmocka_unit_test_setup(test_every_command_parses, setup),
         cmocka_unit_test_setup(test_malformed_commands_are_refused, setup),
         cmocka_unit_test_setup(test_noise_never_makes_a_command, setup),

@@ -2,14 +2,15 @@
 # SPDX-License-Identifier: MIT
 # Installs the Debian packages sonarslam needs, and only those that are missing.
 #
-#   tools/install-deps.sh [GROUP...]     groups: test sim firmware flash linux compare all (default: all)
+#   tools/install-deps.sh [GROUP...]     groups: test sim firmware flash linux compare fuzz
+#                                        all (default: all)
 #
 # Idempotent: when everything is present it installs nothing and says so.
 # Uses sudo when not run as root. Exit status is non-zero when an install fails.
 set -eu
 
 usage() {
-    echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|compare|all]...   (default: all)"
+    echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|compare|fuzz|all]...   (default: all)"
     echo "Installs the missing Debian packages the named parts of sonarslam need."
 }
 
@@ -21,6 +22,7 @@ pkgs_flash="openocd gdb-multiarch"
 pkgs_linux="cmake make gcc pkg-config libgpiod-dev libcmocka-dev"
 # make compare only: OctoMap beside the firmware's mapper, both counted by callgrind.
 pkgs_compare="cmake make gcc g++ liboctomap-dev valgrind python3 python3-numpy"
+pkgs_fuzz="cmake make clang libclang-rt-dev libcmocka-dev python3"
 
 want=""
 [ $# -eq 0 ] && set -- all
@@ -32,9 +34,10 @@ for group in "$@"; do
         flash)    want="$want $pkgs_flash" ;;
         linux)    want="$want $pkgs_linux" ;;
         compare)  want="$want $pkgs_compare" ;;
-        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_flash $pkgs_linux $pkgs_compare" ;;
+        fuzz)     want="$want $pkgs_fuzz" ;;
+        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_flash $pkgs_linux $pkgs_compare $pkgs_fuzz" ;;
         -h|--help) usage; exit 0 ;;
-        *) echo "install-deps: unknown group '$group' (valid: test sim firmware flash linux compare all)" >&2; exit 2 ;;
+        *) echo "install-deps: unknown group '$group' (valid: test sim firmware flash linux compare fuzz all)" >&2; exit 2 ;;
     esac
 done
 

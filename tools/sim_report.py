@@ -12,8 +12,11 @@ acceleration; the map with perfect odometry; per cell size, F1, odometry error a
 the exploration modes over every shipped room (collisions, the closest approach, wall
 coverage and when it reached 50, 80 and 90 %, raw F1) and the time they take to visit the
 free cells; the wall coverage of each shipped room; and, when the building maps lie
-beside the repository (../shared/maps, or --maps DIR), the same in crops of them.
+beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
+every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
+level must keep (tests/sim/test_sim_faults.py asserts it).
 With --figure, also draws those results (host_sim/figures/report.png in the README).
+Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
 import json
@@ -36,6 +39,69 @@ BUILDINGS = (
     ("utexas_gdc_3ne", "utexas_gdc_3ne/3ne.yaml", (-20.0, -10.0, 12.0, 10.0)),
 )
 BUILDING_S = 1800
+
+# Every fault the simulator injects, at three levels, each on top of the default error
+# levels: (name, what, levels); a level is (--error arguments, the F1 floor of the raw map
+# over seeds 1 and 2 of the default room in 600 s). A floor is the lower of the means over
+# seeds 1-2 and 1-5, less 0.1, rounded down to 0.05 (and at least 0.03, so that each can
+# fail): a fault may cost map quality, gradually, but no level may lose the map more than this.
+FAULTS = (
+    ("noise", "wheel noise (1σ of a tick's travel)",
+     ((["noise=0.02"], 0.70), (["noise=0.05"], 0.35), (["noise=0.1"], 0.25))),
+    ("slip", "slip beyond a gentler acceleration",
+     ((["slip=0.5", "slip_free=0.4"], 0.25), (["slip=0.7", "slip_free=0.3"], 0.05),
+      (["slip=1", "slip_free=0.2"], 0.03))),
+    ("edeb", "E_d / E_b (uncalibrated wheels)",
+     ((["ed=1.0005", "eb=1.003"], 0.75), (["ed=1.001", "eb=1.005"], 0.40),
+      (["ed=1.002", "eb=1.01"], 0.20))),
+    ("sonar_noise", "sonar range noise (1σ, m)",
+     ((["sonar_noise=0.03"], 0.75), (["sonar_noise=0.1"], 0.55), (["sonar_noise=0.3"], 0.35))),
+    ("dropout", "sonar dropouts (per ping)",
+     ((["dropout=0.2"], 0.75), (["dropout=0.5"], 0.75), (["dropout=0.8"], 0.60))),
+    ("ghost", "ghost echoes (per ping)",
+     ((["ghost=0.05"], 0.50), (["ghost=0.15"], 0.55), (["ghost=0.4"], 0.40))),
+    ("grazing", "grazing loss (echo up to this incidence, °)",
+     ((["grazing=35"], 0.65), (["grazing=25"], 0.75), (["grazing=15"], 0.60))),
+    ("echo_stuck", "echo line stuck high (episodes a second)",
+     ((["echo_stuck=0.02"], 0.70), (["echo_stuck=0.1"], 0.75), (["echo_stuck=0.3"], 0.75))),
+    ("servo_lag", "servo lag (share of its speed lost)",
+     ((["servo_lag=0.3"], 0.80), (["servo_lag=0.6"], 0.65), (["servo_lag=0.9"], 0.45))),
+    ("servo_stall", "servo stalls (episodes a second)",
+     ((["servo_stall=0.02"], 0.75), (["servo_stall=0.1"], 0.40), (["servo_stall=0.3"], 0.50))),
+    ("tick_miss", "missed control ticks (per tick)",
+     ((["tick_miss=0.01"], 0.80), (["tick_miss=0.05"], 0.60), (["tick_miss=0.2"], 0.20))),
+    ("encoder_stop", "an encoder stops counting (episodes a second)",
+     ((["encoder_stop=0.002"], 0.55), (["encoder_stop=0.01"], 0.45),
+      (["encoder_stop=0.05"], 0.03))),
+)
+
+
+def fault_args(levels_args):
+    """The host_sim arguments of one fault level."""
+    out = []
+    for e in levels_args:
+        out += ["--error", e]
+    return out
+
+
+def clearance_of(m):
+    """The smallest clearance to an obstacle over the run, m, when metrics.json has it."""
+    for part in ("robot", "exploration", "safety"):
+        for key in ("min_clearance_m", "smallest_clearance_m", "clearance_min_m"):
+            v = m.get(part, {}).get(key)
+            if v is not None:
+                return v
+    return None
+
+
+def fault_rows(group, baseline):
+    """One row per fault level: mean F1 (raw, final), the floor, collisions, clearance."""
+    rows = [("none (default errors)", "", baseline)]
+    for name, what, levels in FAULTS:
+        for k, (args, floor) in enumerate(levels):
+            rows.append(("%s, level %d" % (what, k + 1), (" ".join(args), floor),
+                         group("fault-%s-%d" % (name, k + 1))))
+    return rows
 
 
 def run(bin_, out, args):
@@ -99,7 +165,7 @@ def report(args):
     jobs = {}
     for room in ("default", "obstacles"):
         for s in seeds:
-            jobs["post-%s-%d" % (room, s)] = ["--room", os.path.join(ROOMS, room + ".room"),
+            jobs["post-%s-%d" % (room, s)] = ["--paper", "--room", os.path.join(ROOMS, room + ".room"),
                                               "--seed", s, "--duration", dur]
             jobs["ideal-%s-%d" % (room, s)] = ["--room", os.path.join(ROOMS, room + ".room"),
                                                "--seed", s, "--duration", dur, "--ideal"]
@@ -111,6 +177,12 @@ def report(args):
     for cell in (25, 50, 100):
         for s in seeds:
             jobs["cell-%d-%d" % (cell, s)] = ["--cell", cell, "--seed", s, "--duration", dur]
+    for name, _, levels in FAULTS:
+        for k, (fargs, _) in enumerate(levels):
+            for s in seeds:
+                jobs["fault-%s-%d-%d" % (name, k + 1, s)] = (
+                    ["--room", os.path.join(ROOMS, "default.room"), "--seed", s, "--duration", dur]
+                    + fault_args(fargs))
     cover = 600 if args.quick else 3600
     for mode in MODES:
         for s in seeds:
@@ -136,7 +208,8 @@ def report(args):
     def group(prefix):
         return [res[n] for n in sorted(res) if n.startswith(prefix + "-")]
 
-    print("### Post-processing (mean of %d seeds, %d s each)\n" % (len(seeds), dur))
+    print("### Post-processing, the paper's method (`--paper`; mean of %d seeds, %d s each)\n"
+          % (len(seeds), dur))
     for room in ("default", "obstacles"):
         ms = group("post-" + room)
         pm = post_means(ms)
@@ -243,6 +316,19 @@ def report(args):
         print()
     else:
         print("(no building maps at %s: that table is left out)\n" % args.maps)
+    print("### Faults (default room, %d s, %d seeds; each level on top of the default errors)\n"
+          % (dur, len(seeds)))
+    print("| fault | `--error` | F1 raw | F1 final | floor | collisions | smallest clearance |")
+    print("|---|---|---|---|---|---|---|")
+    for what, spec, ms in fault_rows(group, group("cell-50")):
+        pm = post_means(ms)
+        cols = [m["robot"]["collisions"] for m in ms]
+        hit = sum(1 for c in cols if c > 0)
+        cl = [clearance_of(m) for m in ms]
+        clear = "%.3f m" % min(cl) if cl and None not in cl else "not measured"
+        print("| %s | %s | %.3f | %.3f | %s | %d in %d of %d runs | %s |" % (
+            what, "`%s`" % spec[0] if spec else "", pm["raw"][2], pm["insert"][2],
+            "%.2f" % spec[1] if spec else "", sum(cols), hit, len(ms), clear))
     if args.figure:
         figure(args, res, group, base)
 
@@ -322,7 +408,11 @@ def main():
                     help="the building maps (default: ../shared/maps beside the repository)")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
-        sys.exit("sim_report: %s not found: build it first (make sim)" % args.host_sim)
+        print("sim_report: %s not found: build it first (make sim)" % args.host_sim,
+              file=sys.stderr)
+        sys.exit(2)
+    if args.seeds < 1 or args.jobs < 1:
+        ap.error("--seeds and --jobs need a positive number")
     report(args)
 
 

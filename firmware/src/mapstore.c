@@ -47,6 +47,8 @@ int mapstore_read_header(uint8_t slot, mapstore_header_t *h)
     return SLAM_OK;
 }
 
+static bool data_good(uint8_t slot, const mapstore_header_t *h);
+
 void mapstore_init(mapstore_t *s)
 {
     memset(s, 0, sizeof *s);
@@ -55,9 +57,13 @@ void mapstore_init(mapstore_t *s)
     if (!s->available) {
         return;
     }
+    /* The newest record whose data checks too, as mapstore_load() picks it: a record
+     * whose data rotted under a good header must not draw the next save onto the last
+     * intact map. */
     for (uint8_t slot = 0; slot < HAL_STORAGE_SLOTS; slot++) {
         mapstore_header_t h;
-        if (mapstore_read_header(slot, &h) == SLAM_OK && (h.seq > s->last_seq || s->last_seq == 0u)) {
+        if (mapstore_read_header(slot, &h) == SLAM_OK && (h.seq > s->last_seq || s->last_seq == 0u) &&
+            data_good(slot, &h)) {
             s->last_seq = h.seq;
             s->last_slot = slot;
         }

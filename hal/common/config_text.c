@@ -51,21 +51,112 @@ static const field_t fields[] = {
     F(umbmark_runs, T_U8),            F(umbmark_pause_s, T_U16),
 };
 #undef F
+#define NFIELDS (sizeof fields / sizeof fields[0])
+_Static_assert(NFIELDS <= CFGTEXT_MAX_KEYS, "cfgtext_where_t has a line per field");
 
-static const field_t *find_field(const char *key)
+/*
+ * What slam_config_check() accepts, in words, for messages: the firmware names only the
+ * field. A leading "lo..hi" is the field's whole range (tests/test_config_text.c holds
+ * these to slam_config_check(), so they cannot drift from it unnoticed).
+ */
+static const struct {
+    const char *name;
+    const char *rule;
+} rules[] = {
+    {"wheel_diameter_left_um", "10000..300000"},
+    {"wheel_diameter_right_um", "10000..300000"},
+    {"wheel_base_um", "50000..1000000"},
+    {"encoder_counts_per_rev", "16..65535"},
+    {"cal_left", "0.5..1.5"},
+    {"cal_right", "0.5..1.5"},
+    {"cal_base", "0.5..1.5"},
+    {"start_x_um", "-1000000000..1000000000"},
+    {"start_y_um", "-1000000000..1000000000"},
+    {"start_heading_mdeg", "-360000..360000"},
+    {"cell_um", "5000..1000000, and at most 1 km over the grid's longer side"},
+    {"start_cell_a", "0..65535, below the grid's cells along x"},
+    {"start_cell_b", "0..65535, below the grid's cells along y"},
+    {"om_max", "1..255, and above post_threshold when om_mode is 0"},
+    {"tm_max", "1..255"},
+    {"om_mode", "0..1 (0 the paper's hit counts, 1 log-odds evidence)"},
+    {"om_hit", "1..127"},
+    {"om_miss", "1..127"},
+    {"confidence_radius_um", "1..10000000, above range_min_um"},
+    {"range_min_um", "0..1000000, below confidence_radius_um"},
+    {"sound_speed_mm_per_s", "300000..400000"},
+    {"mount_x_um", "-1000000..1000000"},
+    {"mount_y_um", "-1000000..1000000"},
+    {"mount_yaw_mdeg", "-180000..180000"},
+    {"sweep_first_mdeg", "0..180000"},
+    {"sweep_last_mdeg", "0..180000"},
+    {"sweep_stops", "1..16, and 1 only when sweep_first_mdeg equals sweep_last_mdeg"},
+    {"settle_ticks", "1..255"},
+    {"echo_timeout_ticks", "1..255"},
+    {"servo_pulse_0deg_us", "400..2600"},
+    {"servo_pulse_180deg_us", "400..2600, and not equal to servo_pulse_0deg_us"},
+    {"post_threshold", "0..254, below om_max when om_mode is 0, below 127 when it is 1"},
+    {"post_template_k", "0..8"},
+    {"post_insert", "0..1"},
+    {"top_speed_mm_s", "50..5000, at least cruise_mm_s and turn_mm_s"},
+    {"accel_mm_s2", "10..50000"},
+    {"motion_kp_q8", "0..2048"},
+    {"motion_ki_q8", "0..2048"},
+    {"explore_mode", "0..5 (off, random, tm, square, walls, umbmark)"},
+    {"cruise_mm_s", "1..5000, at most top_speed_mm_s"},
+    {"turn_mm_s", "1..5000, at most top_speed_mm_s"},
+    {"avoid_um", "50000..4000000"},
+    {"clearance_um", "10000..2000000, below follow_um"},
+    {"square_side_um", "100000..100000000"},
+    {"square_laps", "0..255 (0: for ever)"},
+    {"explore_seed", "1..4294967295 (not 0)"},
+    {"save_period_s", "0..65535 (0: never)"},
+    {"localize", "0..1 (1: the pose corrected against OM)"},
+    {"ping_interval_ticks", "1..255"},
+    {"follow_um", "50000..2000000, above clearance_um"},
+    {"umbmark_runs", "1..50 (runs each way)"},
+    {"umbmark_pause_s", "1..3600 (standing still before and after each run)"},
+};
+
+static int field_index(const char *key)
 {
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+    for (size_t i = 0; i < NFIELDS; i++) {
         if (strcmp(fields[i].name, key) == 0) {
-            return &fields[i];
+            return (int)i;
+        }
+    }
+    return -1;
+}
+
+const char *cfgtext_rule(const char *key)
+{
+    for (size_t i = 0; i < sizeof rules / sizeof rules[0]; i++) {
+        if (strcmp(rules[i].name, key) == 0) {
+            return rules[i].rule;
         }
     }
     return NULL;
 }
 
+unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key)
+{
+    int i = field_index(key);
+    return w != NULL && i >= 0 ? w->line[i] : 0u;
+}
+
 static int bad_value(const char *key, const char *value, const char *why, char *err, size_t n)
 {
-    snprintf(err, n, "%s = '%s': %s", key, value, why);
+    snprintf(err, n, "%s = '%.40s': %s", key, value, why);
     return -2;
+}
+
+static const long long type_lo[] = {0, 0, 0, INT32_MIN, INT32_MIN};
+static const long long type_hi[] = {UINT8_MAX, UINT16_MAX, UINT32_MAX, INT32_MAX, INT32_MAX};
+
+static int out_of_range(const field_t *f, const char *value, char *err, size_t n)
+{
+    char why[80];
+    snprintf(why, sizeof why, "out of range %lld..%lld", type_lo[f->type], type_hi[f->type]);
+    return bad_value(f->name, value, why, err, n);
 }
 
 /* Stores a whole number into a field of any integer type (a Q30 field takes its raw
@@ -73,12 +164,8 @@ static int bad_value(const char *key, const char *value, const char *why, char *
 static int store_int(slam_config_t *cfg, const field_t *f, long long v, const char *value,
                      char *err, size_t n)
 {
-    static const long long lo[] = {0, 0, 0, INT32_MIN, INT32_MIN};
-    static const long long hi[] = {UINT8_MAX, UINT16_MAX, UINT32_MAX, INT32_MAX, INT32_MAX};
-    if (v < lo[f->type] || v > hi[f->type]) {
-        char why[80];
-        snprintf(why, sizeof why, "out of range %lld..%lld", lo[f->type], hi[f->type]);
-        return bad_value(f->name, value, why, err, n);
+    if (v < type_lo[f->type] || v > type_hi[f->type]) {
+        return out_of_range(f, value, err, n);
     }
     void *dst = (char *)cfg + f->offset;
     switch (f->type) {
@@ -108,11 +195,12 @@ static int store_int(slam_config_t *cfg, const field_t *f, long long v, const ch
 
 static const field_t *known_field(const char *key, char *err, size_t n)
 {
-    const field_t *f = find_field(key);
-    if (f == NULL) {
-        snprintf(err, n, "unknown key '%s'", key);
+    int i = field_index(key);
+    if (i < 0) {
+        snprintf(err, n, "unknown key '%.64s'", key);
+        return NULL;
     }
-    return f;
+    return &fields[i];
 }
 
 int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
@@ -125,17 +213,20 @@ int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *er
     errno = 0;
     if (f->type == T_Q30) {
         double v = strtod(value, &end);
-        if (end == value || *end != '\0' || errno != 0 || !isfinite(v)) {
+        if (end == value || *end != '\0' || isnan(v)) {
             return bad_value(key, value, "expected a decimal number such as 0.9901", err, n);
         }
-        if (v <= -2.0 || v >= 2.0) {
+        if (!(v > -2.0 && v < 2.0)) { /* an infinity or ERANGE lands here too */
             return bad_value(key, value, "must lie between -2 and 2", err, n);
         }
         return store_int(cfg, f, lround(v * (double)FIX_Q30_ONE), value, err, n);
     }
     long long v = strtoll(value, &end, 10);
-    if (end == value || *end != '\0' || errno != 0) {
+    if (end == value || *end != '\0') {
         return bad_value(key, value, "expected a whole number", err, n);
+    }
+    if (errno == ERANGE) {
+        return out_of_range(f, value, err, n);
     }
     return store_int(cfg, f, v, value, err, n);
 }
@@ -167,44 +258,79 @@ static long long field_raw(const slam_config_t *cfg, const field_t *f)
     }
 }
 
+/* A field's value as the text a file would hold. */
+static void field_text(const slam_config_t *cfg, const field_t *f, char *out, size_t n)
+{
+    long long raw = field_raw(cfg, f);
+    if (f->type == T_Q30) { /* enough digits to read back the same Q30 value */
+        snprintf(out, n, "%.12f", (double)raw / (double)FIX_Q30_ONE);
+    } else {
+        snprintf(out, n, "%lld", raw);
+    }
+}
+
 void cfgtext_write_raw(FILE *f, const slam_config_t *cfg, const char *prefix)
 {
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+    for (size_t i = 0; i < NFIELDS; i++) {
         fprintf(f, "%s%s %lld\n", prefix, fields[i].name, field_raw(cfg, &fields[i]));
     }
 }
 
 void cfgtext_write(FILE *f, const slam_config_t *cfg)
 {
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
-        long long raw = field_raw(cfg, &fields[i]);
-        if (fields[i].type == T_Q30) { /* enough digits to read back the same Q30 value */
-            fprintf(f, "%s = %.12f\n", fields[i].name, (double)raw / (double)FIX_Q30_ONE);
-        } else {
-            fprintf(f, "%s = %lld\n", fields[i].name, raw);
-        }
+    for (size_t i = 0; i < NFIELDS; i++) {
+        char value[40];
+        field_text(cfg, &fields[i], value, sizeof value);
+        fprintf(f, "%s = %s\n", fields[i].name, value);
     }
 }
 
-int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
-                 char *err, size_t errlen)
+int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "r");
-    if (f == NULL) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-        return -1;
+    const char *bad = NULL;
+    if (slam_config_check(cfg, &bad) == SLAM_OK) {
+        return 0;
     }
+    int i = field_index(bad);
+    char value[40] = "?";
+    if (i >= 0) {
+        field_text(cfg, &fields[i], value, sizeof value);
+    }
+    const char *rule = cfgtext_rule(bad);
+    snprintf(err, errlen, "%s = %s is out of its valid range%s%s", bad, value,
+             rule != NULL ? ": " : "", rule != NULL ? rule : "");
+    if (key != NULL) {
+        *key = bad;
+    }
+    return -1;
+}
+
+int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                  size_t errlen)
+{
     slam_config_t work = *cfg;
-    char line[512];
+    cfgtext_where_t seen;
+    memset(&seen, 0, sizeof seen);
     unsigned lineno = 0;
-    int rc = 0;
-    while (rc == 0 && fgets(line, sizeof line, f) != NULL) {
+    size_t pos = 0;
+    while (pos < len) {
         lineno++;
-        if (strchr(line, '\n') == NULL && !feof(f)) {
-            snprintf(err, errlen, "%s:%u: line too long", path, lineno);
-            rc = -1;
-            break;
+        const char *nl = memchr(text + pos, '\n', len - pos);
+        size_t n = nl != NULL ? (size_t)(nl - (text + pos)) : len - pos;
+        if (memchr(text + pos, '\0', n) != NULL) {
+            snprintf(err, errlen, "%s:%u: a NUL byte: not a text file", name, lineno);
+            return -1;
         }
+        if (n >= CFGTEXT_LINE_MAX) {
+            snprintf(err, errlen, "%s:%u: line longer than %u characters", name, lineno,
+                     (unsigned)CFGTEXT_LINE_MAX - 1u);
+            return -1;
+        }
+        char line[CFGTEXT_LINE_MAX];
+        memcpy(line, text + pos, n);
+        line[n] = '\0';
+        pos += n + (nl != NULL ? 1u : 0u);
         char *hash = strchr(line, '#');
         if (hash != NULL) {
             *hash = '\0';
@@ -215,36 +341,58 @@ int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, v
         }
         char *eq = strchr(s, '=');
         if (eq == NULL) {
-            snprintf(err, errlen, "%s:%u: expected 'key = value', got '%s'", path, lineno, s);
-            rc = -1;
-            break;
+            snprintf(err, errlen, "%s:%u: expected 'key = value', got '%.60s'", name, lineno, s);
+            return -1;
         }
         *eq = '\0';
         char *key = cfgtext_trim(s);
         char *value = cfgtext_trim(eq + 1);
         char msg[256];
+        int i = field_index(key);
+        if (i >= 0 && seen.line[i] != 0u) {
+            snprintf(err, errlen, "%s:%u: %s is given twice (first on line %u)", name, lineno,
+                     key, seen.line[i]);
+            return -1;
+        }
         int r = cfgtext_set(&work, key, value, msg, sizeof msg);
         if (r == -1 && other != NULL) {
-            r = other(ctx, key, value, msg, sizeof msg);
+            r = other(ctx, key, value, lineno, msg, sizeof msg);
         }
         if (r != 0) {
-            snprintf(err, errlen, "%s:%u: %s", path, lineno, msg);
-            rc = -1;
+            snprintf(err, errlen, "%s:%u: %s", name, lineno, msg);
+            return -1;
+        }
+        if (i >= 0) {
+            seen.line[i] = lineno;
         }
     }
-    if (rc == 0 && ferror(f)) {
-        snprintf(err, errlen, "%s: read error", path);
-        rc = -1;
-    }
-    fclose(f);
-    if (rc != 0) {
-        return rc;
-    }
     const char *bad = NULL;
-    if (slam_config_check(&work, &bad) != SLAM_OK) {
-        snprintf(err, errlen, "%s: %s is out of its valid range", path, bad);
+    char msg[256];
+    if (cfgtext_check(&work, &bad, msg, sizeof msg) != 0) {
+        unsigned at = cfgtext_where_line(&seen, bad);
+        if (at != 0u) {
+            snprintf(err, errlen, "%s:%u: %s", name, at, msg);
+        } else {
+            snprintf(err, errlen, "%s: %s (not set in the file)", name, msg);
+        }
         return -1;
     }
     *cfg = work;
+    if (where != NULL) {
+        *where = seen;
+    }
     return 0;
+}
+
+int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
+                 cfgtext_where_t *where, char *err, size_t errlen)
+{
+    size_t len = 0u;
+    char *text = cfgtext_read_file(path, CFGTEXT_FILE_MAX, &len, err, errlen);
+    if (text == NULL) {
+        return -1;
+    }
+    int rc = cfgtext_parse(path, text, len, cfg, other, ctx, where, err, errlen);
+    free(text);
+    return rc;
 }

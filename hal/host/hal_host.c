@@ -13,6 +13,7 @@
 
 static struct {
     sim_t *sim;
+    bool lossy;          /* the world may lose ticks (tick_miss) */
     hal_tick_fn fn;
     void *ctx;
     uint64_t t0_us;      /* world time at hal_init() */
@@ -51,6 +52,7 @@ static void storage_power_on(void)
 void hal_host_attach(sim_t *s)
 {
     hh.sim = s;
+    hh.lossy = s != NULL && sim_ticks_lost(s);
     hh.fn = NULL;
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
@@ -90,7 +92,7 @@ void hal_host_step(void)
     if (hh.sim == NULL) {
         return;
     }
-    if (hh.fn != NULL) {
+    if (hh.fn != NULL && !(hh.lossy && sim_tick_lost(hh.sim))) {
         hh.rec = (trace_tick_t){
             .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
                     sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
@@ -148,7 +150,8 @@ uint32_t hal_time_us(void)
 
 uint32_t hal_tick_overruns(void)
 {
-    return 0u; /* virtual time: a tick never overruns */
+    /* Virtual time: a tick never overruns, but one may be lost (the tick_miss fault). */
+    return hh.sim != NULL ? (uint32_t)sim_truth(hh.sim).ticks_missed : 0u;
 }
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)

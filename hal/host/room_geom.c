@@ -39,97 +39,28 @@ double room_hit_raster(const room_t *r, double ox, double oy, double dx, double 
                        double max_m, double *cosi)
 {
     const double res = r->occ_res;
-    const double w = (double)r->occ_w;
-    const double h = (double)r->occ_h;
-    double gx = (ox - r->occ_x0) / res; /* pixel units from here on */
-    double gy = (oy - r->occ_y0) / res;
-    double t0 = 0.0;
-    double t1 = max_m / res;
-    int entry_axis = -1; /* which slab the ray entered the raster through */
-
-    /* Clip the ray to the raster's rectangle (slabs). */
-    if (fabs(dx) < 1e-300) {
-        if (gx < 0.0 || gx >= w) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gx / dx;
-        double tb = (w - gx) / dx;
-        double lo = fmin(ta, tb);
-        if (lo > t0) {
-            t0 = lo;
-            entry_axis = 0;
-        }
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (fabs(dy) < 1e-300) {
-        if (gy < 0.0 || gy >= h) {
-            return HOST_INF;
-        }
-    } else {
-        double ta = -gy / dy;
-        double tb = (h - gy) / dy;
-        double lo = fmin(ta, tb);
-        if (lo > t0) {
-            t0 = lo;
-            entry_axis = 1;
-        }
-        t1 = fmin(t1, fmax(ta, tb));
-    }
-    if (t0 > t1) {
+    room_walk_t w;
+    if (!room_walk_start(&w, (ox - r->occ_x0) / res, (oy - r->occ_y0) / res, dx, dy, max_m / res,
+                         (long)r->occ_w, (long)r->occ_h)) {
         return HOST_INF;
     }
-
-    double px = gx + t0 * dx;
-    double py = gy + t0 * dy;
-    long ix = (long)floor(px);
-    long iy = (long)floor(py);
-    ix = ix < 0 ? 0 : (ix >= (long)r->occ_w ? (long)r->occ_w - 1 : ix);
-    iy = iy < 0 ? 0 : (iy >= (long)r->occ_h ? (long)r->occ_h - 1 : iy);
-    const long sx = dx > 0.0 ? 1 : -1;
-    const long sy = dy > 0.0 ? 1 : -1;
-    const double tdx = fabs(dx) < 1e-300 ? HOST_INF : 1.0 / fabs(dx);
-    const double tdy = fabs(dy) < 1e-300 ? HOST_INF : 1.0 / fabs(dy);
-    double tmx = fabs(dx) < 1e-300 ? HOST_INF
-                                   : t0 + (dx > 0.0 ? ((double)ix + 1.0 - px) : (px - (double)ix)) * tdx;
-    double tmy = fabs(dy) < 1e-300 ? HOST_INF
-                                   : t0 + (dy > 0.0 ? ((double)iy + 1.0 - py) : (py - (double)iy)) * tdy;
-    double t = t0;
     long pix = -1; /* the free pixel before the current one */
     long piy = -1;
-    int axis = entry_axis;
     for (;;) {
-        if (r->occ[(size_t)iy * r->occ_w + (size_t)ix]) {
+        if (r->occ[(size_t)w.iy * r->occ_w + (size_t)w.ix]) {
             double c = -1.0;
             if (pix >= 0) {
                 c = sobel_cos(r, pix, piy, dx, dy);
             }
             if (c < 0.0) {
-                c = axis == 0 ? fabs(dx) : (axis == 1 ? fabs(dy) : 1.0);
+                c = w.axis == 0 ? fabs(dx) : (w.axis == 1 ? fabs(dy) : 1.0);
             }
             *cosi = c;
-            return t * res;
+            return w.t * res;
         }
-        pix = ix;
-        piy = iy;
-        if (tmx < tmy) {
-            t = tmx;
-            tmx += tdx;
-            ix += sx;
-            axis = 0;
-            if (ix < 0 || ix >= (long)r->occ_w) {
-                return HOST_INF;
-            }
-        } else {
-            t = tmy;
-            tmy += tdy;
-            iy += sy;
-            axis = 1;
-            if (iy < 0 || iy >= (long)r->occ_h) {
-                return HOST_INF;
-            }
-        }
-        if (t > t1) {
+        pix = w.ix;
+        piy = w.iy;
+        if (!room_walk_next(&w)) {
             return HOST_INF;
         }
     }
@@ -142,16 +73,26 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
     double dy = sin(dir);
     double best = HOST_INF;
     double ci = 1.0;
-    for (size_t i = 0; i < r->nboxes; i++) {
-        if (room_in_box(&r->boxes[i], x, y)) {
-            best = 0.0;
+    if (r->index != NULL) {
+        double cd;
+        double sd2;
+        if (room_index_near(r, x, y, 0.0, &cd, &sd2) == 1) {
+            best = 0.0; /* inside a solid box */
+        } else {
+            best = room_index_ray(r, x, y, dx, dy, max_m, &ci);
         }
-    }
-    for (size_t i = 0; i < r->nsegs && best > 0.0; i++) {
-        best = room_hit_segment(&r->segs[i], x, y, dx, dy, best, &ci);
-    }
-    for (size_t i = 0; i < r->ncircles && best > 0.0; i++) {
-        best = room_hit_circle(&r->circles[i], x, y, dx, dy, best, &ci);
+    } else {
+        for (size_t i = 0; i < r->nboxes; i++) {
+            if (room_in_box(&r->boxes[i], x, y)) {
+                best = 0.0;
+            }
+        }
+        for (size_t i = 0; i < r->nsegs && best > 0.0; i++) {
+            best = room_hit_segment(&r->segs[i], x, y, dx, dy, best, &ci);
+        }
+        for (size_t i = 0; i < r->ncircles && best > 0.0; i++) {
+            best = room_hit_circle(&r->circles[i], x, y, dx, dy, best, &ci);
+        }
     }
     if (r->occ != NULL && best > 0.0) {
         double rc = 1.0;
@@ -168,21 +109,6 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
         *cos_incidence = ci;
     }
     return best;
-}
-
-/* Squared distance from a point to a segment. */
-static double seg_dist2(const room_segment_t *s, double x, double y)
-{
-    double ex = s->x2 - s->x1;
-    double ey = s->y2 - s->y1;
-    double wx = x - s->x1;
-    double wy = y - s->y1;
-    double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? (wx * ex + wy * ey) / len2 : 0.0;
-    t = t < 0.0 ? 0.0 : (t > 1.0 ? 1.0 : t);
-    double ddx = wx - t * ex;
-    double ddy = wy - t * ey;
-    return ddx * ddx + ddy * ddy;
 }
 
 /* Squared distance to the nearest occupied pixel, looking within cap (best2 = cap²). */
@@ -223,29 +149,45 @@ static double raster_dist2(const room_t *r, double x, double y, double cap, doub
 
 double room_clearance(const room_t *r, double x, double y, double cap_m)
 {
-    for (size_t i = 0; i < r->nboxes; i++) {
-        if (room_in_box(&r->boxes[i], x, y)) {
-            return 0.0;
-        }
-    }
     double best = cap_m;
-    for (size_t i = 0; i < r->ncircles; i++) {
-        const room_circle_t *c = &r->circles[i];
-        double d = hypot(x - c->cx, y - c->cy) - c->r;
-        if (d <= 0.0) {
+    /* Squared distances for segments. "found" rather than comparing with cap² again:
+       with x87 arithmetic (-m32) sqrt(cap·cap) need not give back cap exactly. */
+    double best2;
+    bool found = false;
+    if (r->index != NULL) {
+        /* The same arithmetic on the objects near the point: the same answer. */
+        double cd;
+        double sd2;
+        if (room_index_near(r, x, y, cap_m, &cd, &sd2) == 1 || cd <= 0.0) {
             return 0.0;
         }
-        best = fmin(best, d);
-    }
-    /* Squared distances from here on. "found" rather than comparing with cap² again:
-       with x87 arithmetic (-m32) sqrt(cap·cap) need not give back cap exactly. */
-    double best2 = best * best;
-    bool found = false;
-    for (size_t i = 0; i < r->nsegs; i++) {
-        double d2 = seg_dist2(&r->segs[i], x, y);
-        if (d2 < best2) {
-            best2 = d2;
+        best = fmin(best, cd);
+        best2 = best * best;
+        if (sd2 < best2) {
+            best2 = sd2;
             found = true;
+        }
+    } else {
+        for (size_t i = 0; i < r->nboxes; i++) {
+            if (room_in_box(&r->boxes[i], x, y)) {
+                return 0.0;
+            }
+        }
+        for (size_t i = 0; i < r->ncircles; i++) {
+            const room_circle_t *c = &r->circles[i];
+            double d = hypot(x - c->cx, y - c->cy) - c->r;
+            if (d <= 0.0) {
+                return 0.0;
+            }
+            best = fmin(best, d);
+        }
+        best2 = best * best;
+        for (size_t i = 0; i < r->nsegs; i++) {
+            double d2 = room_seg_dist2(&r->segs[i], x, y);
+            if (d2 < best2) {
+                best2 = d2;
+                found = true;
+            }
         }
     }
     if (r->occ != NULL) {
@@ -263,6 +205,20 @@ bool room_disc_free(const room_t *r, double x, double y, double r_m)
     return room_clearance(r, x, y, r_m) >= r_m;
 }
 
+bool room_encloses(const room_t *r, double x, double y, double *open_deg)
+{
+    double reach = 2.0 * hypot(r->max_x - r->min_x, r->max_y - r->min_y) + 1.0;
+    for (int k = 0; k < 8; k++) {
+        if (!(room_ray(r, x, y, (double)k * (HOST_PI / 4.0), reach, NULL) <= reach)) {
+            if (open_deg != NULL) {
+                *open_deg = 45.0 * k;
+            }
+            return false;
+        }
+    }
+    return true;
+}
+
 /* A start candidate: clear, on known free ground, and walled in all round. */
 static bool start_ok(const room_t *r, double x, double y, double clearance)
 {
@@ -277,16 +233,7 @@ static bool start_ok(const room_t *r, double x, double y, double clearance)
             return false;
         }
     }
-    if (!room_disc_free(r, x, y, clearance)) {
-        return false;
-    }
-    double reach = 2.0 * hypot(r->max_x - r->min_x, r->max_y - r->min_y) + 1.0;
-    for (int k = 0; k < 8; k++) {
-        if (room_ray(r, x, y, (double)k * (HOST_PI / 4.0), reach, NULL) > reach) {
-            return false;
-        }
-    }
-    return true;
+    return room_disc_free(r, x, y, clearance) && room_encloses(r, x, y, NULL);
 }
 
 int room_find_start(const room_t *r, double clearance_m, double *x, double *y, double *th)

@@ -66,7 +66,14 @@ static inline double wrap_pi(double a)
 }
 
 /* Independent random streams, so changing one error level leaves the others' draws. */
-enum { STREAM_WHEELS = 1, STREAM_SONAR = 2 };
+enum { STREAM_WHEELS = 1, STREAM_SONAR = 2, STREAM_FAULTS = 3 };
+
+/* The fault episodes, each with its own stream (STREAM_FAULTS + its number). */
+enum { FAULT_ECHO, FAULT_SERVO, FAULT_ENCODER, FAULT_TICK, FAULTS };
+
+/* An episode lasts this long, uniform, s. */
+#define SIM_EPISODE_MIN_S 0.5
+#define SIM_EPISODE_MAX_S 3.0
 
 struct sim {
     const room_t *room;
@@ -74,6 +81,11 @@ struct sim {
     sim_errors_t e;
     sim_rng_t rng_wheels;
     sim_rng_t rng_sonar;
+    sim_rng_t rng_fault[FAULTS];
+    uint64_t fault_until_us[FAULTS]; /* the episode under way ends then */
+    bool faults;                     /* an episode fault is on: the tick looks at them */
+    int stopped_wheel;               /* the encoder that stopped counting */
+    uint64_t ticks_missed;
 
     /* Derived once. */
     double r_nom;            /* nominal wheel radius, m */
@@ -95,7 +107,7 @@ struct sim {
     double omega[2];         /* wheel angular speeds, rad/s */
     double omega_cmd[2];     /* what the duty asks for, rad/s */
     int16_t duty[2];
-    double enc[2];           /* true wheel rotation, counts */
+    double enc[2];           /* wheel rotation the encoders counted, counts */
 
     /* Collisions: every point within `margin` of the anchor is known to be free. */
     double ax, ay, margin, margin2;
@@ -121,6 +133,9 @@ struct sim {
     uint32_t ring_us;        /* its sound's round trip to the surface it echoed from; 0: none */
     sim_ping_t ping;
     uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
+    uint32_t *near;          /* a large room's objects near the cone (room_t.index) */
+    uint32_t *stamp;         /* per object: the cone_objects() call that last took it */
+    uint32_t stamp_now;
 
     uint64_t time_us;
     uint64_t ticks;
@@ -163,6 +178,11 @@ void sim_errors_default(sim_errors_t *e)
         .sonar_dropout = 0.03,
         .sonar_ghost = 0.01,
         .grazing_deg = 45.0,
+        .echo_stuck_per_s = 0.0,
+        .servo_lag = 0.0,
+        .servo_stall_per_s = 0.0,
+        .tick_miss = 0.0,
+        .encoder_stop_per_s = 0.0,
     };
 }
 
@@ -222,6 +242,11 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
         {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
         {in(e->sonar_ghost, 0.0, 1.0), "e.sonar_ghost"},
         {in(e->grazing_deg, 0.0, 90.0), "e.grazing_deg"},
+        {in(e->echo_stuck_per_s, 0.0, 10.0), "e.echo_stuck_per_s"},
+        {in(e->servo_lag, 0.0, 0.95), "e.servo_lag"},
+        {in(e->servo_stall_per_s, 0.0, 10.0), "e.servo_stall_per_s"},
+        {in(e->tick_miss, 0.0, 0.9), "e.tick_miss"},
+        {in(e->encoder_stop_per_s, 0.0, 10.0), "e.encoder_stop_per_s"},
     };
     for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
         if (!checks[i].ok) {
@@ -245,9 +270,14 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     if (s == NULL) {
         return NULL;
     }
-    s->cand = malloc((room->nsegs + room->ncircles + 1u) * sizeof *s->cand);
-    if (s->cand == NULL) {
-        free(s);
+    size_t nobj = room->nsegs + room->ncircles + 1u;
+    s->cand = malloc(nobj * sizeof *s->cand);
+    if (room->index != NULL) {
+        s->near = malloc(nobj * sizeof *s->near);
+        s->stamp = calloc(nobj, sizeof *s->stamp);
+    }
+    if (s->cand == NULL || (room->index != NULL && (s->near == NULL || s->stamp == NULL))) {
+        sim_destroy(s);
         return NULL;
     }
     s->room = room;
@@ -255,6 +285,11 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->e = *e;
     sim_rng_seed(&s->rng_wheels, seed, STREAM_WHEELS);
     sim_rng_seed(&s->rng_sonar, seed, STREAM_SONAR);
+    for (int f = 0; f < FAULTS; f++) {
+        sim_rng_seed(&s->rng_fault[f], seed, (uint64_t)(STREAM_FAULTS + f));
+    }
+    s->faults = e->echo_stuck_per_s > 0.0 || e->servo_stall_per_s > 0.0 ||
+                e->encoder_stop_per_s > 0.0;
 
     /* E_d = D_R / D_L with the mean diameter nominal (Borenstein and Feng). */
     s->r_nom = 0.5 * p->wheel_diameter_m;
@@ -264,7 +299,7 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->counts_per_rad = p->counts_per_rev / (2.0 * HOST_PI);
     s->decay = exp(-DT_S / p->motor_tau_s);
     s->gain = p->motor_tau_s * (1.0 - s->decay);
-    s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S;
+    s->servo_step_deg = 60.0 / p->servo_s_per_60deg * DT_S * (1.0 - e->servo_lag);
     s->cos_graze = e->grazing_deg > 0.0 ? cos(e->grazing_deg * DEG) : 0.0;
     s->omega_per_duty = p->top_speed_mps / HAL_DUTY_MAX / s->r_nom;
     double half = 0.5 * p->sonar_cone_deg * DEG;
@@ -274,7 +309,7 @@ sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t 
     s->ray_c = cos(step);
     s->ray_s = sin(step);
     for (unsigned i = 0; i < SIM_BEAM_CACHE; i++) {
-        s->beam[i].deg = NAN; /* matches no angle */
+        s->beam[i].deg = (double)NAN; /* matches no angle */
     }
 
     s->x = room->start_x;
@@ -294,6 +329,8 @@ void sim_destroy(sim_t *s)
 {
     if (s != NULL) {
         free(s->cand);
+        free(s->near);
+        free(s->stamp);
         free(s);
     }
 }
@@ -307,6 +344,7 @@ sim_truth_t sim_truth(const sim_t *s)
         .servo_deg = s->servo_deg,
         .wheel_mps = {s->omega[0] * s->r_act[0], s->omega[1] * s->r_act[1]},
         .collisions = s->collisions,
+        .ticks_missed = s->ticks_missed,
         .contact = s->contact,
         .time_us = s->time_us,
         .ticks = s->ticks,
@@ -409,6 +447,50 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
     return best;
 }
 
+/* The cone of a ping: its apex, the unit vectors of its axis and edges, its reach. */
+typedef struct {
+    double ox, oy, bx, by, lx, ly, rx, ry, max;
+} cone_t;
+
+/* A segment wholly left of the cone's left edge, right of its right edge, or behind the
+ * sensor cannot meet it. */
+static inline bool seg_misses(const cone_t *k, const room_segment_t *g)
+{
+    double q1x = g->x1 - k->ox;
+    double q1y = g->y1 - k->oy;
+    double q2x = g->x2 - k->ox;
+    double q2y = g->y2 - k->oy;
+    return (k->lx * q1y - k->ly * q1x > 0.0 && k->lx * q2y - k->ly * q2x > 0.0) ||
+           (k->rx * q1y - k->ry * q1x < 0.0 && k->rx * q2y - k->ry * q2x < 0.0) ||
+           (k->bx * q1x + k->by * q1y < 0.0 && k->bx * q2x + k->by * q2y < 0.0);
+}
+
+/* The same for a circle, and one beyond the reach. */
+static inline bool circle_misses(const cone_t *k, const room_circle_t *c)
+{
+    double qx = c->cx - k->ox;
+    double qy = c->cy - k->oy;
+    return k->lx * qy - k->ly * qx > c->r || k->rx * qy - k->ry * qx < -c->r ||
+           k->bx * qx + k->by * qy < -c->r ||
+           qx * qx + qy * qy > (k->max + c->r) * (k->max + c->r);
+}
+
+/* The segments and circles (as nsegs + i) near the cone, in ascending order (the order a
+ * small room is looked at in), into s->near; returns how many. */
+static size_t cone_objects(sim_t *s, double ox, double oy, double bx, double by, double lx,
+                           double ly, double rx, double ry, double max)
+{
+    const room_t *r = s->room;
+    /* The sector lies within the box of its apex, its edges' ends and its axis' end,
+       grown by the arc's bulge beyond the chord. */
+    double bulge = max * (1.0 - s->cone_c);
+    double x0 = fmin(fmin(ox, ox + max * bx), fmin(ox + max * lx, ox + max * rx)) - bulge;
+    double x1 = fmax(fmax(ox, ox + max * bx), fmax(ox + max * lx, ox + max * rx)) + bulge;
+    double y0 = fmin(fmin(oy, oy + max * by), fmin(oy + max * ly, oy + max * ry)) - bulge;
+    double y1 = fmax(fmax(oy, oy + max * by), fmax(oy + max * ly, oy + max * ry)) + bulge;
+    return room_index_gather(r, x0, y0, x1, y1, s->stamp, &s->stamp_now, s->near);
+}
+
 /*
  * The late echo of the last ping heard by a ping triggered now, µs after the trigger, or
  * infinity. A ping's sound bounces between the sensor and the surface it echoed from and
@@ -463,32 +545,33 @@ static void sonar_ping(sim_t *s)
     double ry = by * s->cone_c - bx * s->cone_s;
     double max = p->sonar_max_m;
 
-    /* Cull what cannot meet the cone: wholly left of its left edge, right of its right
-       edge, or behind the sensor. */
+    /* Cull what cannot meet the cone; a large room offers only the objects near it. */
+    const cone_t cone = {ox, oy, bx, by, lx, ly, rx, ry, max};
     size_t nseg = 0u;
-    for (size_t i = 0; i < r->nsegs; i++) {
-        const room_segment_t *g = &r->segs[i];
-        double q1x = g->x1 - ox;
-        double q1y = g->y1 - oy;
-        double q2x = g->x2 - ox;
-        double q2y = g->y2 - oy;
-        if ((lx * q1y - ly * q1x > 0.0 && lx * q2y - ly * q2x > 0.0) ||
-            (rx * q1y - ry * q1x < 0.0 && rx * q2y - ry * q2x < 0.0) ||
-            (bx * q1x + by * q1y < 0.0 && bx * q2x + by * q2y < 0.0)) {
-            continue;
-        }
-        s->cand[nseg++] = (uint32_t)i;
-    }
     size_t ncirc = 0u;
-    for (size_t i = 0; i < r->ncircles; i++) {
-        const room_circle_t *c = &r->circles[i];
-        double qx = c->cx - ox;
-        double qy = c->cy - oy;
-        if (lx * qy - ly * qx > c->r || rx * qy - ry * qx < -c->r || bx * qx + by * qy < -c->r ||
-            qx * qx + qy * qy > (max + c->r) * (max + c->r)) {
-            continue;
+    if (r->index == NULL) {
+        for (size_t i = 0; i < r->nsegs; i++) {
+            if (!seg_misses(&cone, &r->segs[i])) {
+                s->cand[nseg++] = (uint32_t)i;
+            }
         }
-        s->cand[nseg + ncirc++] = (uint32_t)i;
+        for (size_t i = 0; i < r->ncircles; i++) {
+            if (!circle_misses(&cone, &r->circles[i])) {
+                s->cand[nseg + ncirc++] = (uint32_t)i;
+            }
+        }
+    } else {
+        size_t n = cone_objects(s, ox, oy, bx, by, lx, ly, rx, ry, max);
+        for (size_t j = 0; j < n; j++) { /* ascending: every segment before any circle */
+            uint32_t id = s->near[j];
+            if (id < r->nsegs) {
+                if (!seg_misses(&cone, &r->segs[id])) {
+                    s->cand[nseg++] = id;
+                }
+            } else if (!circle_misses(&cone, &r->circles[id - r->nsegs])) {
+                s->cand[nseg + ncirc++] = (uint32_t)(id - r->nsegs);
+            }
+        }
     }
 
     double geo = HOST_INF;  /* nearest surface in the cone */
@@ -557,6 +640,9 @@ static void sonar_ping(sim_t *s)
         range = range > p->sonar_min_m ? range : p->sonar_min_m;
     } else {
         pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
+    }
+    if (s->faults && s->time_us < s->fault_until_us[FAULT_ECHO]) {
+        pg->kind = SIM_PING_STUCK; /* the line is high before the echo could come */
     }
     s->sonar_out = true;
     s->sonar_echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_GHOST;
@@ -709,6 +795,53 @@ static double sim_move(sim_t *s, double du, double dth)
     return done / n;
 }
 
+/* Perhaps begin an episode of fault f, which comes at @p rate a second. */
+static bool begin_episode(sim_t *s, int f, double rate)
+{
+    if (rate <= 0.0 || s->time_us < s->fault_until_us[f] ||
+        sim_rng_unit(&s->rng_fault[f]) >= rate * DT_S) {
+        return false;
+    }
+    double len = SIM_EPISODE_MIN_S +
+                 (SIM_EPISODE_MAX_S - SIM_EPISODE_MIN_S) * sim_rng_unit(&s->rng_fault[f]);
+    s->fault_until_us[f] = s->time_us + (uint64_t)llround(len * 1e6);
+    return true;
+}
+
+/* The episodes of the faults in this tick: a stopped encoder did not count the turn it
+ * was given, a stalled servo did not move; and new episodes begin. */
+static void faults_step(sim_t *s, const double turns[2], double common, double servo_before)
+{
+    if (s->time_us < s->fault_until_us[FAULT_ENCODER]) {
+        int w = s->stopped_wheel;
+        s->enc[w] -= (turns[w] - common) * s->counts_per_rad;
+    }
+    if (s->time_us < s->fault_until_us[FAULT_SERVO]) {
+        s->servo_deg = servo_before;
+    }
+    const double rates[3] = {s->e.echo_stuck_per_s, s->e.servo_stall_per_s,
+                             s->e.encoder_stop_per_s};
+    for (int f = 0; f < 3; f++) {
+        if (begin_episode(s, f, rates[f]) && f == FAULT_ENCODER) {
+            s->stopped_wheel = sim_rng_unit(&s->rng_fault[f]) < 0.5 ? 0 : 1;
+        }
+    }
+}
+
+bool sim_ticks_lost(const sim_t *s)
+{
+    return s->e.tick_miss > 0.0;
+}
+
+bool sim_tick_lost(sim_t *s)
+{
+    if (s->e.tick_miss <= 0.0 || sim_rng_unit(&s->rng_fault[FAULT_TICK]) >= s->e.tick_miss) {
+        return false;
+    }
+    s->ticks_missed++;
+    return true;
+}
+
 void sim_step(sim_t *s)
 {
     double d[2];
@@ -752,13 +885,16 @@ void sim_step(sim_t *s)
         s->enc[w] += (turns[w] - common) * s->counts_per_rad;
     }
 
+    double servo_before = s->servo_deg;
     double diff = s->servo_cmd_deg - s->servo_deg;
     if (fabs(diff) <= s->servo_step_deg) {
         s->servo_deg = s->servo_cmd_deg;
     } else {
         s->servo_deg += diff > 0.0 ? s->servo_step_deg : -s->servo_step_deg;
     }
-
+    if (s->faults) {
+        faults_step(s, turns, common, servo_before);
+    }
     s->time_us += HAL_TICK_PERIOD_US;
     s->ticks++;
 }

@@ -13,6 +13,14 @@ void fake_hal_reset(void)
     memset(fake_hal.storage, 0xFF, sizeof fake_hal.storage); /* never written: erased */
     fake_hal.sonar_next = HAL_SONAR_BUSY;
     fake_hal.storage_size = FAKE_HAL_STORAGE_SIZE;
+    fake_hal.storage_cut_after = -1;
+}
+
+void fake_hal_power_on(void)
+{
+    fake_hal.storage_powered_off = false;
+    fake_hal.storage_cut_after = -1;
+    fake_hal.storage_erase_cut = 0u;
 }
 
 int hal_init(void)
@@ -109,11 +117,30 @@ int hal_storage_begin(uint8_t slot)
 {
     fake_hal.calls_storage_begin++;
     fake_hal.storage_begin_moving += fake_hal.motor[0] != 0 || fake_hal.motor[1] != 0;
+    if (fake_hal.storage_powered_off) {
+        return HAL_EIO;
+    }
     if (slot >= HAL_STORAGE_SLOTS) {
         return HAL_EINVAL;
     }
-    memset(fake_hal.storage[slot], 0xFF, FAKE_HAL_STORAGE_SIZE);
     fake_hal.storage_committed[slot] = false;
+    if (fake_hal.calls_storage_begin == fake_hal.storage_erase_cut) {
+        /* The erase stops part-way: the start is erased, the rest as it was, or half-erased
+         * (bits that flipped to 1 at random). */
+        uint32_t done = fake_hal.storage_erase_done;
+        done = done > FAKE_HAL_STORAGE_SIZE ? FAKE_HAL_STORAGE_SIZE : done;
+        memset(fake_hal.storage[slot], 0xFF, done);
+        uint32_t x = 0x12345678u;
+        for (uint32_t i = done; fake_hal.storage_erase_noise && i < FAKE_HAL_STORAGE_SIZE; i++) {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            fake_hal.storage[slot][i] |= (uint8_t)(x & (x >> 8));
+        }
+        fake_hal.storage_powered_off = true;
+        return HAL_EIO;
+    }
+    memset(fake_hal.storage[slot], 0xFF, FAKE_HAL_STORAGE_SIZE);
     return HAL_OK;
 }
 
@@ -123,21 +150,46 @@ static bool storage_range_ok(uint8_t slot, uint32_t offset, size_t len)
            len <= FAKE_HAL_STORAGE_SIZE - offset;
 }
 
+/* Programs bytes: copies them, or on NOR flash clears only the bits that are 0 in them. */
+static void program(uint8_t *dst, const uint8_t *src, size_t len)
+{
+    for (size_t i = 0; i < len; i++) {
+        dst[i] = fake_hal.storage_nor ? (uint8_t)(dst[i] & src[i]) : src[i];
+    }
+}
+
 int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
 {
     fake_hal.calls_storage_write++;
-    if ((int)fake_hal.calls_storage_write == fake_hal.storage_fail_at) {
+    if (fake_hal.storage_powered_off || (int)fake_hal.calls_storage_write == fake_hal.storage_fail_at) {
         return HAL_EIO;
     }
     if (!storage_range_ok(slot, offset, len)) {
         return HAL_EINVAL;
     }
-    memcpy(&fake_hal.storage[slot][offset], data, len);
+    uint8_t *dst = &fake_hal.storage[slot][offset];
+    if (fake_hal.storage_cut_after >= 0 && (size_t)fake_hal.storage_cut_after < len) {
+        /* The power fails in this write: a part lands, one byte half-programmed. */
+        size_t landed = (size_t)fake_hal.storage_cut_after;
+        program(dst, data, landed);
+        uint8_t target = ((const uint8_t *)data)[landed];
+        uint8_t cleared = (uint8_t)(~target & fake_hal.storage_cut_bits);
+        dst[landed] = (uint8_t)(dst[landed] & ~cleared);
+        fake_hal.storage_powered_off = true;
+        return HAL_EIO;
+    }
+    if (fake_hal.storage_cut_after >= 0) {
+        fake_hal.storage_cut_after -= (long)len;
+    }
+    program(dst, data, len);
     return HAL_OK;
 }
 
 int hal_storage_commit(uint8_t slot)
 {
+    if (fake_hal.storage_powered_off) {
+        return HAL_EIO;
+    }
     if (slot >= HAL_STORAGE_SLOTS) {
         return HAL_EINVAL;
     }
@@ -148,6 +200,9 @@ int hal_storage_commit(uint8_t slot)
 
 int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
 {
+    if (fake_hal.storage_powered_off) {
+        return HAL_EIO;
+    }
     if (!storage_range_ok(slot, offset, len)) {
         return HAL_EINVAL;
     }

@@ -43,6 +43,17 @@ typedef struct {
     unsigned calls_storage_begin;
     unsigned storage_begin_moving;    /**< hal_storage_begin() calls with a motor running */
     int storage_fail_at;              /**< hal_storage_write call number that fails (0: none) */
+
+    /* Flash and power cuts (all off after fake_hal_reset()). */
+    bool storage_nor;                 /**< writes only program bits (1 -> 0), as NOR flash */
+    long storage_cut_after;           /**< bytes still programmed before the power fails; -1 */
+    uint8_t storage_cut_bits;         /**< of the byte being programmed at the cut, the bits
+                                           that did get programmed (a mask) */
+    unsigned storage_erase_cut;       /**< hal_storage_begin call number whose erase the power
+                                           cuts (0: none) */
+    uint32_t storage_erase_done;      /**< bytes from the start of the slot erased by then */
+    bool storage_erase_noise;         /**< the rest of the slot half-erased: bits set at random */
+    bool storage_powered_off;         /**< after a cut every storage call fails with HAL_EIO */
     uint8_t storage[HAL_STORAGE_SLOTS][FAKE_HAL_STORAGE_SIZE];
     uint8_t uart[FAKE_HAL_UART_SIZE]; /**< every byte written to the UART */
     size_t uart_len;
@@ -56,5 +67,8 @@ void fake_hal_reset(void);
 
 /** Queue bytes for hal_uart_read() (they must fit in rx). */
 void fake_hal_receive(const uint8_t *data, size_t len);
+
+/** Power the storage on again after a cut: its contents stay, the cuts are disarmed. */
+void fake_hal_power_on(void);
 
 #endif /* SLAM_TEST_FAKE_HAL_H */

@@ -54,6 +54,24 @@ static inline void test_room(room_t *r, const char *text)
     unlink(path);
 }
 
+/* Loading fails with a message that is @p path followed by @p after, and the room is left
+ * as it was. */
+static inline void test_load_refused(const char *path, const room_crop_t *crop, const char *after)
+{
+    room_t r;
+    room_t before;
+    memset(&r, 0xA5, sizeof r);
+    memcpy(&before, &r, sizeof r);
+    char err[400] = "";
+    assert_int_equal(room_load(&r, path, crop, err, sizeof err), -1);
+    char want[800];
+    snprintf(want, sizeof want, "%s%s", path, after);
+    if (strncmp(err, want, strlen(want)) != 0) {
+        fail_msg("got \"%s\", want \"%s...\"", err, want);
+    }
+    assert_memory_equal(&r, &before, sizeof r); /* untouched */
+}
+
 /* A world with the given errors in a room. */
 static inline sim_t *test_world(const room_t *r, const sim_errors_t *e, uint64_t seed)
 {

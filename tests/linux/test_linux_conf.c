@@ -149,7 +149,7 @@ static void test_dir_driver_without_in2(void **state)
     lconf_t lc;
     lconf_default(&lc);
     char err[256] = "";
-    assert_int_equal(lconf_set(&lc, "motor_left_in2", "-1", err, sizeof err), 0);
+    assert_int_equal(lconf_set(&lc, "motor_left_in2", "-1", 0u, err, sizeof err), 0);
     assert_int_equal(lc.motor_in2[0], LCONF_NO_LINE);
 }
 
@@ -186,12 +186,16 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"watchdog_idle_ms = 60001\n", "watchdog_idle_ms = '60001'"},
         {"motor_standby = -2\n", "motor_standby = '-2': expected a line offset 0..4095, or -1"},
         {"motor_standby = 4096\n", "motor_standby = '4096'"},
-        {"wheel_base_um = 1\n", "wheel_base_um is out of its valid range"},
+        {"wheel_base_um = 1\n", ":17: wheel_base_um = 1 is out of its valid range: 50000..1000000"},
+        {"sweep_stops = 1\n", "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"},
         {"wheel_base_um = many\n", "wheel_base_um = 'many': expected a whole number"},
         {"sweep_stops = 300\n", "sweep_stops = '300': out of range"},
         /* Duplicates of required keys are caught where they repeat. */
-        {"sonar_echo = 7\n", "sonar_echo is given twice"},
-        {"encoder_left_a = 18\n", "encoder_left_a is given twice"},
+        {"sonar_echo = 7\n", ":17: sonar_echo is given twice (first on line 6)"},
+        {"encoder_left_a = 18\n", ":17: encoder_left_a is given twice (first on line 1)"},
+        /* A core key given twice is as wrong as a backend key given twice. */
+        {"wheel_base_um = 140000\nwheel_base_um = 150000\n",
+         ":18: wheel_base_um is given twice (first on line 17)"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         slam_config_t core;
@@ -232,7 +236,7 @@ static void test_bad_line_values_say_which_line(void **state)
         lconf_default(&lc);
         lconf_t lc0 = lc;
         char err[256] = "";
-        assert_int_equal(lconf_set(&lc, cases[i].key, cases[i].value, err, sizeof err), -2);
+        assert_int_equal(lconf_set(&lc, cases[i].key, cases[i].value, 0u, err, sizeof err), -2);
         assert_non_null(strstr(err, cases[i].key));
         assert_non_null(strstr(err, cases[i].says));
         assert_memory_equal(&lc, &lc0, sizeof lc);
@@ -240,7 +244,7 @@ static void test_bad_line_values_say_which_line(void **state)
     lconf_t lc;
     lconf_default(&lc);
     char err[256] = "";
-    assert_int_equal(lconf_set(&lc, "wheel_base_um", "1", err, sizeof err), -1); /* not ours */
+    assert_int_equal(lconf_set(&lc, "wheel_base_um", "1", 0u, err, sizeof err), -1); /* not ours */
 }
 
 /* Loads a copy of the minimal file with one line replaced. */
@@ -262,15 +266,18 @@ static void test_whole_file_checks(void **state)
     char err[512] = "";
 
     assert_int_equal(load_replacing("sonar_echo = 6\n", "", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "missing key 'sonar_echo'"));
+    assert_non_null(strstr(err, "robot.conf: missing key 'sonar_echo'"));
 
+    /* A clash names both keys with their lines, and blames the later one. */
     assert_int_equal(load("motor_standby = 17\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "encoder_left_a and motor_standby both use line 17"));
+    assert_non_null(strstr(err, "robot.conf:17: encoder_left_a (line 1) and motor_standby (line 17) "
+                                "both use line 17"));
 
     assert_int_equal(load_replacing("motor_right_pwm_channel = 1\n", "motor_right_pwm_channel = 0\n",
                                     &core, &lc, err, sizeof err),
                      -1);
-    assert_non_null(strstr(err, "motor_left and motor_right both use PWM channel pwmchip0/pwm0"));
+    assert_non_null(strstr(err, "robot.conf:12: motor_left and motor_right both use PWM channel "
+                                "pwmchip0/pwm0 (lines 10 and 12)"));
 
     /* Optional lines that are not wired may all be -1. */
     assert_int_equal(load_replacing("motor_left_in2 = 25\n", "motor_left_in2 = -1\n", &core, &lc,

@@ -59,7 +59,7 @@ with open(sim.out("map.yaml"), "w") as f:
             "occupied_thresh: 0.65\nfree_thresh: 0.196\n")
 crop = sim.out("crop")
 sim.run("--room", sim.out("map.yaml"), "--crop", 0.5, 0.5, 1.5, 1.5, "--start", 1.2, 1.2, 0,
-        "--cell", 100, "--duration", 200, "--explore", "tm", "--out", crop)
+        "--cell", 100, "--duration", 240, "--explore", "tm", "--out", crop)
 mc = sim.metrics(crop)
 check(mc["scenario"]["crop"] is not None and mc["exploration"]["time_to_50_s"] is not None,
       "a cropped map that reaches 50 %% coverage validates (crop %s, 50 %% at %s s)"

@@ -27,4 +27,38 @@ with open(bad, "w") as f:
     f.writelines(lines)
 p = sim.run("--replay", bad, "--config", os.path.join(run, "config.txt"), "--out", sim.out("never"), expect=2)
 check(bad + ":6:" in p.stderr and not os.path.exists(sim.out("never")), "a malformed reading names its line")
+
+# B11 and other input that is not a log: each exit 2, naming the line, writing nothing.
+cfg = os.path.join(run, "config.txt")
+header = lines[0]
+cases = [
+    ("/dev/null", None, "/dev/null: empty: not a readings.csv"),
+    ("nul.csv", header + lines[1][:10] + "\0" + lines[1][10:], ":2: a NUL byte"),
+    ("long.csv", header + "1," * 300 + "\n", ":2: line longer than 511 characters"),
+    ("fields.csv", header + "1,90,1.0,ok,0\n", ":2: malformed reading: a column is missing"),
+    ("servo.csv", header + "1,1e300,1.0,ok,0,0,0,0,0,0\n", ":2: malformed reading: servo_deg"),
+    ("status.csv", header + "1,90,,lost,0,0,0,0,0,0\n", ":2: malformed reading: status"),
+    ("header.csv", "time,angle\n", ":1: not a readings.csv header"),
+]
+for name, text, says in cases:
+    path = name if text is None else sim.out(name)
+    if text is not None:
+        with open(path, "w") as f:
+            f.write(text)
+    p = sim.run("--replay", path, "--config", cfg, "--out", sim.out("never"), expect=2)
+    check(says in p.stderr and not os.path.exists(sim.out("never")),
+          "%s: exit 2, says '%s', writes nothing" % (name, says))
+
+# A log without readings (a run too short to ping) is a log: an empty map.
+hdr = sim.out("header-only.csv")
+with open(hdr, "w") as f:
+    f.write(header)
+sim.run("--replay", hdr, "--config", cfg, "--out", sim.out("empty"))
+check(os.path.exists(os.path.join(sim.out("empty"), "om.pgm")), "a header without rows replays to an empty map")
+
+# The output folder is checked before anything is read or written.
+with open(sim.out("afile"), "w") as f:
+    f.write("x")
+p = sim.run("--replay", os.path.join(run, "readings.csv"), "--out", sim.out("afile"), expect=2)
+check("--out" in p.stderr and "not a directory" in p.stderr, "--out naming a file: exit 2")
 sim.done()

@@ -68,8 +68,9 @@ typedef struct {
 } mapstore_t;
 
 /**
- * Find the newest good record, so saves continue its sequence in the other slot.
- * Not ISR-safe (reads storage).
+ * Find the newest good record (header and data CRCs both match, as mapstore_load()
+ * requires), so saves continue its sequence in the other slot and never overwrite it.
+ * Reads both slots whole. Not ISR-safe.
  */
 void mapstore_init(mapstore_t *s);
 

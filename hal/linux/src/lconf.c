@@ -63,7 +63,30 @@ static const lkey_t keys[] = {
 #undef KEY
 #undef KEY_U32
 #define NKEYS (sizeof keys / sizeof keys[0])
-_Static_assert(NKEYS <= 64u, "lconf_t.seen has one bit per key");
+_Static_assert(NKEYS <= LCONF_KEYS_MAX, "lconf_t.seen has one bit per key");
+
+/* The line of the file that set a key (0: not set, or not from a file). */
+static unsigned key_line(const lconf_t *c, const char *name)
+{
+    for (size_t i = 0u; i < NKEYS; i++) {
+        if (strcmp(keys[i].name, name) == 0) {
+            return c->line[i];
+        }
+    }
+    return 0u;
+}
+
+/* "KEY" or "KEY (line N)". */
+static const char *where(const lconf_t *c, const char *name, char *buf, size_t n)
+{
+    unsigned line = key_line(c, name);
+    if (line != 0u) {
+        snprintf(buf, n, "%s (line %u)", name, line);
+    } else {
+        snprintf(buf, n, "%s", name);
+    }
+    return buf;
+}
 
 static const char *const bias_names[] = {"as-is", "disable", "pull-up", "pull-down"};
 
@@ -187,7 +210,8 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
     }
 }
 
-int lconf_set(void *ctx, const char *key, const char *value, char *err, size_t errlen)
+int lconf_set(void *ctx, const char *key, const char *value, unsigned line, char *err,
+              size_t errlen)
 {
     lconf_t *c = ctx;
     for (size_t i = 0u; i < NKEYS; i++) {
@@ -195,12 +219,17 @@ int lconf_set(void *ctx, const char *key, const char *value, char *err, size_t e
             continue;
         }
         if (c->seen & (1ull << i)) {
-            snprintf(err, errlen, "%s is given twice", key);
+            if (c->line[i] != 0u) {
+                snprintf(err, errlen, "%s is given twice (first on line %u)", key, c->line[i]);
+            } else {
+                snprintf(err, errlen, "%s is given twice", key);
+            }
             return -2;
         }
         int rc = set_value(c, &keys[i], value, err, errlen);
         if (rc == 0) {
             c->seen |= 1ull << i;
+            c->line[i] = line;
         }
         return rc;
     }
@@ -227,34 +256,55 @@ void lconf_lines(const lconf_t *c, lconf_line_t out[LCONF_LINES])
     memcpy(out, lines, sizeof lines);
 }
 
-int lconf_check(const lconf_t *c, char *err, size_t errlen)
+static unsigned later(unsigned a, unsigned b)
 {
+    return a > b ? a : b;
+}
+
+/* lconf_check(), and the line to blame: the later of two keys that clash (0: none). */
+static int check(const lconf_t *c, unsigned *blame, char *err, size_t errlen)
+{
+    *blame = 0u;
     for (size_t i = 0u; i < NKEYS; i++) {
         if (keys[i].required && !(c->seen & (1ull << i))) {
-            snprintf(err, errlen, "missing key '%s'", keys[i].name);
+            snprintf(err, errlen, "missing key '%s' (required; see robot-rpi.conf)", keys[i].name);
             return -1;
         }
     }
     lconf_line_t lines[LCONF_LINES];
     lconf_lines(c, lines);
+    char a[64];
+    char b[64];
     for (size_t i = 0u; i < LCONF_LINES; i++) {
         for (size_t j = i + 1u; j < LCONF_LINES; j++) {
             if (lines[i].offset != LCONF_NO_LINE && lines[i].offset == lines[j].offset) {
-                snprintf(err, errlen, "%s and %s both use line %d", lines[i].name, lines[j].name,
+                snprintf(err, errlen, "%s and %s both use line %d",
+                         where(c, lines[i].name, a, sizeof a), where(c, lines[j].name, b, sizeof b),
                          (int)lines[i].offset);
+                *blame = later(key_line(c, lines[i].name), key_line(c, lines[j].name));
                 return -1;
             }
         }
     }
     const struct {
         const char *name;
+        const char *chip_key;
+        const char *channel_key;
         lconf_pwm_t pwm;
-    } pwms[] = {{"servo", c->servo_pwm}, {"motor_left", c->motor_pwm[0]}, {"motor_right", c->motor_pwm[1]}};
+    } pwms[] = {{"servo", "servo_pwm_chip", "servo_pwm_channel", c->servo_pwm},
+                {"motor_left", "motor_left_pwm_chip", "motor_left_pwm_channel", c->motor_pwm[0]},
+                {"motor_right", "motor_right_pwm_chip", "motor_right_pwm_channel", c->motor_pwm[1]}};
+    unsigned pwm_line[3];
+    for (size_t i = 0u; i < 3u; i++) {
+        pwm_line[i] = later(key_line(c, pwms[i].chip_key), key_line(c, pwms[i].channel_key));
+    }
     for (size_t i = 0u; i < 3u; i++) {
         for (size_t j = i + 1u; j < 3u; j++) {
             if (pwms[i].pwm.chip == pwms[j].pwm.chip && pwms[i].pwm.channel == pwms[j].pwm.channel) {
-                snprintf(err, errlen, "%s and %s both use PWM channel pwmchip%d/pwm%d", pwms[i].name,
-                         pwms[j].name, (int)pwms[i].pwm.chip, (int)pwms[i].pwm.channel);
+                snprintf(err, errlen, "%s and %s both use PWM channel pwmchip%d/pwm%d (lines %u and %u)",
+                         pwms[i].name, pwms[j].name, (int)pwms[i].pwm.chip,
+                         (int)pwms[i].pwm.channel, pwm_line[i], pwm_line[j]);
+                *blame = later(pwm_line[i], pwm_line[j]);
                 return -1;
             }
         }
@@ -262,16 +312,27 @@ int lconf_check(const lconf_t *c, char *err, size_t errlen)
     return 0;
 }
 
+int lconf_check(const lconf_t *c, char *err, size_t errlen)
+{
+    unsigned blame;
+    return check(c, &blame, err, errlen);
+}
+
 int lconf_load(const char *path, slam_config_t *core, lconf_t *lc, char *err, size_t errlen)
 {
     slam_config_t core_work = *core;
     lconf_t lc_work = *lc;
-    if (cfgtext_load(path, &core_work, lconf_set, &lc_work, err, errlen) != 0) {
+    if (cfgtext_load(path, &core_work, lconf_set, &lc_work, NULL, err, errlen) != 0) {
         return -1;
     }
     char msg[200];
-    if (lconf_check(&lc_work, msg, sizeof msg) != 0) {
-        snprintf(err, errlen, "%s: %s", path, msg);
+    unsigned blame;
+    if (check(&lc_work, &blame, msg, sizeof msg) != 0) {
+        if (blame != 0u) {
+            snprintf(err, errlen, "%s:%u: %s", path, blame, msg);
+        } else {
+            snprintf(err, errlen, "%s: %s", path, msg);
+        }
         return -1;
     }
     *core = core_work;

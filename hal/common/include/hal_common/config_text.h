@@ -42,24 +42,79 @@ void cfgtext_write_raw(FILE *f, const slam_config_t *cfg, const char *prefix);
 int cfgtext_set_raw(slam_config_t *cfg, const char *key, long long raw, char *err,
                     size_t errlen);
 
-/**
- * A handler for keys that are not slam_config_t fields.
- * @return 0 when the key was taken; -1 unknown key; -2 bad value (write a message to err)
- */
-typedef int (*cfgtext_other_fn)(void *ctx, const char *key, const char *value, char *err,
-                                size_t errlen);
+/** Lines longer than this (the newline included) are refused. */
+#define CFGTEXT_LINE_MAX 512u
+
+/** Configuration files larger than this are refused (1 MiB). */
+#define CFGTEXT_FILE_MAX ((size_t)1 << 20)
+
+/** The most core keys there can be (one line number each in cfgtext_where_t). */
+#define CFGTEXT_MAX_KEYS 64u
+
+/** Where a file set each core key: the line, or 0 when it did not. */
+typedef struct {
+    unsigned line[CFGTEXT_MAX_KEYS];
+} cfgtext_where_t;
+
+/** The line that set @p key (0: not set, not a core key, or @p w NULL). */
+unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key);
 
 /**
- * Read a `key = value` file on top of @p cfg ('#' starts a comment; blank lines ignored),
- * then check the result with slam_config_check().
+ * What slam_config_check() accepts for a key, in words ("1..255", "400..2600, and not
+ * equal to servo_pulse_0deg_us"...), for messages; NULL for an unknown key.
+ */
+const char *cfgtext_rule(const char *key);
+
+/**
+ * slam_config_check() with a message that gives the key, its value and its valid range.
+ * @param key  out (may be NULL): the first bad key, a static string
+ * @return 0, or -1 with err set ("KEY = VALUE is out of its valid range: RULE")
+ */
+int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t errlen);
+
+/**
+ * A handler for keys that are not slam_config_t fields.
+ * @param line  the line of the file that holds the key
+ * @return 0 when the key was taken; -1 unknown key; -2 bad value (write a message to err)
+ */
+typedef int (*cfgtext_other_fn)(void *ctx, const char *key, const char *value, unsigned line,
+                                char *err, size_t errlen);
+
+/**
+ * Read `key = value` text held in memory on top of @p cfg ('#' starts a comment; blank
+ * lines ignored), then check the result with slam_config_check().
+ *
+ * Refused, naming @p name and the line: a NUL byte, a line of CFGTEXT_LINE_MAX characters
+ * or more, a line without '=', an unknown key (unless @p other takes it), a bad value, a
+ * core key given twice; and a result slam_config_check() refuses, naming the key, its
+ * value, its valid range and the line that set it.
+ * @param name   the file's name, for messages
+ * @param text   @p len bytes (need not end in a NUL)
  * @param other  handler for keys that are not core fields, or NULL (they are errors)
- * @param err    out: on failure "FILE:LINE: message", or "FILE: message"
+ * @param where  out (may be NULL): the line of every core key the text set
+ * @param err    out: on failure "NAME:LINE: message", or "NAME: message"
+ * @retval 0   read and valid; cfg holds the result
+ * @retval -1  a line is wrong, or the result is invalid; cfg and where are unchanged
+ */
+int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                  size_t errlen);
+
+/**
+ * cfgtext_parse() on a file of at most CFGTEXT_FILE_MAX bytes.
  * @retval 0   loaded and valid; cfg holds the result
- * @retval -1  the file could not be read, or a line is wrong, or the result is invalid;
- *             cfg is unchanged
+ * @retval -1  the file could not be read or is too large (err says so), or as
+ *             cfgtext_parse(); cfg is unchanged
  */
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
-                 char *err, size_t errlen);
+                 cfgtext_where_t *where, char *err, size_t errlen);
+
+/**
+ * A whole file into memory, with a NUL after its @p len bytes; refused when it is a
+ * directory or holds more than @p limit bytes (never reading more than one byte beyond).
+ * @return the text (free() it), or NULL with "PATH: reason" in err
+ */
+char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, size_t errlen);
 
 /** Trim white space at both ends of @p s, in place; returns the new start. */
 char *cfgtext_trim(char *s);

@@ -31,6 +31,9 @@
 /** The robot body radius the start pose of a room file is checked against, m. */
 #define ROOM_BODY_RADIUS_M ((double)0.09)
 
+/** Every coordinate of a room lies within this distance of the origin (10 km), m. */
+#define ROOM_MAX_COORD_M 10000.0
+
 /** A wall: a line segment, m. */
 typedef struct {
     double x1, y1, x2, y2;
@@ -70,6 +73,8 @@ typedef struct {
                                             for a raster), m */
     double start_x, start_y, start_th; /**< start pose (m, m, rad) */
     bool has_start;        /**< the file gave a start pose (ROS maps do not) */
+    unsigned start_line;   /**< the line of the file that gave it; 0 */
+    struct room_index *index; /**< the objects by place, for large rooms; NULL (private) */
 } room_t;
 
 /** A crop of a building map, in metres of the map's frame. */
@@ -86,12 +91,32 @@ typedef struct {
  * rules: p = (maxval − v)/maxval (v/maxval with `negate: 1`), occupied when
  * p > occupied_thresh, known free when p < free_thresh; it has no start pose.
  *
+ * Limits, each refused with a message: a room file of 64 MiB, a YAML of 1 MiB, an image of
+ * 2^26 pixels or 128 MiB; coordinates within ±ROOM_MAX_COORD_M; pixels of 1 mm to 10 m.
+ * A NUL byte in a text file is an error naming its line.
+ *
  * @param crop  for a ROS map, the part to keep (NULL: all of it), whose edge pixels become
- *              occupied so the robot stays in it; ignored for .room files
+ *              occupied so the robot stays in it; a crop with a .room file is an error
  * @param err   out: on failure "FILE:LINE: what is wrong" (or "FILE: ...")
  * @return 0, or -1 with err set and @p r untouched
  */
 int room_load(room_t *r, const char *path, const room_crop_t *crop, char *err, size_t errlen);
+
+/**
+ * room_load() of a `.room` text held in memory.
+ * @param name  the file's name, for messages
+ * @param text  @p len bytes (need not end in a NUL)
+ */
+int room_parse(room_t *r, const char *name, const char *text, size_t len, char *err,
+               size_t errlen);
+
+/**
+ * room_load() of a ROS map whose YAML and image are held in memory (the YAML's `image`
+ * key is checked, not opened).
+ */
+int room_parse_ros(room_t *r, const char *yaml_name, const char *yaml, size_t yaml_len,
+                   const char *pgm_name, const char *pgm, size_t pgm_len,
+                   const room_crop_t *crop, char *err, size_t errlen);
 
 /** Free what room_load() allocated and zero the room. */
 void room_free(room_t *r);
@@ -120,6 +145,14 @@ double room_clearance(const room_t *r, double x, double y, double cap_m);
 
 /** Whether a disc of radius r_m at (x, y) touches no obstacle (touching exactly is free). */
 bool room_disc_free(const room_t *r, double x, double y, double r_m);
+
+/**
+ * Whether a point lies inside the room: rays from it toward 0°, 45°, ... 315° all meet an
+ * obstacle (within twice the room's diagonal). A room may have doors; a point outside
+ * every wall fails.
+ * @param open_deg  out (may be NULL): when not, the first direction that meets nothing, deg
+ */
+bool room_encloses(const room_t *r, double x, double y, double *open_deg);
 
 /**
  * A free start pose for a room without one: the point nearest the middle of the room's
@@ -183,6 +216,18 @@ typedef struct {
     double sonar_ghost;      /**< probability of a ghost echo at a random range */
     double grazing_deg;      /**< a ray hitting a surface beyond this incidence returns no
                                   echo (at every range); 0 = off */
+    /* Faults of the wiring and the timing, each off (0) by default. An episode lasts
+       0.5..3 s (uniform) and a new one may begin once it is over. */
+    double echo_stuck_per_s;   /**< episodes a second in which the echo line sticks high: every
+                                    ping in one times out (SIM_PING_STUCK) */
+    double servo_lag;          /**< share of the servo's speed lost (0 none .. 0.95): it
+                                    reaches each stop late, and the sweep pings early */
+    double servo_stall_per_s;  /**< episodes a second in which the servo horn stalls where it
+                                    is, whatever the pulse says */
+    double tick_miss;          /**< probability that a control tick is lost: the world moves
+                                    on 10 ms, the firmware does not run (an overrun) */
+    double encoder_stop_per_s; /**< episodes a second in which one encoder (either, at random)
+                                    stops counting: the counter holds, then goes on from there */
 } sim_errors_t;
 
 void sim_params_default(sim_params_t *p);
@@ -204,6 +249,7 @@ typedef struct {
     double servo_deg;         /**< where the servo actually is */
     double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
     uint32_t collisions;      /**< times the robot ran into something and was stopped */
+    uint64_t ticks_missed;    /**< control ticks lost to the tick_miss fault */
     bool contact;             /**< the body touches an obstacle now */
     uint64_t time_us;         /**< virtual time since sim_create() */
     uint64_t ticks;           /**< control periods run (sim_step() calls) */
@@ -218,6 +264,7 @@ typedef enum {
     SIM_PING_GRAZING,   /**< surfaces in range, all at grazing incidence: timeout */
     SIM_PING_NOTHING,   /**< no surface within sonar_max_m in the cone: timeout */
     SIM_PING_LATE,      /**< the late echo of the previous ping, read as this one's */
+    SIM_PING_STUCK,     /**< the echo line was stuck high (a fault episode): timeout */
 } sim_ping_kind_t;
 
 /** The pose and sonar geometry of the last ping, for logs. */
@@ -290,9 +337,19 @@ hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us);
 
 /**
  * Advance the world by one control period, HAL_TICK_PERIOD_US: motors, wheels, encoders,
- * the pose with its collisions, the servo, the clock. O(1) away from obstacles.
+ * the pose with its collisions, the servo, the fault episodes, the clock. O(1) away from
+ * obstacles.
  */
 void sim_step(sim_t *s);
+
+/**
+ * Whether the control tick of this period is lost (the tick_miss fault); counted in
+ * sim_truth_t.ticks_missed. Called once a period, before the tick would run.
+ */
+bool sim_tick_lost(sim_t *s);
+
+/** Whether the world loses ticks at all (tick_miss > 0): the HAL asks once, at attach. */
+bool sim_ticks_lost(const sim_t *s);
 
 /* ---- the host backend ---------------------------------------------------------------- */
 

@@ -26,6 +26,9 @@
 #define LCONF_LINE_MAX 4095
 #define LCONF_PWM_MAX 1023
 
+/** The most backend keys there can be (lconf_t.seen has a bit for each). */
+#define LCONF_KEYS_MAX 64
+
 /** The bias of the encoder inputs. */
 typedef enum {
     LCONF_BIAS_AS_IS = 0, /**< leave the pin as the firmware set it */
@@ -65,6 +68,7 @@ typedef struct {
     uint32_t tick_priority;      /**< tick_priority: SCHED_FIFO 1..98, 0 for normal; 50 */
     uint32_t watchdog_idle_ms;   /**< watchdog_idle_ms: 0 (off) or 100..60000; 2000 */
     uint64_t seen;               /**< which keys were given (one bit per key) */
+    unsigned line[LCONF_KEYS_MAX]; /**< the line of the file that set each key; 0 */
 } lconf_t;
 
 /** The defaults above; required keys are unset. */
@@ -72,16 +76,18 @@ void lconf_default(lconf_t *c);
 
 /**
  * Set one key from its text (a cfgtext_other_fn).
- * @param ctx  the lconf_t
+ * @param ctx   the lconf_t
+ * @param line  the line of the file that holds the key (0: not from a file)
  * @retval 0   set
  * @retval -1  not a key of this backend (err says so)
  * @retval -2  bad value, or a key given twice (err names the key; nothing changed)
  */
-int lconf_set(void *ctx, const char *key, const char *value, char *err, size_t errlen);
+int lconf_set(void *ctx, const char *key, const char *value, unsigned line, char *err,
+              size_t errlen);
 
 /**
  * Check the whole: required keys given, every line and PWM channel used once.
- * @return 0, or -1 with err naming the key(s)
+ * @return 0, or -1 with err naming the key(s) and the lines of the file that set them
  */
 int lconf_check(const lconf_t *c, char *err, size_t errlen);
 

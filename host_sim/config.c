@@ -1,0 +1,198 @@
+/* SPDX-License-Identifier: MIT */
+/* host_sim's firmware configuration: the file, the options, the start pose and the grid. */
+#include <math.h>
+#include <string.h>
+
+#include "hal_common/config_text.h"
+#include "host_sim.h"
+
+static const double PI = HOST_SIM_PI;
+
+/* The --set options, and where each configuration value came from (for messages). */
+typedef struct {
+    const options_t *o;
+    cfgtext_where_t cal;  /* lines of the --calibration file */
+    cfgtext_where_t file; /* lines of the --config file */
+    char keys[HOST_SIM_MAX_SETS][64];
+} cfg_origin_t;
+
+/* "--set KEY=VALUE", "FILE:LINE" or NULL: who set a key. */
+static const char *origin(const cfg_origin_t *w, const char *key, char *buf, size_t n)
+{
+    for (size_t i = w->o->nsets; i-- > 0;) {
+        if (strcmp(w->keys[i], key) == 0) {
+            snprintf(buf, n, "--set %s", w->o->sets[i]);
+            return buf;
+        }
+    }
+    unsigned line = cfgtext_where_line(&w->file, key);
+    if (line != 0u) {
+        snprintf(buf, n, "%s:%u", w->o->config, line);
+        return buf;
+    }
+    line = cfgtext_where_line(&w->cal, key);
+    if (line != 0u) {
+        snprintf(buf, n, "%s:%u", w->o->calibration, line);
+        return buf;
+    }
+    if (w->o->paper && (strcmp(key, "om_mode") == 0 || strncmp(key, "post_", 5) == 0)) {
+        snprintf(buf, n, "--paper");
+        return buf;
+    }
+    if ((strcmp(key, "cell_um") == 0 && w->o->has_cell) ||
+        (strcmp(key, "explore_mode") == 0 && w->o->has_explore) ||
+        (strcmp(key, "explore_seed") == 0 && w->o->has_seed)) {
+        snprintf(buf, n, "--%s", key[0] == 'c' ? "cell" : key[8] == 'm' ? "explore" : "seed");
+        return buf;
+    }
+    return NULL;
+}
+
+static int check_config(const cfg_origin_t *w, const slam_config_t *cfg)
+{
+    char err[512];
+    const char *bad = NULL;
+    if (cfgtext_check(cfg, &bad, err, sizeof err) == 0) {
+        return 0;
+    }
+    char who[160];
+    const char *by = origin(w, bad, who, sizeof who);
+    fprintf(stderr, "host_sim: %s: %s\n", by != NULL ? by : "configuration", err);
+    return -1;
+}
+
+int build_config(const options_t *o, const room_t *room, double sx, double sy, double sth,
+                 slam_config_t *cfg)
+{
+    slam_config_default(cfg);
+    static cfg_origin_t w;
+    memset(&w, 0, sizeof w);
+    w.o = o;
+    char err[512];
+    /* The order, a later one overriding an earlier one: the calibration (the robot's
+     * wheels), the --config file, the options given, each --set. */
+    if (o->calibration != NULL &&
+        cfgtext_load(o->calibration, cfg, NULL, NULL, &w.cal, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: --calibration: %s\n", err);
+        return -1;
+    }
+    if (o->config != NULL &&
+        cfgtext_load(o->config, cfg, NULL, NULL, &w.file, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: %s\n", err);
+        return -1;
+    }
+    if (o->paper) {
+        slam_config_paper(cfg);
+    }
+    uint32_t cell_um = (uint32_t)lround(o->cell_mm * 1000.0);
+    if (o->has_cell) {
+        cfg->cell_um = cell_um;
+    }
+    if (o->has_explore) {
+        cfg->explore_mode = (uint8_t)o->explore;
+    }
+    /* The run's seed (1 unless given) seeds the exploration too, unless a file says
+     * otherwise: host_sim and host_sim --seed 1 are one run. */
+    if (o->has_seed || (cfgtext_where_line(&w.file, "explore_seed") == 0u &&
+                        cfgtext_where_line(&w.cal, "explore_seed") == 0u)) {
+        cfg->explore_seed = explore_seed_of(o->seed);
+    }
+    for (size_t i = 0; i < o->nsets; i++) {
+        const char *eq = strchr(o->sets[i], '=');
+        size_t len = (size_t)(eq - o->sets[i]);
+        if (len >= sizeof w.keys[i]) {
+            fprintf(stderr, "host_sim: --set %.40s...: key too long\n", o->sets[i]);
+            return -1;
+        }
+        memcpy(w.keys[i], o->sets[i], len);
+        w.keys[i][len] = '\0';
+        for (size_t k = 0; k < i; k++) {
+            if (strcmp(w.keys[k], w.keys[i]) == 0) {
+                fprintf(stderr, "host_sim: --set %s: %s is given twice (--set %s)\n", o->sets[i],
+                        w.keys[i], o->sets[k]);
+                return -1;
+            }
+        }
+        if (cfgtext_set(cfg, w.keys[i], eq + 1, err, sizeof err) != 0) {
+            fprintf(stderr, "host_sim: --set: %s\n", err);
+            return -1;
+        }
+        if (o->has_cell && cfg->cell_um != cell_um) {
+            fprintf(stderr, "host_sim: --set %s disagrees with --cell %.0f\n", o->sets[i],
+                    o->cell_mm);
+            return -1;
+        }
+        if (o->has_explore && cfg->explore_mode != (uint8_t)o->explore) {
+            fprintf(stderr, "host_sim: --set %s disagrees with --explore %s\n", o->sets[i],
+                    explore_names[o->explore]);
+            return -1;
+        }
+    }
+    if (check_config(&w, cfg) != 0) {
+        return -1;
+    }
+
+    /* The start pose is the scenario's (the room's, or --start). */
+    const struct {
+        const char *key;
+        int32_t *field;
+        int32_t value;
+        double shown;
+    } start[3] = {
+        {"start_x_um", &cfg->start_x_um, to_um(sx), sx},
+        {"start_y_um", &cfg->start_y_um, to_um(sy), sy},
+        {"start_heading_mdeg", &cfg->start_heading_mdeg,
+         (int32_t)lround(remainder(sth, 2.0 * PI) * 180000.0 / PI), sth * 180.0 / PI},
+    };
+    for (int k = 0; k < 3; k++) {
+        char who[160];
+        const char *by = origin(&w, start[k].key, who, sizeof who);
+        if (by != NULL && *start[k].field != start[k].value) {
+            fprintf(stderr,
+                    "host_sim: %s: %s = %ld disagrees with the run's start pose (%.3f%s): "
+                    "the start pose comes from the room file or --start\n",
+                    by, start[k].key, (long)*start[k].field, start[k].shown, k < 2 ? " m" : " deg");
+            return -1;
+        }
+        *start[k].field = start[k].value;
+    }
+
+    /* Put the middle of the room at the middle of the grid, unless the start cell was set
+     * (to record a trace for a robot with a smaller grid, say). */
+    char who_a[160];
+    char who_b[160];
+    const char *by_a = origin(&w, "start_cell_a", who_a, sizeof who_a);
+    const char *by_b = origin(&w, "start_cell_b", who_b, sizeof who_b);
+    double cell = cfg->cell_um * 1e-6;
+    double cx = (room->min_x + room->max_x) / 2.0;
+    double cy = (room->min_y + room->max_y) / 2.0;
+    long a0 = by_a != NULL ? (long)cfg->start_cell_a : (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
+    long b0 = by_b != NULL ? (long)cfg->start_cell_b : (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
+    double ox = sx - (double)a0 * cell - cell / 2.0;
+    double oy = sy - (double)b0 * cell - cell / 2.0;
+    bool fits_x = a0 >= 0 && a0 < (long)SLAM_GRID_A && ox <= room->min_x &&
+                  ox + SLAM_GRID_A * cell >= room->max_x;
+    bool fits_y = b0 >= 0 && b0 < (long)SLAM_GRID_B && oy <= room->min_y &&
+                  oy + SLAM_GRID_B * cell >= room->max_y;
+    if ((!fits_x && by_a != NULL) || (!fits_y && by_b != NULL)) {
+        bool x = !fits_x && by_a != NULL;
+        fprintf(stderr,
+                "host_sim: %s: with the start in cell %ld along %s, the grid spans %s = %.3f .. "
+                "%.3f m and the room %.3f .. %.3f m: the room does not fit\n",
+                x ? by_a : by_b, x ? a0 : b0, x ? "x" : "y", x ? "x" : "y", x ? ox : oy,
+                (x ? ox + SLAM_GRID_A * cell : oy + SLAM_GRID_B * cell), x ? room->min_x : room->min_y,
+                x ? room->max_x : room->max_y);
+        return -1;
+    }
+    if (!fits_x || !fits_y) {
+        fprintf(stderr,
+                "host_sim: the room (%.1f x %.1f m) does not fit the %ux%u grid of %.0f mm "
+                "cells (%.1f x %.1f m): use a larger --cell or a smaller --crop\n",
+                room->max_x - room->min_x, room->max_y - room->min_y, (unsigned)SLAM_GRID_A,
+                (unsigned)SLAM_GRID_B, cell * 1e3, SLAM_GRID_A * cell, SLAM_GRID_B * cell);
+        return -1;
+    }
+    cfg->start_cell_a = (uint16_t)a0;
+    cfg->start_cell_b = (uint16_t)b0;
+    return check_config(&w, cfg);
+}

@@ -1,0 +1,250 @@
+/* SPDX-License-Identifier: MIT */
+/* Tests of the spatial index of large rooms: the same answers as looking at every object,
+ * for a small share of the work, and a size that grows with the file, not the area. */
+#include <math.h>
+
+#include "host_test.h"
+#include "room_internal.h"
+#include "test_rng.h"
+
+static void test_rng_seed(test_rng_t *r, uint64_t seed)
+{
+    r->s = seed;
+}
+
+/* A 60 m square hall with n short walls, n/8 posts and n/8 crates scattered in it, and
+ * a clear spot at (30, 30) for the robot; as a .room text. */
+static char *scattered_room(uint32_t n, double wall_len, uint64_t seed)
+{
+    size_t cap = (size_t)n * 64u + 256u;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t k = (size_t)snprintf(text, cap, "poly 0 0 60 0 60 60 0 60\n");
+    test_rng_t rng;
+    test_rng_seed(&rng, seed);
+    for (uint32_t i = 0; i < n + n / 4u; i++) {
+        double x = 1.0 + 58.0 * test_rng_unit(&rng);
+        double y = 1.0 + 58.0 * test_rng_unit(&rng);
+        if (fabs(x - 30.0) < 1.0 && fabs(y - 30.0) < 1.0) {
+            continue;
+        }
+        double a = 2.0 * TEST_PI * test_rng_unit(&rng);
+        double len = wall_len * (0.2 + test_rng_unit(&rng));
+        room_segment_t w = {x, y, x + len * cos(a), y + len * sin(a)};
+        if (i < n) {
+            double ex = w.x2 - w.x1;
+            double ey = w.y2 - w.y1;
+            double t = fmax(0.0, fmin(1.0, ((30.0 - x) * ex + (30.0 - y) * ey) / (ex * ex + ey * ey)));
+            if (hypot(x + t * ex - 30.0, y + t * ey - 30.0) < 0.5) {
+                continue; /* keep the robot's spot clear */
+            }
+            k += (size_t)snprintf(text + k, cap - k, "wall %.6f %.6f %.6f %.6f\n", w.x1, w.y1,
+                                  w.x2, w.y2);
+        } else if (i % 2u == 0u) {
+            k += (size_t)snprintf(text + k, cap - k, "circle %.6f %.6f %.6f\n", x, y,
+                                  0.1 * fmin(len, 1.0));
+        } else {
+            k += (size_t)snprintf(text + k, cap - k, "box %.6f %.6f %.6f %.6f\n", x, y,
+                                  0.2 * fmin(len, 1.0), 0.1 * fmin(len, 1.0));
+        }
+    }
+    snprintf(text + k, cap - k, "start 30 30 0\n");
+    return text;
+}
+
+/* Loads scattered_room(n, wall_len, seed), which is large enough for an index. */
+static void load(room_t *r, uint32_t n, double wall_len, uint64_t seed)
+{
+    char *text = scattered_room(n, wall_len, seed);
+    char err[300] = "";
+    if (room_parse(r, "scattered.room", text, strlen(text), err, sizeof err) != 0) {
+        fail_msg("%s", err);
+    }
+    free(text);
+    assert_non_null(r->index);
+    /* The index grows with the file: a few entries an object, however long they are. */
+    assert_true(room_index_entries(r) <= 8u * (r->nsegs + r->ncircles + r->nboxes));
+}
+
+/* The same room without its index: every query looks at every object. */
+static room_t linear(const room_t *r)
+{
+    room_t l = *r;
+    l.index = NULL;
+    return l;
+}
+
+/* Clearance and rays through the index equal those of the linear scan, bit for bit, at
+ * random points (in the hall, inside obstacles, outside the hall) and directions. */
+static void check_same_answers(const room_t *r, unsigned queries, double reach, uint64_t seed)
+{
+    room_t l = linear(r);
+    test_rng_t rng;
+    test_rng_seed(&rng, seed);
+    unsigned zero = 0;
+    unsigned hits = 0;
+    for (unsigned q = 0; q < queries; q++) {
+        double x = -5.0 + 70.0 * test_rng_unit(&rng);
+        double y = -5.0 + 70.0 * test_rng_unit(&rng);
+        double cap = q % 3u == 0u ? 0.34 : (q % 3u == 1u ? 0.09 : 3.0);
+        double a = room_clearance(r, x, y, cap);
+        double b = room_clearance(&l, x, y, cap);
+        if (a != b) {
+            fail_msg("clearance at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g", x, y, cap, a, b);
+        }
+        zero += a == 0.0;
+        double dir = 2.0 * TEST_PI * test_rng_unit(&rng);
+        double ca = -1.0;
+        double cb = -1.0;
+        double da = room_ray(r, x, y, dir, reach, &ca);
+        double db = room_ray(&l, x, y, dir, reach, &cb);
+        if (da != db) {
+            fail_msg("ray from (%.9g, %.9g) at %.9g: indexed %.17g, linear %.17g", x, y, dir, da, db);
+        }
+        hits += da <= reach;
+    }
+    /* The points met every case: inside obstacles, free, rays that hit and that miss. */
+    assert_true(zero > 0u && zero < queries);
+    assert_true(hits > 0u && hits < queries);
+}
+
+/* Short walls, and walls as long as the hall in every direction (the index stays linear
+ * in the file, see load()). */
+static void test_index_gives_the_linear_answers(void **state)
+{
+    (void)state;
+    const struct {
+        uint32_t walls;
+        double len, reach;
+        unsigned queries;
+    } rooms[2] = {{10000u, 0.5, 8.0, 2000u}, {1000u, 80.0, 0.1, 500u}};
+    for (unsigned k = 0; k < 2u; k++) {
+        room_t r;
+        load(&r, rooms[k].walls, rooms[k].len, 11u + k);
+        check_same_answers(&r, rooms[k].queries, rooms[k].reach, 12u + k);
+        room_free(&r);
+        assert_null(r.index);
+    }
+}
+
+/* Every wall on one line (a room of no height): the grid does not blow up along it. */
+static void test_degenerate_shapes(void **state)
+{
+    (void)state;
+    size_t cap = 100u * 80u + 64u;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t k = 0;
+    for (int i = 0; i < 100; i++) {
+        k += (size_t)snprintf(text + k, cap - k, "wall %d 0 %d.5 0\n", 10 * i, 10 * i);
+    }
+    snprintf(text + k, cap - k, "start 5 1 0\n");
+    room_t r;
+    char err[300] = "";
+    assert_int_equal(room_parse(&r, "line.room", text, strlen(text), err, sizeof err), 0);
+    free(text);
+    assert_non_null(r.index);
+    assert_true(r.index->nx <= 1000u && r.index->ny <= 1000u);
+    assert_true(room_index_entries(&r) <= 8u * r.nsegs);
+    room_t l = linear(&r);
+    for (int i = 0; i < 200; i++) {
+        double x = 5.0 * i + 0.25;
+        assert_true(room_clearance(&r, x, 0.5, 2.0) == room_clearance(&l, x, 0.5, 2.0));
+        assert_true(room_ray(&r, x, 3.0, -TEST_PI / 2.0, 9.0, NULL) ==
+                    room_ray(&l, x, 3.0, -TEST_PI / 2.0, 9.0, NULL));
+    }
+    room_free(&r);
+}
+
+/* The objects a query looks at, on average over a thousand: the robot's clearance at
+ * random places, or rays of 4 m from the middle of the hall. */
+static uint64_t examined_per_query(const room_t *r, bool rays)
+{
+    test_rng_t rng;
+    test_rng_seed(&rng, 32u);
+    uint64_t before = room_index_examined();
+    for (int q = 0; q < 1000; q++) {
+        double u = test_rng_unit(&rng);
+        double v = test_rng_unit(&rng);
+        if (rays) {
+            (void)room_ray(r, 30.0, 30.0, 2.0 * TEST_PI * u, 4.0, NULL);
+        } else {
+            (void)room_clearance(r, 1.0 + 58.0 * u, 1.0 + 58.0 * v, 0.34);
+        }
+    }
+    return (room_index_examined() - before) / 1000u;
+}
+
+/* The work of a query grows with what is near, not with the room: in 20 000 objects a
+ * clearance query of the robot's body looks at a few dozen. */
+static void test_queries_look_nearby(void **state)
+{
+    (void)state;
+    room_t r;
+    load(&r, 20000u, 0.5, 31u);
+    size_t objects = r.nsegs + r.ncircles + r.nboxes;
+    uint64_t per_query = examined_per_query(&r, false);
+    print_message("clearance: %llu of %zu objects looked at per query\n",
+                  (unsigned long long)per_query, objects);
+    assert_true(per_query <= 100u);
+    per_query = examined_per_query(&r, true);
+    print_message("rays of 4 m: %llu objects per ray\n", (unsigned long long)per_query);
+    assert_true(per_query <= 200u);
+    room_free(&r);
+}
+
+/* The simulated robot in such a room: the sonar's cone takes only nearby objects, and its
+ * readings are those of the linear scan. */
+static void test_world_in_a_large_room(void **state)
+{
+    (void)state;
+    room_t r;
+    load(&r, 2000u, 0.5, 41u);
+    room_t l = linear(&r);
+    sim_errors_t e;
+    sim_errors_default(&e);
+    sim_t *a = test_world(&r, &e, 5u);
+    sim_t *b = test_world(&l, &e, 5u);
+    unsigned echoes = 0;
+    for (int t = 0; t < 3000; t++) {
+        int16_t duty = (int16_t)(t % 400 < 300 ? 600 : -300);
+        sim_motor_set(a, HAL_WHEEL_LEFT, duty);
+        sim_motor_set(a, HAL_WHEEL_RIGHT, 500);
+        sim_motor_set(b, HAL_WHEEL_LEFT, duty);
+        sim_motor_set(b, HAL_WHEEL_RIGHT, 500);
+        uint16_t pulse = (uint16_t)(1000 + (t * 37) % 1000);
+        sim_servo_set_pulse(a, pulse);
+        sim_servo_set_pulse(b, pulse);
+        if (t % 7 == 0) {
+            assert_int_equal(sim_sonar_trigger(a), sim_sonar_trigger(b));
+        }
+        uint32_t wa = 0;
+        uint32_t wb = 0;
+        hal_sonar_status_t sa = sim_sonar_poll(a, &wa);
+        hal_sonar_status_t sb = sim_sonar_poll(b, &wb);
+        assert_int_equal(sa, sb);
+        assert_int_equal(wa, wb);
+        echoes += sa == HAL_SONAR_ECHO;
+        sim_step(a);
+        sim_step(b);
+        sim_truth_t ta = sim_truth(a);
+        sim_truth_t tb = sim_truth(b);
+        assert_true(ta.x == tb.x && ta.y == tb.y && ta.th == tb.th);
+        assert_int_equal(ta.collisions, tb.collisions);
+    }
+    assert_true(echoes > 100u);
+    sim_destroy(a);
+    sim_destroy(b);
+    room_free(&r);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_index_gives_the_linear_answers),
+        cmocka_unit_test(test_degenerate_shapes),
+        cmocka_unit_test(test_queries_look_nearby),
+        cmocka_unit_test(test_world_in_a_large_room),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,50 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""One fault of the simulated world at its three levels (tools/sim_report.py FAULTS):
+the firmware keeps running to the end without a crash (the sanitizer build checks that
+too), the robot keeps moving, and the raw map's F1 stays above the level's stated floor.
+Collisions and the smallest clearance are reported, not asserted: avoiding every obstacle
+under every fault is the exploration's to prove.
+
+usage: test_sim_faults.py HOST_SIM SOURCE_DIR FAULT
+"""
+import importlib.util
+import os
+import sys
+
+from simtest import Sim, check, fail, mean
+
+SEEDS = (1, 2)
+DURATION = 600
+
+fault = sys.argv.pop(3) if len(sys.argv) > 3 else None
+sim = Sim()
+spec = importlib.util.spec_from_file_location(
+    "sim_report", os.path.join(sim.src, "tools", "sim_report.py"))
+report = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(report)
+faults = {f[0]: f for f in report.FAULTS}
+if fault not in faults:
+    fail("name a fault: %s" % ", ".join(sorted(faults)))
+_, what, levels = faults[fault]
+
+for k, (args, floor) in enumerate(levels):
+    ms = []
+    for s in SEEDS:
+        out = sim.out("%s-%d-%d" % (fault, k + 1, s))
+        sim.run("--seed", s, "--duration", DURATION, "--out", out, *report.fault_args(args))
+        ms.append(sim.metrics(out))
+    label = "%s level %d (%s)" % (fault, k + 1, " ".join(args))
+    ticks = DURATION * 100
+    check(all(m["robot"]["ticks"] <= ticks and m["robot"]["ticks"] >= ticks * 0.7 for m in ms),
+          "%s: the firmware ran to the end (ticks %s of %d)" % (
+              label, [m["robot"]["ticks"] for m in ms], ticks))
+    check(all(m["odometry"]["path_m"] >= 10.0 for m in ms),
+          "%s: the robot kept moving (%s m)" % (label, ["%.0f" % m["odometry"]["path_m"] for m in ms]))
+    f1 = mean(m["maps"]["odometry"]["raw"]["f1"] for m in ms)
+    check(f1 >= floor, "%s: raw F1 %.3f >= its floor %.2f" % (label, f1, floor))
+    clear = [report.clearance_of(m) for m in ms]
+    print("   collisions %s, smallest clearance %s" % (
+        [m["robot"]["collisions"] for m in ms],
+        "not measured" if None in clear else ["%.3f m" % c for c in clear]))
+sim.done()

@@ -1,0 +1,79 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""host_sim's output paths: every one is checked before anything is written, a bad one is
+refused with exit 2 and leaves what was there as it was, and a write that fails while the
+robot runs is an error (exit 1) that also leaves the earlier results whole.
+
+In the sanitizer build every one of these runs is also a leak check: LeakSanitizer turns
+a leak on any of these paths into another exit status.
+"""
+import hashlib
+import os
+
+from simtest import Sim, check
+
+sim = Sim()
+
+
+def snapshot(d):
+    """Every file of a folder with its contents' digest."""
+    out = {}
+    for name in sorted(os.listdir(d)):
+        with open(os.path.join(d, name), "rb") as f:
+            out[name] = hashlib.sha256(f.read()).hexdigest()
+    return out
+
+
+run = sim.out("run")
+sim.run("--duration", 20, "--out", run)
+before = snapshot(run)
+check(len(before) >= 14 and "readings.csv" in before, "a first run wrote its %d files" % len(before))
+
+# B1: a bad output path is refused before anything is truncated.
+missing = os.path.join(sim.work, "nope", "deeper")
+os.mkdir(sim.out("adir"))
+with open(sim.out("afile"), "w") as f:
+    f.write("x")
+for args, says in [
+    (["--telemetry", "/proc/nope/x"], "--telemetry /proc/nope/x"),
+    (["--trace", "/proc/nope/x"], "--trace /proc/nope/x"),
+    (["--telemetry", sim.out("adir")], "is a directory"),
+    (["--trace", os.path.join(sim.out("afile"), "x")], "is not a directory"),
+    (["--trace", os.path.join(run, "readings.csv")], "a file the run writes into --out"),
+    (["--trace", sim.out("same"), "--telemetry", sim.out("same")], "name the same file"),
+]:
+    p = sim.run("--duration", 20, "--out", run, *args, expect=2)
+    check(says in p.stderr and snapshot(run) == before and not os.path.exists(sim.out("same")),
+          "%s: exit 2, says '%s', %s untouched" % (" ".join(args), says, os.path.basename(run)))
+
+p = sim.run("--duration", 20, "--out", sim.out("afile"), expect=2)
+check("exists and is not a directory" in p.stderr, "--out naming a file: exit 2")
+p = sim.run("--duration", 20, "--out", os.path.join(sim.out("afile"), "sub"), expect=2)
+check("is not a directory" in p.stderr, "--out below a file: exit 2")
+os.mkdir(sim.out("blocked"))
+os.mkdir(os.path.join(sim.out("blocked"), "om.pgm"))
+p = sim.run("--duration", 20, "--out", sim.out("blocked"), expect=2)
+check("om.pgm is there and is not a regular file" in p.stderr, "a folder where a map goes: exit 2")
+
+# B2: a write that fails while the robot runs is an error, and the earlier results stay.
+for opt in ("--telemetry", "--trace"):
+    p = sim.run("--duration", 20, "--out", run, opt, "/dev/full", expect=1)
+    check("writing /dev/full failed" in p.stderr and snapshot(run) == before,
+          "%s /dev/full: exit 1, says so, the earlier results untouched" % opt)
+    leftovers = [n for n in os.listdir(run) if n.startswith(".")]
+    check(not leftovers, "no temporary files left behind (%s)" % leftovers)
+fresh = os.path.join(missing, "run")
+p = sim.run("--duration", 20, "--out", fresh, "--telemetry", "/dev/full", expect=1)
+check(not os.path.exists(os.path.join(sim.work, "nope")),
+      "a failed run removes the folders it created")
+
+# A good run replaces the results whole; a device is written in place.
+trace = sim.out("t.trace")
+p = sim.run("--duration", 20, "--seed", 2, "--out", run, "--trace", trace, "--telemetry", "/dev/null")
+after = snapshot(run)
+check(after.keys() == before.keys() and after["readings.csv"] != before["readings.csv"],
+      "a good run replaces every file")
+with open(trace) as f:
+    lines = f.read().splitlines()
+check(lines[-1].startswith("end "), "the trace is complete (%d lines)" % len(lines))
+sim.done()
