@@ -453,8 +453,9 @@ static void test_events_thread_failure_stops_the_motors(void **state)
     assert_non_null(strstr(msg, "the events thread stopped: poll: Invalid argument"));
     assert_int_equal(fake_gpio_value(L_IN1), 0);
     assert_int_equal(fake_gpio_value(STBY), 0);
-    WAIT_UNTIL(strcmp(pwm("pwmchip0/pwm0/enable"), "0\n") == 0);
-    assert_string_equal(pwm("pwmchip0/pwm0/duty_cycle"), "0\n");
+    /* The output thread writes the two files one after the other: wait for both. */
+    WAIT_UNTIL(strcmp(pwm("pwmchip0/pwm0/enable"), "0\n") == 0 &&
+               strcmp(pwm("pwmchip0/pwm0/duty_cycle"), "0\n") == 0);
 }
 
 static void test_busy_line_fails_init_naming_the_key(void **state)
