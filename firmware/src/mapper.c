@@ -57,7 +57,7 @@ mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
     if (g->mode == OM_MODE_EVIDENCE) {
         /* Up to one cell short of the echo, or to rc for a far one, over the last
          * MAPPER_RAY_UM: the cells nearer the robot are crossed by readings from farther
-         * away, and its own cell is free (the body is there). */
+         * away, and its own cell holds no obstacle: the body stands there. */
         uint32_t reach = out == MAPPER_FAR ? m->sonar.confidence_um
                          : range_um > m->cell_um ? range_um - m->cell_um : 0u;
         int32_t xe;

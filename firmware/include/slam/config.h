@@ -89,8 +89,8 @@ typedef struct {
     /* Post-processing (§II.D). The defaults are those of OM_MODE_EVIDENCE, where every
      * step lowered the measured F1: TH 0, no template, no insert. The paper's are TH 3,
      * K 1 (K 4 erases thin walls) and insert on. */
-    uint8_t post_threshold;  /**< TH: OM <= TH is free (OM_MODE_COUNT), log-odds <= TH is
-                                  free (OM_MODE_EVIDENCE); 0 */
+    uint8_t post_threshold;  /**< TH: a cell at OM <= TH (OM_MODE_COUNT), or at log-odds
+                                  <= TH (OM_MODE_EVIDENCE), holds no obstacle; 0 */
     uint8_t post_template_k; /**< K: occupied cells with fewer occupied neighbours are
                                   freed; 0 = off; 0 */
     uint8_t post_insert;     /**< 1: free cells between two occupied ones are filled; 0 */

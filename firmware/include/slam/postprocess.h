@@ -4,7 +4,7 @@
  * Offline post-processing of the obstacle map (paper §II.D), on a copy.
  *
  * The chain, each step reading the result of the one before:
- *   1. threshold: a cell with OM <= TH becomes free (0), any other becomes OMmax;
+ *   1. threshold: a cell with OM <= TH becomes 0 (no obstacle), any other becomes OMmax;
  *   2. template: an occupied cell with fewer than K occupied 8-neighbours becomes free
  *      (isolated cells come mostly from bad readings);
  *   3. insert: a free cell whose two opposite neighbours are both occupied, in any of the
