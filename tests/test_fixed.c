@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of the fixed-point helpers: table sine/cosine against libm, binary angles, saturation. */
+/* Tests of the fixed-point helpers: table sine/cosine against libm, binary angles, saturation,
+ * 64-bit division. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -161,6 +162,54 @@ static void test_muldiv_u64(void **state)
     }
 }
 
+/* The division loops against C's own '/', at the edges and for operands of every length
+ * (a random number shifted right by a random amount). */
+static void test_div_64_matches_c(void **state)
+{
+    (void)state;
+    assert_int_equal(fix_div_u64(UINT64_MAX, 1u), UINT64_MAX);
+    assert_int_equal(fix_div_u64(UINT64_MAX, UINT64_MAX), 1u);
+    assert_int_equal(fix_div_u64(UINT64_MAX - 1u, UINT64_MAX), 0u);
+    assert_int_equal(fix_div_u64(1ull << 63, 3u), (1ull << 63) / 3u);
+    assert_int_equal(fix_div_u64(0u, 7u), 0u);
+    assert_int_equal(fix_div_s64(INT64_MIN, 1), INT64_MIN);
+    assert_int_equal(fix_div_s64(INT64_MIN, 2), INT64_MIN / 2);
+    assert_int_equal(fix_div_s64(INT64_MAX, -1), -INT64_MAX);
+    assert_int_equal(fix_div_s64(-7, 2), -3); /* toward zero, as C */
+    assert_int_equal(fix_div_s64(7, -2), -3);
+    assert_int_equal(fix_div_s64(-7, -2), 3);
+    /* Every pair of values next to the digit and word boundaries of the long division. */
+    uint64_t edge[36];
+    unsigned ne = 0;
+    for (unsigned bit = 1; bit < 64u; bit += bit < 16u ? 15u : 16u) { /* 1, 16, 32, 48 */
+        for (int k = -1; k <= 1; k++) {
+            edge[ne++] = ((uint64_t)1 << bit) + (uint64_t)(int64_t)k;
+            edge[ne++] = ((uint64_t)1 << (bit + 15u)) + (uint64_t)(int64_t)k;
+        }
+    }
+    edge[ne++] = UINT64_MAX;
+    edge[ne++] = UINT64_MAX - 1u;
+    edge[ne++] = 0xFFFFFFFF00000000ull;
+    edge[ne++] = 0x80000000FFFFFFFFull;
+    for (unsigned i = 0; i < ne; i++) {
+        for (unsigned k = 0; k < ne; k++) {
+            assert_int_equal(fix_div_u64(edge[i], edge[k]), edge[i] / edge[k]);
+        }
+    }
+    test_rng_t rng = {12u};
+    for (int i = 0; i < 200000; i++) {
+        uint64_t n = test_rng_u64(&rng) >> (test_rng_u64(&rng) % 64u);
+        uint64_t d = test_rng_u64(&rng) >> (test_rng_u64(&rng) % 64u);
+        if (d == 0u) {
+            continue;
+        }
+        assert_int_equal(fix_div_u64(n, d), n / d);
+        int64_t sn = (int64_t)(n >> 1) * ((i & 1) ? -1 : 1);
+        int64_t sd = (int64_t)((d >> 1) | 1u) * ((i & 2) ? -1 : 1);
+        assert_int_equal(fix_div_s64(sn, sd), sn / sd);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -171,6 +220,7 @@ int main(void)
         cmocka_unit_test(test_saturation_at_limits),
         cmocka_unit_test(test_mul_q30_i64_matches_wide_product),
         cmocka_unit_test(test_muldiv_u64),
+        cmocka_unit_test(test_div_64_matches_c),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -86,8 +86,7 @@ bam32_t fix_bam_from_mdeg(int32_t mdeg)
     if (m < 0) {
         m += FIX_MDEG_TURN;
     }
-    uint64_t scaled = ((uint64_t)(uint32_t)m << 32) + FIX_MDEG_TURN / 2;
-    return (bam32_t)(scaled / FIX_MDEG_TURN);
+    return (bam32_t)fix_muldiv_u64((uint32_t)m, (uint64_t)1 << 32, FIX_MDEG_TURN);
 }
 
 int32_t fix_bam_to_mdeg(bam32_t a)
@@ -131,4 +130,93 @@ uint64_t fix_muldiv_u64(uint64_t a, uint64_t b, uint64_t c)
         }
     }
     return q;
+}
+
+/* Leading zero bits of v != 0. */
+static unsigned clz32(uint32_t v)
+{
+    unsigned n = 0;
+    for (unsigned half = 16u; half != 0u; half /= 2u) {
+        if ((v >> (32u - half)) == 0u) {
+            n += half;
+            v <<= half;
+        }
+    }
+    return n;
+}
+
+/*
+ * (u1·2^32 + u0) / v for u1 < v, with 32-bit hardware divisions: long division in base
+ * 2^16 on the normalised divisor, each quotient digit estimated from the top digits and
+ * corrected at most twice (Knuth, TAOCP vol. 2, 4.3.1, Algorithm D; the two-digit form of
+ * Warren, Hacker's Delight, 2nd ed., 9-4, divlu).
+ */
+static uint32_t div_64_32(uint32_t u1, uint32_t u0, uint32_t v)
+{
+    const uint32_t b = 1u << 16;
+    unsigned s = clz32(v);
+    v <<= s;
+    uint32_t vn1 = v >> 16;
+    uint32_t vn0 = v & 0xFFFFu;
+    uint32_t un32 = s == 0u ? u1 : (u1 << s) | (u0 >> (32u - s));
+    uint32_t un10 = u0 << s;
+    uint32_t un1 = un10 >> 16;
+    uint32_t un0 = un10 & 0xFFFFu;
+
+    uint32_t q1 = un32 / vn1;
+    uint32_t rhat = un32 - q1 * vn1;
+    while (q1 >= b || q1 * vn0 > b * rhat + un1) {
+        q1--;
+        rhat += vn1;
+        if (rhat >= b) {
+            break;
+        }
+    }
+    uint32_t un21 = un32 * b + un1 - q1 * v; /* modulo 2^32: the true value fits */
+    uint32_t q0 = un21 / vn1;
+    rhat = un21 - q0 * vn1;
+    while (q0 >= b || q0 * vn0 > b * rhat + un0) {
+        q0--;
+        rhat += vn1;
+        if (rhat >= b) {
+            break;
+        }
+    }
+    return q1 * b + q0;
+}
+
+uint64_t fix_div_u64(uint64_t n, uint64_t d)
+{
+    uint32_t n1 = (uint32_t)(n >> 32);
+    uint32_t n0 = (uint32_t)n;
+    if ((d >> 32) == 0u) {
+        uint32_t v = (uint32_t)d;
+        if (n1 == 0u) {
+            return n0 / v;
+        }
+        uint32_t q1 = n1 / v;
+        return ((uint64_t)q1 << 32) | div_64_32(n1 - q1 * v, n0, v);
+    }
+    /* d >= 2^32, so the quotient fits in 32 bits. Divide n/2 by d's top 32 bits (shifted up
+     * to its leading one), scale back: the estimate is the quotient or one above it; step
+     * down one and correct up (Hacker's Delight, 9-5, divDU). */
+    unsigned s = clz32((uint32_t)(d >> 32));
+    uint32_t v1 = (uint32_t)((d << s) >> 32);
+    uint64_t half = n >> 1;
+    uint64_t q = ((uint64_t)div_64_32((uint32_t)(half >> 32), (uint32_t)half, v1) << s) >> 31;
+    if (q != 0u) {
+        q--;
+    }
+    if (n - q * d >= d) {
+        q++;
+    }
+    return q;
+}
+
+int64_t fix_div_s64(int64_t n, int64_t d)
+{
+    uint64_t un = n < 0 ? 0u - (uint64_t)n : (uint64_t)n;
+    uint64_t ud = d < 0 ? 0u - (uint64_t)d : (uint64_t)d;
+    uint64_t q = fix_div_u64(un, ud);
+    return (n < 0) != (d < 0) ? (int64_t)(0u - q) : (int64_t)q;
 }

@@ -90,10 +90,10 @@ static void shear(lkf_cov_t *c, unsigned i, unsigned j, int64_t num, int64_t den
         return;
     }
     for (unsigned k = 0; k < LKF_N; k++) {
-        c->p[i][k] += num * c->p[j][k] / den; /* row i */
+        c->p[i][k] += fix_div_s64(num * c->p[j][k], den); /* row i */
     }
     for (unsigned k = 0; k < LKF_N; k++) {
-        c->p[k][i] += num * c->p[k][j] / den; /* column i */
+        c->p[k][i] += fix_div_s64(num * c->p[k][j], den); /* column i */
     }
 }
 
@@ -115,7 +115,7 @@ void lkf_predict(lkf_cov_t *c, int64_t dx_mm, int64_t dy_mm, int64_t ds_mm, int6
     int64_t turned = turn < 0 ? -turn : turn;
     c->p[LKF_X][LKF_X] += LKF_Q_XY_PER_MM * dist;
     c->p[LKF_Y][LKF_Y] += LKF_Q_XY_PER_MM * dist;
-    c->p[LKF_T][LKF_T] += LKF_Q_TH_PER_MM * dist + LKF_Q_TH_PER_MRAD * (turned / 1000);
+    c->p[LKF_T][LKF_T] += LKF_Q_TH_PER_MM * dist + LKF_Q_TH_PER_MRAD * fix_div_s64(turned, 1000);
     c->p[LKF_KD][LKF_KD] += LKF_Q_K_PER_MM * dist;
     c->p[LKF_KT][LKF_KT] += LKF_Q_K_PER_MM * dist;
     lkf_sane(c);
@@ -123,7 +123,7 @@ void lkf_predict(lkf_cov_t *c, int64_t dx_mm, int64_t dy_mm, int64_t ds_mm, int6
 
 int64_t lkf_drift_nrad(const lkf_state_t *k, int64_t ds_um, int64_t turn_urad)
 {
-    return (k->v[LKF_KD] * ds_um + k->v[LKF_KT] * turn_urad) / 1000000;
+    return fix_div_s64(k->v[LKF_KD] * ds_um + k->v[LKF_KT] * turn_urad, 1000000);
 }
 
 void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
@@ -152,7 +152,7 @@ void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
     for (unsigned i = 0; i < LKF_N; i++) {
         /* Q20, rounded to nearest: a truncated gain would shrink every update the same way. */
         int64_t num = pj[i] * (1 << (LKF_K_SHIFT - LKF_J_SHIFT));
-        k[i] = (num + (num < 0 ? -s / 2 : s / 2)) / s;
+        k[i] = fix_div_s64(num + (num < 0 ? -s / 2 : s / 2), s);
     }
     /* Rounded, not floored: a hundred updates must not drift by a hundred half units. */
     for (unsigned i = 0; i < LKF_N; i++) {

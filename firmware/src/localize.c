@@ -144,11 +144,12 @@ static void propagate(loc_t *l, const odom_pose_t *odom)
     int64_t dx = fix_round_shift((int64_t)dxo * l->corr.c - (int64_t)dyo * l->corr.s, 30u);
     int64_t dy = fix_round_shift((int64_t)dxo * l->corr.s + (int64_t)dyo * l->corr.c, 30u);
     int64_t turn_urad = ((int64_t)turned * LOC_URAD_PER_BAM_Q26) >> 26;
-    lkf_predict(&l->cov, dx / 1000, dy / 1000, ds_um / 1000, turn_urad);
+    lkf_predict(&l->cov, fix_div_s64(dx, 1000), fix_div_s64(dy, 1000), fix_div_s64(ds_um, 1000),
+                turn_urad);
     /* The learned drift, whole µrad at a time (the rest waits for the next move). */
     lkf_state_t k = {{0, 0, 0, l->kappa_prad_per_mm, l->kappa_ppb}};
     l->drift_nrad += lkf_drift_nrad(&k, ds_um, turn_urad);
-    int64_t urad = l->drift_nrad / 1000;
+    int64_t urad = fix_div_s64(l->drift_nrad, 1000);
     if (urad != 0) {
         l->drift_nrad -= urad * 1000;
         odom_pose_t at = loc_apply(&l->corr, odom);
@@ -211,8 +212,8 @@ static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int3
     if (len == 0) {
         return false;
     }
-    *nx = (int32_t)(-vy * LKF_J_ONE / len);
-    *ny = (int32_t)(vx * LKF_J_ONE / len);
+    *nx = (int32_t)fix_div_s64(-vy * LKF_J_ONE, len);
+    *ny = (int32_t)fix_div_s64(vx * LKF_J_ONE, len);
     return true;
 }
 
@@ -278,11 +279,11 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         int64_t h = ((int64_t)j[0] * ((int64_t)qx - wx) + (int64_t)j[1] * ((int64_t)qy - wy)) >>
                     LKF_J_SHIFT;
         /* dh/dθ: the normal against the point's lever about the centre, µm per µrad. */
-        j[2] = (int32_t)(((int64_t)j[1] * ((int64_t)qx - cx) - (int64_t)j[0] * ((int64_t)qy - cy)) /
-                         1000000);
+        j[2] = (int32_t)fix_div_s64(
+            (int64_t)j[1] * ((int64_t)qx - cx) - (int64_t)j[0] * ((int64_t)qy - cy), 1000000);
         /* Each hit is matched LOC_WINDOW / LOC_EVERY times: count it once in all. */
         int64_t r = LOC_SIGMA2_UM2 * (int64_t)(LOC_WINDOW / LOC_EVERY);
-        r += r / (LOC_HUBER_UM * LOC_HUBER_UM) * h * h;
+        r += fix_div_s64(r, LOC_HUBER_UM * LOC_HUBER_UM) * h * h;
         lkf_update(d, p, lin, h, j, r);
         used++;
     }

@@ -100,7 +100,7 @@ q1_30_t fix_cos(bam32_t a);
 /**
  * Binary angle from millidegrees, rounded to the nearest unit.
  * @param mdeg  angle in millidegrees, any value (wraps modulo 360°)
- * Uses a 64-bit division: call it at initialisation, not in the tick.
+ * Uses a 64-bit division loop: call it at initialisation, not in the tick.
  */
 bam32_t fix_bam_from_mdeg(int32_t mdeg);
 
@@ -111,6 +111,16 @@ bam32_t fix_bam_from_mdeg(int32_t mdeg);
  * @return   the rounded quotient, or UINT64_MAX when it does not fit in 64 bits
  */
 uint64_t fix_muldiv_u64(uint64_t a, uint64_t b, uint64_t c);
+
+/**
+ * n / d truncated toward zero, as C's '/' on uint64_t (d != 0): long division on 32-bit
+ * hardware divisions, a few dozen instructions. Ours because the C library's general 64-bit
+ * division takes 0.9 KiB of flash.
+ */
+uint64_t fix_div_u64(uint64_t n, uint64_t d);
+
+/** n / d truncated toward zero, as C's '/' on int64_t (d != 0, not INT64_MIN / -1). */
+int64_t fix_div_s64(int64_t n, int64_t d);
 
 /** Millidegrees of a binary angle, rounded, in [-180000, 180000]. */
 int32_t fix_bam_to_mdeg(bam32_t a);
