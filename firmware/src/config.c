@@ -86,174 +86,143 @@ void slam_config_paper(slam_config_t *cfg)
 #define CFG_Q30_HALF (FIX_Q30_ONE / 2)
 #define CFG_Q30_ONE_AND_HALF (FIX_Q30_ONE + FIX_Q30_ONE / 2)
 
-static bool in_range_u(uint32_t v, uint32_t lo, uint32_t hi)
+/* How a field is stored. */
+enum { CFG_U8, CFG_U16, CFG_U32, CFG_I32 };
+
+/* What a field must hold besides its range: each names the fields it is compared with. */
+enum {
+    RULE_NONE,
+    RULE_CELL,          /* cell_um · the longer grid side stays within CFG_WORLD_LIMIT_UM */
+    RULE_ABOVE_MIN,     /* confidence_radius_um > range_min_um */
+    RULE_STOPS,         /* one stop only where sweep_first_mdeg == sweep_last_mdeg */
+    RULE_PULSES,        /* servo_pulse_180deg_us != servo_pulse_0deg_us */
+    RULE_THRESHOLD,     /* post_threshold below OMmax (counting) or the evidence limit */
+    RULE_TOP_SPEED,     /* no faster than top_speed_mm_s */
+    RULE_ABOVE_CLEARANCE /* follow_um > clearance_um */
+};
+
+/* A field's valid range; a signed field's bounds are int32_t values stored as uint32_t. */
+typedef struct {
+    const char *name;
+    uint32_t lo;
+    uint32_t hi;
+    uint8_t offset;
+    uint8_t type;
+    uint8_t rule;
+} cfg_range_t;
+
+_Static_assert(sizeof(slam_config_t) <= 255u, "field offsets are bytes");
+
+#define CFG_GRID_SIDE (SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B)
+#define R(field, type, lo, hi, rule)                                                          \
+    {#field, (uint32_t)(lo), (uint32_t)(hi), (uint8_t)offsetof(slam_config_t, field), CFG_##type, \
+     RULE_##rule}
+
+/* In the order of the fields (and of the telemetry keys): the first that fails is named. */
+static const cfg_range_t cfg_ranges[] = {
+    R(wheel_diameter_left_um, U32, 10000, 300000, NONE),
+    R(wheel_diameter_right_um, U32, 10000, 300000, NONE),
+    R(wheel_base_um, U32, 50000, 1000000, NONE),
+    R(encoder_counts_per_rev, U32, 16, 65535, NONE),
+    R(cal_left, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
+    R(cal_right, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
+    R(cal_base, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
+    R(start_x_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE),
+    R(start_y_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE),
+    R(start_heading_mdeg, I32, -360000, 360000, NONE),
+    /* A·L and B·L stay below 1 km, so every grid coordinate fits in int32_t µm. */
+    R(cell_um, U32, 5000, 1000000, CELL),
+    R(start_cell_a, U16, 0, SLAM_GRID_A - 1u, NONE),
+    R(start_cell_b, U16, 0, SLAM_GRID_B - 1u, NONE),
+    R(om_max, U8, 1, UINT8_MAX, NONE),
+    R(tm_max, U8, 1, UINT8_MAX, NONE),
+    R(om_mode, U8, 0, OM_MODES - 1, NONE),
+    R(om_hit, U8, 1, GRID_EVIDENCE_MAX, NONE),
+    R(om_miss, U8, 1, GRID_EVIDENCE_MAX, NONE),
+    R(confidence_radius_um, U32, 1, 10000000, ABOVE_MIN),
+    R(range_min_um, U32, 0, 1000000, NONE),
+    R(sound_speed_mm_per_s, U32, 300000, 400000, NONE),
+    R(mount_x_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE),
+    R(mount_y_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE),
+    R(mount_yaw_mdeg, I32, -180000, 180000, NONE),
+    R(sweep_first_mdeg, I32, 0, 180000, NONE),
+    R(sweep_last_mdeg, I32, 0, 180000, NONE),
+    R(sweep_stops, U8, 1, SLAM_SWEEP_STOPS_MAX, STOPS),
+    R(settle_ticks, U8, 1, UINT8_MAX, NONE),
+    R(echo_timeout_ticks, U8, 1, UINT8_MAX, NONE),
+    R(servo_pulse_0deg_us, U16, 400, 2600, NONE),
+    R(servo_pulse_180deg_us, U16, 400, 2600, PULSES),
+    R(post_threshold, U8, 0, UINT8_MAX, THRESHOLD),
+    R(post_template_k, U8, 0, 8, NONE),
+    R(post_insert, U8, 0, 1, NONE),
+    R(top_speed_mm_s, U16, 50, 5000, NONE),
+    R(accel_mm_s2, U16, 10, 50000, NONE),
+    R(motion_kp_q8, U16, 0, 2048, NONE),
+    R(motion_ki_q8, U16, 0, 2048, NONE),
+    R(explore_mode, U8, 0, EXPLORE_MODES - 1, NONE),
+    R(cruise_mm_s, U16, 1, UINT16_MAX, TOP_SPEED),
+    R(turn_mm_s, U16, 1, UINT16_MAX, TOP_SPEED),
+    R(avoid_um, U32, 50000, 4000000, NONE),
+    R(clearance_um, U32, 10000, 2000000, NONE),
+    R(square_side_um, U32, 100000, 100000000, NONE),
+    R(explore_seed, U32, 1, UINT32_MAX, NONE),
+    R(localize, U8, 0, 1, NONE),
+    R(ping_interval_ticks, U8, 1, UINT8_MAX, NONE),
+    R(follow_um, U32, 50000, 2000000, ABOVE_CLEARANCE),
+    R(umbmark_runs, U8, 1, 50, NONE),
+    R(umbmark_pause_s, U16, 1, 3600, NONE),
+};
+#undef R
+
+static uint32_t field_value(const slam_config_t *c, const cfg_range_t *r)
 {
-    return v >= lo && v <= hi;
+    const uint8_t *field = (const uint8_t *)c + r->offset;
+    if (r->type == CFG_U8) {
+        return *field;
+    }
+    if (r->type == CFG_U16) {
+        uint16_t v;
+        memcpy(&v, field, sizeof v);
+        return v;
+    }
+    uint32_t v;
+    memcpy(&v, field, sizeof v); /* an int32_t's bits are its two's complement */
+    return v;
 }
 
-static bool in_range_i(int32_t v, int32_t lo, int32_t hi)
+static bool rule_holds(const slam_config_t *c, unsigned rule, uint32_t v)
 {
-    return v >= lo && v <= hi;
+    switch (rule) {
+    case RULE_CELL:
+        return v <= (uint32_t)CFG_WORLD_LIMIT_UM / CFG_GRID_SIDE;
+    case RULE_ABOVE_MIN:
+        return v > c->range_min_um;
+    case RULE_STOPS:
+        return v != 1u || c->sweep_first_mdeg == c->sweep_last_mdeg;
+    case RULE_PULSES:
+        return v != c->servo_pulse_0deg_us;
+    case RULE_THRESHOLD:
+        return v < (c->om_mode == OM_MODE_COUNT ? c->om_max : GRID_EVIDENCE_MAX);
+    case RULE_TOP_SPEED:
+        return v <= c->top_speed_mm_s;
+    case RULE_ABOVE_CLEARANCE:
+        return v > c->clearance_um;
+    default:
+        return true;
+    }
 }
 
-/* The first failing condition names its field; the order follows the struct. */
 static const char *first_bad_field(const slam_config_t *c)
 {
-    if (!in_range_u(c->wheel_diameter_left_um, 10000u, 300000u)) {
-        return "wheel_diameter_left_um";
-    }
-    if (!in_range_u(c->wheel_diameter_right_um, 10000u, 300000u)) {
-        return "wheel_diameter_right_um";
-    }
-    if (!in_range_u(c->wheel_base_um, 50000u, 1000000u)) {
-        return "wheel_base_um";
-    }
-    if (!in_range_u(c->encoder_counts_per_rev, 16u, 65535u)) {
-        return "encoder_counts_per_rev";
-    }
-    if (!in_range_i(c->cal_left, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
-        return "cal_left";
-    }
-    if (!in_range_i(c->cal_right, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
-        return "cal_right";
-    }
-    if (!in_range_i(c->cal_base, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF)) {
-        return "cal_base";
-    }
-    if (!in_range_i(c->start_x_um, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM)) {
-        return "start_x_um";
-    }
-    if (!in_range_i(c->start_y_um, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM)) {
-        return "start_y_um";
-    }
-    if (!in_range_i(c->start_heading_mdeg, -360000, 360000)) {
-        return "start_heading_mdeg";
-    }
-    /* A·L and B·L stay below 1 km, so every grid coordinate fits in int32_t µm. */
-    uint32_t max_side = SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B;
-    if (!in_range_u(c->cell_um, 5000u, 1000000u) ||
-        (uint64_t)c->cell_um * max_side > (uint64_t)CFG_WORLD_LIMIT_UM) {
-        return "cell_um";
-    }
-    if (c->start_cell_a >= SLAM_GRID_A) {
-        return "start_cell_a";
-    }
-    if (c->start_cell_b >= SLAM_GRID_B) {
-        return "start_cell_b";
-    }
-    if (c->om_max == 0u) {
-        return "om_max";
-    }
-    if (c->tm_max == 0u) {
-        return "tm_max";
-    }
-    if (c->om_mode >= OM_MODES) {
-        return "om_mode";
-    }
-    if (!in_range_u(c->om_hit, 1u, GRID_EVIDENCE_MAX)) {
-        return "om_hit";
-    }
-    if (!in_range_u(c->om_miss, 1u, GRID_EVIDENCE_MAX)) {
-        return "om_miss";
-    }
-    if (!in_range_u(c->confidence_radius_um, 1u, 10000000u) ||
-        c->confidence_radius_um <= c->range_min_um) {
-        return "confidence_radius_um";
-    }
-    if (c->range_min_um > 1000000u) {
-        return "range_min_um";
-    }
-    if (!in_range_u(c->sound_speed_mm_per_s, 300000u, 400000u)) {
-        return "sound_speed_mm_per_s";
-    }
-    if (!in_range_i(c->mount_x_um, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM)) {
-        return "mount_x_um";
-    }
-    if (!in_range_i(c->mount_y_um, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM)) {
-        return "mount_y_um";
-    }
-    if (!in_range_i(c->mount_yaw_mdeg, -180000, 180000)) {
-        return "mount_yaw_mdeg";
-    }
-    if (!in_range_i(c->sweep_first_mdeg, 0, 180000)) {
-        return "sweep_first_mdeg";
-    }
-    if (!in_range_i(c->sweep_last_mdeg, 0, 180000)) {
-        return "sweep_last_mdeg";
-    }
-    if (!in_range_u(c->sweep_stops, 1u, SLAM_SWEEP_STOPS_MAX) ||
-        (c->sweep_stops == 1u && c->sweep_first_mdeg != c->sweep_last_mdeg)) {
-        return "sweep_stops";
-    }
-    if (c->settle_ticks == 0u) {
-        return "settle_ticks";
-    }
-    if (c->echo_timeout_ticks == 0u) {
-        return "echo_timeout_ticks";
-    }
-    if (!in_range_u(c->servo_pulse_0deg_us, 400u, 2600u)) {
-        return "servo_pulse_0deg_us";
-    }
-    if (!in_range_u(c->servo_pulse_180deg_us, 400u, 2600u) ||
-        c->servo_pulse_180deg_us == c->servo_pulse_0deg_us) {
-        return "servo_pulse_180deg_us";
-    }
-    if (c->post_threshold >= (c->om_mode == OM_MODE_COUNT ? c->om_max : GRID_EVIDENCE_MAX)) {
-        return "post_threshold";
-    }
-    if (c->post_template_k > 8u) {
-        return "post_template_k";
-    }
-    if (c->post_insert > 1u) {
-        return "post_insert";
-    }
-    if (!in_range_u(c->top_speed_mm_s, 50u, 5000u)) {
-        return "top_speed_mm_s";
-    }
-    if (!in_range_u(c->accel_mm_s2, 10u, 50000u)) {
-        return "accel_mm_s2";
-    }
-    if (c->motion_kp_q8 > 2048u) {
-        return "motion_kp_q8";
-    }
-    if (c->motion_ki_q8 > 2048u) {
-        return "motion_ki_q8";
-    }
-    if (c->explore_mode >= EXPLORE_MODES) {
-        return "explore_mode";
-    }
-    if (c->cruise_mm_s == 0u || c->cruise_mm_s > c->top_speed_mm_s) {
-        return "cruise_mm_s";
-    }
-    if (c->turn_mm_s == 0u || c->turn_mm_s > c->top_speed_mm_s) {
-        return "turn_mm_s";
-    }
-    if (!in_range_u(c->avoid_um, 50000u, 4000000u)) {
-        return "avoid_um";
-    }
-    if (!in_range_u(c->clearance_um, 10000u, 2000000u)) {
-        return "clearance_um";
-    }
-    if (!in_range_u(c->square_side_um, 100000u, 100000000u)) {
-        return "square_side_um";
-    }
-    if (c->explore_seed == 0u) {
-        return "explore_seed";
-    }
-    if (c->localize > 1u) {
-        return "localize";
-    }
-    if (c->ping_interval_ticks == 0u) {
-        return "ping_interval_ticks";
-    }
-    if (!in_range_u(c->follow_um, 50000u, 2000000u) || c->follow_um <= c->clearance_um) {
-        return "follow_um";
-    }
-    if (!in_range_u(c->umbmark_runs, 1u, 50u)) {
-        return "umbmark_runs";
-    }
-    if (!in_range_u(c->umbmark_pause_s, 1u, 3600u)) {
-        return "umbmark_pause_s";
+    for (size_t i = 0; i < sizeof cfg_ranges / sizeof cfg_ranges[0]; i++) {
+        const cfg_range_t *r = &cfg_ranges[i];
+        uint32_t v = field_value(c, r);
+        bool in_range = r->type == CFG_I32
+                            ? (int32_t)v >= (int32_t)r->lo && (int32_t)v <= (int32_t)r->hi
+                            : v >= r->lo && v <= r->hi;
+        if (!in_range || !rule_holds(c, r->rule, v)) {
+            return r->name;
+        }
     }
     return NULL;
 }
