@@ -78,6 +78,33 @@ static void ref_update(double d[LKF_N], double p[LKF_N][LKF_N], const double lin
  * fixed point and in double: the state stays within 0.1 mm, 10 µrad (0.0006°) and 20
  * nrad/mm or ppm, plus 0.2 % of its size; the covariance within 1 % of each diagonal's
  * scale (or of a floor for each). */
+/* The integer square root is the floor of the exact one, on both sides of 2^32 (where it
+ * changes from 32-bit to 64-bit words) and at squares and their neighbours. */
+static void test_isqrt_is_the_floor(void **state)
+{
+    (void)state;
+    static const uint64_t roots[] = {0u, 1u, 2u, 3u, 65535u, 65536u, 65537u, 4294967295u};
+    for (size_t i = 0; i < sizeof roots / sizeof roots[0]; i++) {
+        uint64_t sq = roots[i] * roots[i];
+        assert_int_equal(lkf_isqrt(sq), roots[i]);
+        if (sq != 0u) {
+            assert_int_equal(lkf_isqrt(sq - 1u), roots[i] - 1u);
+        }
+        if (roots[i] != 4294967295u) {
+            assert_int_equal(lkf_isqrt(sq + 2u * roots[i]), roots[i]); /* (r+1)^2 - 1 */
+        }
+    }
+    assert_int_equal(lkf_isqrt(UINT64_MAX), 4294967295u);
+    assert_int_equal(lkf_isqrt(UINT32_MAX), 65535u);
+    assert_int_equal(lkf_isqrt((uint64_t)UINT32_MAX + 1u), 65536u);
+    test_rng_t rng = {5u};
+    for (int i = 0; i < 100000; i++) {
+        uint64_t v = test_rng_u64(&rng) >> (test_rng_u64(&rng) % 64u);
+        uint64_t r = lkf_isqrt(v);
+        assert_true(r * r <= v && (r == UINT32_MAX || (r + 1u) * (r + 1u) > v));
+    }
+}
+
 static void test_update_against_double(void **state)
 {
     (void)state;
@@ -456,6 +483,7 @@ static void test_off_maps_as_the_mapper(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_isqrt_is_the_floor),
         cmocka_unit_test(test_update_against_double),
         cmocka_unit_test(test_predict_against_double),
         cmocka_unit_test_setup(test_corner_holds_the_heading, setup),

@@ -32,6 +32,19 @@
 
 uint32_t lkf_isqrt(uint64_t v)
 {
+    if ((v >> 32) == 0u) { /* the wall normals' sums: half the steps, in 32-bit words */
+        uint32_t v32 = (uint32_t)v;
+        uint32_t r32 = 0;
+        for (uint32_t bit = 1u << 30; bit != 0u; bit >>= 2) {
+            if (v32 >= r32 + bit) {
+                v32 -= r32 + bit;
+                r32 = (r32 >> 1) + bit;
+            } else {
+                r32 >>= 1;
+            }
+        }
+        return r32;
+    }
     uint64_t r = 0;
     for (uint64_t bit = 1ull << 62; bit != 0u; bit >>= 2) {
         if (v >= r + bit) {
@@ -69,15 +82,16 @@ void lkf_sane(lkf_cov_t *c)
                                       LKF_VAR_K_MIN, LKF_VAR_K_MIN};
     static const int64_t hi[LKF_N] = {LKF_VAR_XY_MAX, LKF_VAR_XY_MAX, LKF_VAR_TH_MAX,
                                       LKF_VAR_K_MAX, LKF_VAR_K_MAX};
+    int64_t root[LKF_N];
     for (unsigned i = 0; i < LKF_N; i++) {
         c->p[i][i] = clamp64(c->p[i][i], lo[i], hi[i]);
+        root[i] = (int64_t)lkf_isqrt((uint64_t)c->p[i][i]);
     }
     for (unsigned i = 0; i < LKF_N; i++) {
         for (unsigned k = i + 1u; k < LKF_N; k++) {
             /* Symmetric, and |P_ik| <= sqrt(P_ii)·sqrt(P_kk) (the roots floored). */
             int64_t v = (c->p[i][k] + c->p[k][i]) / 2;
-            int64_t bound = (int64_t)lkf_isqrt((uint64_t)c->p[i][i]) *
-                            (int64_t)lkf_isqrt((uint64_t)c->p[k][k]);
+            int64_t bound = root[i] * root[k];
             c->p[i][k] = c->p[k][i] = clamp64(v, -bound, bound);
         }
     }

@@ -217,8 +217,17 @@ static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int3
     return true;
 }
 
-/* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells
- * (Euclidean, in cells; the first in scan order among equals), its centre and normal. */
+/* The cells within LOC_ASSOC_CELLS (3) cells of a point's cell, nearest first, and among
+ * equals in row order: the first occupied one is the nearest (Euclidean, in cells). */
+static const int8_t loc_assoc_order[][2] = {
+    {0, 0},   {0, -1},  {-1, 0}, {1, 0},  {0, 1},  {-1, -1}, {1, -1}, {-1, 1}, {1, 1},  {0, -2},
+    {-2, 0},  {2, 0},   {0, 2},  {-1, -2}, {1, -2}, {-2, -1}, {2, -1}, {-2, 1}, {2, 1}, {-1, 2},
+    {1, 2},   {-2, -2}, {2, -2}, {-2, 2}, {2, 2},  {0, -3},  {-3, 0}, {3, 0},  {0, 3},
+};
+_Static_assert(LOC_ASSOC_CELLS == 3, "loc_assoc_order holds the cells within 3");
+
+/* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells, its
+ * centre and normal. */
 static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, int32_t *wy,
                       int32_t *nx, int32_t *ny)
 {
@@ -226,20 +235,17 @@ static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, 
     if (grid_cell_of(g, x_um, y_um, &c) != SLAM_OK) {
         return false;
     }
-    int32_t best = LOC_ASSOC_CELLS * LOC_ASSOC_CELLS + 1;
-    int32_t ba = 0;
-    int32_t bb = 0;
-    for (int32_t j = -LOC_ASSOC_CELLS; j <= LOC_ASSOC_CELLS; j++) {
-        for (int32_t i = -LOC_ASSOC_CELLS; i <= LOC_ASSOC_CELLS; i++) {
-            int32_t d = i * i + j * j;
-            if (d < best && occupied(g, c.a + i, c.b + j)) {
-                best = d;
-                ba = c.a + i;
-                bb = c.b + j;
-            }
-        }
+    size_t k = 0;
+    const size_t n = sizeof loc_assoc_order / sizeof loc_assoc_order[0];
+    while (k < n && !occupied(g, c.a + loc_assoc_order[k][0], c.b + loc_assoc_order[k][1])) {
+        k++;
     }
-    if (best > LOC_ASSOC_CELLS * LOC_ASSOC_CELLS || !wall_normal(g, ba, bb, nx, ny)) {
+    if (k == n) {
+        return false;
+    }
+    int32_t ba = c.a + loc_assoc_order[k][0];
+    int32_t bb = c.b + loc_assoc_order[k][1];
+    if (!wall_normal(g, ba, bb, nx, ny)) {
         return false;
     }
     int32_t half = (int32_t)(g->cell_um / 2u);
