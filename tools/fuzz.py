@@ -6,7 +6,10 @@ usage: tools/fuzz.py [--build DIR] [--seconds S | --runs N] [TARGET...]
 
 Each target starts from its seed corpus (tests/fuzz/corpus/TARGET, never written) and
 keeps what it finds in DIR/corpus/TARGET; an input that breaks something is saved as
-DIR/artifacts/TARGET-crash-... . Prints the executions each target reached.
+DIR/artifacts/TARGET-crash-... . libFuzzer's output goes to DIR/logs/TARGET.log as it
+runs, so a long run's progress can be watched there. Prints the executions each target
+reached; a run stopped by SIGINT or SIGTERM to its libFuzzer process is reported as
+interrupted with the executions it had made.
 Exit status: 0 no target failed, 1 a target found a crash (or could not run), 2 bad
 options or a target that is not built (make fuzz builds them).
 """
@@ -20,17 +23,23 @@ import time
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TARGETS = ("room", "rosmap", "config", "replay", "telemetry")
 # Longest input each target is given: a few hundred lines, a small map with its image.
-MAX_LEN = {"room": 8192, "rosmap": 8192, "config": 8192, "replay": 8192, "telemetry": 4096}
+# Telemetry's parser starts afresh at every frame (at most TELEM_FRAME_MAX, 261 bytes) and
+# its round trip reads at most seven events (about 200 bytes): 1 KiB holds several of the
+# largest frames or some ninety SETs, and each execution costs a quarter of 4 KiB's.
+MAX_LEN = {"room": 8192, "rosmap": 8192, "config": 8192, "replay": 8192, "telemetry": 1024}
 
 
 def fuzz(build, target, seconds, runs):
-    """Runs one target; returns (executions, seconds, ok)."""
+    """Runs one target; returns (executions, seconds, outcome): "ok", "interrupted" or
+    "failed"."""
     exe = os.path.join(build, "tests", "fuzz", "fuzz_" + target)
     seeds = os.path.join(SRC, "tests", "fuzz", "corpus", target)
     found = os.path.join(build, "corpus", target)
     artifacts = os.path.join(build, "artifacts")
     os.makedirs(found, exist_ok=True)
-    os.makedirs(artifacts, exist_ok=True)
+    logs = os.path.join(build, "logs")
+    for d in (found, artifacts, logs):
+        os.makedirs(d, exist_ok=True)
     cmd = [exe, "-print_final_stats=1", "-max_len=%d" % MAX_LEN[target],
            "-artifact_prefix=%s/%s-" % (artifacts, target)]
     cmd += ["-runs=%d" % runs] if runs else ["-max_total_time=%d" % seconds]
@@ -38,16 +47,21 @@ def fuzz(build, target, seconds, runs):
     if os.path.exists(d):
         cmd.append("-dict=" + d)
     cmd += [found, seeds]
+    log = os.path.join(logs, target + ".log")
     t0 = time.monotonic()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                       errors="replace")
+    with open(log, "w") as out:
+        rc = subprocess.run(cmd, stdout=out, stderr=subprocess.STDOUT).returncode
     wall = time.monotonic() - t0
-    m = re.search(r"stat::number_of_executed_units:\s*(\d+)", p.stdout)
+    with open(log, errors="replace") as f:
+        text = f.read()
+    m = re.search(r"stat::number_of_executed_units:\s*(\d+)", text)
     execs = int(m.group(1)) if m else 0
-    if p.returncode != 0:
-        tail = "\n".join(p.stdout.splitlines()[-30:])
-        print("fuzz: %s failed (exit %d):\n%s" % (target, p.returncode, tail), file=sys.stderr)
-    return execs, wall, p.returncode == 0
+    if rc != 0 and "libFuzzer: run interrupted" in text:
+        return execs, wall, "interrupted"
+    if rc != 0:
+        tail = "\n".join(text.splitlines()[-30:])
+        print("fuzz: %s failed (exit %d), see %s:\n%s" % (target, rc, log, tail), file=sys.stderr)
+    return execs, wall, "ok" if rc == 0 else "failed"
 
 
 def main():
@@ -72,10 +86,11 @@ def main():
     print("| target | executions | seconds | executions/s |\n|---|---|---|---|")
     failed = []
     for t in targets:
-        execs, wall, ok = fuzz(args.build, t, args.seconds, args.runs)
+        execs, wall, outcome = fuzz(args.build, t, args.seconds, args.runs)
         print("| %s | %d | %.0f | %.0f |%s" % (t, execs, wall, execs / wall if wall else 0,
-                                              "" if ok else " FAILED"), flush=True)
-        if not ok:
+                                              {"ok": "", "interrupted": " interrupted",
+                                               "failed": " FAILED"}[outcome]), flush=True)
+        if outcome == "failed":
             failed.append(t)
     if failed:
         print("fuzz: a crash in %s: see %s/artifacts/" % (", ".join(failed), args.build),
