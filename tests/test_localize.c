@@ -158,6 +158,37 @@ static void test_update_against_double(void **state)
     assert_true(worst_p <= 0.01);
 }
 
+/* lkf_sane() bounds each correlation, not the matrix: X and θ fully anti-correlated and κd
+ * fully correlated with both is within its bounds yet no covariance. Along a normal with a
+ * 50 m lever whose X and θ parts cancel, s is r alone and κd's gain times its P Jᵀ leaves 64
+ * bits (what the replay's fuzz target found): the update must be skipped, not overflow. */
+static void test_update_skips_an_overflowing_gain(void **state)
+{
+    (void)state;
+    lkf_cov_t c = {{{0}}};
+    c.p[LKF_X][LKF_X] = LKF_VAR_XY_MAX;           /* (0.5 m)², root 500 000 */
+    c.p[LKF_Y][LKF_Y] = LKF_VAR_XY_MIN;
+    c.p[LKF_T][LKF_T] = 100000000LL;              /* (10 mrad)², root 10 000 */
+    c.p[LKF_KD][LKF_KD] = LKF_VAR_K_MAX;
+    c.p[LKF_KT][LKF_KT] = LKF_VAR_K_MIN;
+    const int64_t root_kd = lkf_isqrt((uint64_t)LKF_VAR_K_MAX);
+    c.p[LKF_X][LKF_T] = c.p[LKF_T][LKF_X] = -500000LL * 10000;
+    c.p[LKF_X][LKF_KD] = c.p[LKF_KD][LKF_X] = 500000LL * root_kd;
+    c.p[LKF_T][LKF_KD] = c.p[LKF_KD][LKF_T] = 10000LL * root_kd;
+    const lkf_cov_t before = c;
+    lkf_sane(&c);
+    assert_memory_equal(&c, &before, sizeof c); /* within every bound it checks */
+    /* 4096 · 500 000 = j_θ · 10 000: the X and θ parts of J P Jᵀ cancel. */
+    const int32_t j[3] = {LKF_J_ONE, 0, LKF_J_ONE * 500000 / 10000};
+    const lkf_state_t lin = {{0}};
+    lkf_state_t d = {{0}};
+    lkf_update(&d, &c, &lin, 1000, j, 900000000LL * 15);
+    for (int i = 0; i < LKF_N; i++) {
+        assert_int_equal(d.v[i], 0);
+    }
+    assert_memory_equal(&c, &before, sizeof c);
+}
+
 /* A move's prediction against P' = F P Fᵀ + Q in double, F the move's Jacobian: within
  * 0.1 % of the diagonal's scale (integer division truncates the small terms). */
 static void test_predict_against_double(void **state)
@@ -485,6 +516,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_isqrt_is_the_floor),
         cmocka_unit_test(test_update_against_double),
+        cmocka_unit_test(test_update_skips_an_overflowing_gain),
         cmocka_unit_test(test_predict_against_double),
         cmocka_unit_test_setup(test_corner_holds_the_heading, setup),
         cmocka_unit_test_setup(test_one_wall_never_slides_along_it, setup),

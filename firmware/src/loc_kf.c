@@ -140,6 +140,11 @@ int64_t lkf_drift_nrad(const lkf_state_t *k, int64_t ds_um, int64_t turn_urad)
     return fix_div_s64(k->v[LKF_KD] * ds_um + k->v[LKF_KT] * turn_urad, 1000000);
 }
 
+static uint64_t magnitude(int64_t v)
+{
+    return v < 0 ? 0u - (uint64_t)v : (uint64_t)v;
+}
+
 void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
                 const int32_t j[3], int64_t r)
 {
@@ -167,6 +172,20 @@ void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
         /* Q20, rounded to nearest: a truncated gain would shrink every update the same way. */
         int64_t num = pj[i] * (1 << (LKF_K_SHIFT - LKF_J_SHIFT));
         k[i] = fix_div_s64(num + (num < 0 ? -s / 2 : s / 2), s);
+    }
+    /* lkf_sane() bounds each correlation, not the matrix: where rounding has left P short
+     * of a covariance along J, s can be small against P Jᵀ and a gain times it leave 64
+     * bits. Such a hit tells nothing to trust: it is skipped. (With P a covariance,
+     * |k_i · q_m| <= sqrt(P_ii · P_mm) · 2^20, within LKF_VAR_K_MAX's bound.) */
+    uint64_t kmax = 0u;
+    uint64_t qmax = magnitude(pred);
+    for (unsigned i = 0; i < LKF_N; i++) {
+        kmax = magnitude(k[i]) > kmax ? magnitude(k[i]) : kmax;
+        qmax = magnitude(q[i]) > qmax ? magnitude(q[i]) : qmax;
+    }
+    const uint64_t room = (uint64_t)INT64_MAX - (1u << (LKF_K_SHIFT - 1u)); /* and the rounding */
+    if (kmax != 0u && qmax > fix_div_u64(room, kmax)) {
+        return;
     }
     /* Rounded, not floored: a hundred updates must not drift by a hundred half units. */
     for (unsigned i = 0; i < LKF_N; i++) {
