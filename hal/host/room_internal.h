@@ -44,12 +44,18 @@ static inline double room_hit_segment(const room_segment_t *sg, double ox, doubl
         nt = -nt;
         nu = -nu;
     }
-    /* Divide only for a hit that beats the best so far. */
-    if (nt < 0.0 || nu < 0.0 || nu > denom || nt >= best * denom) {
+    if (nt < 0.0 || nu < 0.0 || nu > denom) {
+        return best;
+    }
+    /* Compared as returned: nt >= best · denom rounds otherwise than nt / denom >= best,
+     * and two walls through one point (a box's side on a wall) would then give a nearest
+     * hit that depends on the order they are tried in, the index's or the list's. */
+    double t = nt / denom;
+    if (t >= best) {
         return best;
     }
     *cosi = denom / sqrt(len2);
-    return nt / denom;
+    return t;
 }
 
 static inline double room_hit_circle(const room_circle_t *c, double ox, double oy, double dx,
