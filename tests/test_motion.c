@@ -153,6 +153,38 @@ static void test_clamps_and_a_stalled_wheel(void **state)
     assert_int_equal(duty[1], 1000);
 }
 
+/* A wheel that hardly turns as asked is driven by its feed-forward alone (no push, no
+ * windup); one that stalls while the other turns is told apart from a body held back. */
+static void test_a_stalled_wheel_gets_feed_forward_only(void **state)
+{
+    (void)state;
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 100, 100);
+    int16_t duty[2];
+    bool one = false;
+    for (int t = 0; t < 200; t++) {
+        odom.step_um[0] = 0;                   /* its count has stopped */
+        odom.step_um[1] = m.set_um_tick[1];    /* the other turns as asked */
+        motion_step(&m, &odom, duty);
+        if (m.slow_ticks[0] >= MOTION_DEAD_TICKS) {
+            assert_int_equal(duty[0], m.set_um_tick[0] * 1000 / m.top_um_tick);
+            assert_int_equal(m.integral_um[0], 0);
+        }
+        one = one || motion_one_wheel(&m);
+    }
+    assert_true(motion_stalled(&m));
+    assert_true(one && motion_one_wheel(&m));
+    /* Both held back: a stall, not one wheel. */
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 100, 100);
+    odom.step_um[0] = odom.step_um[1] = 0;
+    for (int t = 0; t < 200; t++) {
+        motion_step(&m, &odom, duty);
+        assert_false(motion_one_wheel(&m));
+    }
+    assert_true(motion_stalled(&m));
+}
+
 static void test_rest_means_zero_duty(void **state)
 {
     (void)state;
@@ -181,6 +213,7 @@ int main(void)
         cmocka_unit_test_setup(test_feed_forward_follows_the_ramp, setup),
         cmocka_unit_test_setup(test_pi_tracks_a_weaker_motor, setup),
         cmocka_unit_test_setup(test_clamps_and_a_stalled_wheel, setup),
+        cmocka_unit_test_setup(test_a_stalled_wheel_gets_feed_forward_only, setup),
         cmocka_unit_test_setup(test_rest_means_zero_duty, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

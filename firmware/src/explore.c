@@ -15,6 +15,12 @@
 #define EXPLORE_RANDOM_TURN_MASK 1023u    /* a random turn on average every 10 s */
 #define EXPLORE_BACK_MM_S 80
 #define EXPLORE_BACK_REACHED_UM 20000     /* a trail position is reached this close */
+/* After a stall the robot stands before it backs off: wheels that stall need not touch
+ * anything (an encoder that stops counting looks the same), and a wheel driven on a
+ * count that does not come would turn the robot blind. A stall while backing off stands
+ * again, a few times at most. */
+#define EXPLORE_HOLD_TICKS 300u
+#define EXPLORE_HOLDS_MAX 3u
 
 void explore_init(explore_t *e, const slam_config_t *cfg)
 {
@@ -287,16 +293,35 @@ static void forward_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     }
 }
 
-/* Wheels that stall while driving: back off along the trail first. */
+/* Wheels that stall while driving: stand, then back off along the trail. */
 static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
 {
-    if (!stalled || e->mode == EXPLORE_SQUARE ||
-        (e->state != EXPLORE_FORWARD && e->state != EXPLORE_FOLLOW && e->state != EXPLORE_PASS &&
-         e->state != EXPLORE_TURN)) {
+    if (!stalled || e->mode == EXPLORE_SQUARE || e->state == EXPLORE_HOLD ||
+        e->state == EXPLORE_STOP || e->state == EXPLORE_LOOK || e->state == EXPLORE_DECIDE ||
+        e->state == EXPLORE_SEEK) {
         return false;
     }
     e->stalls++;
     e->narrow = false;
+    e->door = false;
+    if (e->state == EXPLORE_BACK || e->state == EXPLORE_DOOR) {
+        /* Reversing: what stopped it is behind, or a count stopped; stand, then go on
+         * backing off (it ends after a few such stalls), or look. */
+        e->hold_back = e->state == EXPLORE_BACK;
+        e->holds++;
+        e->after_turn = EXPLORE_FOLLOW;
+        explore_enter(e, EXPLORE_HOLD);
+        return true;
+    }
+    if (e->one_wheel) {
+        /* One wheel stopped while the other turned: no body against anything (that
+         * stops both), a wheel or its count that failed. Backing off on that count
+         * would go blind; stand, then look. */
+        e->hold_back = false;
+        e->after_turn = EXPLORE_FOLLOW;
+        explore_enter(e, EXPLORE_HOLD);
+        return true;
+    }
     /* Whatever stopped the robot is just ahead of its body: remember it there. */
     uint8_t i = e->next_point;
     e->pt_x_um[i] = pose->x_um + fix_mul_q30(e->clearance_um, fix_cos(pose->heading));
@@ -306,7 +331,25 @@ static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
     e->leg_x_um = pose->x_um;
     e->leg_y_um = pose->y_um;
     e->back_left = e->trail_len;
-    explore_enter(e, EXPLORE_BACK);
+    e->holds = 0u;
+    e->hold_back = true;
+    explore_enter(e, EXPLORE_HOLD);
+    return true;
+}
+
+static void hold_step(explore_t *e)
+{
+    if (e->ticks > EXPLORE_HOLD_TICKS) {
+        explore_enter(e, e->hold_back ? EXPLORE_BACK : EXPLORE_LOOK);
+    }
+}
+
+bool explore_deaf(explore_t *e)
+{
+    if (e->now - e->heard <= EXPLORE_DEAF_TICKS || e->deaf_stood >= EXPLORE_DEAF_STAND_TICKS) {
+        return false;
+    }
+    e->deaf_stood++;
     return true;
 }
 
@@ -318,7 +361,8 @@ static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
 static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     int64_t back = EXPLORE_BACK_UM;
-    if (leg_dist2(pose, e) >= (uint64_t)(back * back) || e->ticks > EXPLORE_TURN_MAX_TICKS) {
+    if (leg_dist2(pose, e) >= (uint64_t)(back * back) || e->ticks > EXPLORE_TURN_MAX_TICKS ||
+        e->holds > EXPLORE_HOLDS_MAX) {
         e->decide = true; /* TM mode weighs the ways again */
         e->trail_len = 1u;
         e->trail_x_um[e->trail_head] = pose->x_um;
@@ -405,6 +449,10 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     if (sw->reading_ready) {
         /* This tick maps the reading: only note it, and keep the wheels as they were. */
         e->look_readings++;
+        if (sw->reading.echo) {
+            e->heard = e->now;
+            e->deaf_stood = 0u;
+        }
         /* Its point is copied now: the background loop may map older readings, and
          * change the mapper's last outcome, before the next tick. */
         e->pending = sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)
@@ -418,7 +466,11 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     }
     job(e, pose, g);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-    if (!stall(e, pose, stalled)) {
+    bool moving = e->state == EXPLORE_FORWARD || e->state == EXPLORE_FOLLOW ||
+                  e->state == EXPLORE_PASS;
+    if (moving && e->mode != EXPLORE_SQUARE && explore_deaf(e)) {
+        /* Deaf: stand (the wheels at 0) until an echo comes back. */
+    } else if (!stall(e, pose, stalled)) {
         switch (e->state) {
         case EXPLORE_LOOK:
             look_step(e, pose, false);
@@ -453,6 +505,9 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
             break;
         case EXPLORE_BACK:
             back_step(e, pose, target_mm_s);
+            break;
+        case EXPLORE_HOLD:
+            hold_step(e);
             break;
         default:
             break;

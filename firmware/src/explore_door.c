@@ -23,6 +23,8 @@
 #define EXPLORE_NUDGE_MARGIN_UM 15000 /* a nudge leaves the edge this far out of the way */
 #define EXPLORE_DOOR_SKEW_Q16 11380   /* sin 10°: the robot drives along the wall */
 #define EXPLORE_DOOR_TRAIL_MM 200     /* over a trail at least this long */
+#define EXPLORE_DOOR_ALIGN_Q16 5712   /* sin 5°: backing up turns in place first beyond */
+#define EXPLORE_DOOR_STEER_Q16 200    /* and steers 1 mm/s per this much sine within */
 #define EXPLORE_WALK_NONE 0xFFu
 #define EXPLORE_WALK_BEGIN 2u         /* walk_phase before the walk has begun */
 
@@ -226,8 +228,20 @@ void explore_door_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     }
     int32_t ahead = along_wall(e, pose->x_um, pose->y_um, e->door_x_um, e->door_y_um);
     if (ahead < -EXPLORE_DOOR_ABREAST_UM) {
-        /* Straight back along the way the robot came: its body swept it. */
-        target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = -EXPLORE_DOOR_BACK_MM_S;
+        /* Straight back along the way the robot came, which its body swept: the heading
+         * is held to the wall's direction (the turn the robot was in when it stopped may
+         * have carried it off), turning in place first when it is far off. */
+        int32_t skew = (int32_t)(((int64_t)e->wall_uy * (fix_cos(pose->heading) >> 14) -
+                                  (int64_t)e->wall_ux * (fix_sin(pose->heading) >> 14)) >> 16);
+        int32_t steer = skew / EXPLORE_DOOR_STEER_Q16;
+        int32_t v = -EXPLORE_DOOR_BACK_MM_S;
+        if (skew > EXPLORE_DOOR_ALIGN_Q16 || skew < -EXPLORE_DOOR_ALIGN_Q16) {
+            v = 0;
+            steer = skew > 0 ? EXPLORE_DOOR_BACK_MM_S / 2 : -EXPLORE_DOOR_BACK_MM_S / 2;
+        }
+        /* A positive skew: the wall's direction is to the left, a counter-clockwise turn. */
+        target_mm_s[ODOM_LEFT] = v - steer;
+        target_mm_s[ODOM_RIGHT] = v + steer;
         return;
     }
     if (ahead > EXPLORE_DOOR_ABREAST_UM) {

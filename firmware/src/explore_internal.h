@@ -10,6 +10,12 @@
 #define EXPLORE_LOOK_UM 1000000 /* TM rays reach 1 m */
 #define EXPLORE_MAP_REACH_UM 300000 /* the corridor is read on the map this far ahead */
 #define EXPLORE_MAP_STOP_UM 250000  /* and an occupied cell this near ahead stops the robot */
+/* The sonar is the robot's only sight: when no stop has heard an echo for a second (an
+ * echo line stuck high, pings lost) the robot stands, for up to three seconds (a fault
+ * that passes has passed by then; open space beyond the sonar's reach stays silent, and
+ * the robot goes on into it). */
+#define EXPLORE_DEAF_TICKS 100u
+#define EXPLORE_DEAF_STAND_TICKS 300u
 #define EXPLORE_CANDIDATE_BAM ((bam32_t)(0x100000000ull / EXPLORE_CANDIDATES))
 
 /* A number below n from the exploration's own random stream. */
@@ -20,6 +26,10 @@ uint32_t explore_isqrt(uint32_t v);
 
 /* The squared distance from a pose to a world point, defined for any two positions. */
 uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um);
+
+/* Whether no stop has heard an echo for EXPLORE_DEAF_TICKS, and the robot has not yet
+ * stood EXPLORE_DEAF_STAND_TICKS for one: counts the tick stood. */
+bool explore_deaf(explore_t *e);
 
 /* Enter a state: its tick count and look count start again. */
 void explore_enter(explore_t *e, explore_state_t s);

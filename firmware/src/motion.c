@@ -67,10 +67,19 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
             duty[w] = 0;
             continue;
         }
-        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
-                                  m->integral_max_um);
         /* |set| <= 50 000 µm/tick, so set · 1000 fits 32 bits. */
         int32_t ff = set * MOTION_DUTY_MAX / m->top_um_tick;
+        if (m->slow_ticks[w] >= MOTION_DEAD_TICKS) {
+            /* A wheel that hardly turns as asked is held against something, or its
+             * encoder has stopped counting: pushing harder would not free it, and on a
+             * dead count it would run away and turn the robot blind. The feed-forward
+             * alone, until the count comes back. */
+            m->integral_um[w] = 0;
+            duty[w] = (int16_t)clamp(ff, -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
+            continue;
+        }
+        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
+                                  m->integral_max_um);
         /* (kp · Σe/N + ki · I) / 256, the division by N = 4 folded into the shift. With
          * |Σe| <= 2^19, kp <= 2^11 and |ki · I| <= 256 000, everything fits 32 bits. */
         int32_t acc = m->kp_q8 * m->err_sum[w] +
@@ -83,4 +92,17 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
 bool motion_stalled(const motion_t *m)
 {
     return m->slow_ticks[0] >= MOTION_STALL_TICKS || m->slow_ticks[1] >= MOTION_STALL_TICKS;
+}
+
+bool motion_one_wheel(const motion_t *m)
+{
+    for (unsigned w = 0; w < 2u; w++) {
+        int32_t other = m->set_um_tick[1u - w];
+        other = other < 0 ? -other : other;
+        if (m->slow_ticks[w] >= MOTION_STALL_TICKS && m->slow_ticks[1u - w] == 0u &&
+            other >= MOTION_STALL_MIN_UM_TICK) {
+            return true;
+        }
+    }
+    return false;
 }

@@ -124,6 +124,7 @@ void robot_tick(robot_t *r)
             r->pose = r->umbmark.start;
         }
     } else {
+        r->explore.one_wheel = motion_one_wheel(&r->motion);
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
                      motion_stalled(&r->motion), target_mm_s);
     }

@@ -100,6 +100,7 @@ typedef enum {
     EXPLORE_PASS,     /**< walls mode: drive straight through an opening on the right */
     EXPLORE_SEEK,     /**< walls mode: find the nearest frontier block in sight */
     EXPLORE_FACE,     /**< walls mode: turn in place to face a point (a block, an opening) */
+    EXPLORE_HOLD,     /**< the wheels stalled: stand still a while, then back off */
 } explore_state_t;
 
 /** What a pass over the obstacle memory found, in the robot's frame (µm from the axle). */
@@ -173,6 +174,12 @@ typedef struct {
     uint32_t look_mark;          /**< LOOK: `now` when its sweep was complete; 0 before */
     int32_t target_mm_s[2];      /**< what the last tick asked of the wheels */
     uint32_t look_readings;      /**< LOOK: readings since it began */
+    uint32_t heard;              /**< `now` at the last echo of any stop */
+    uint32_t deaf_stood;         /**< ticks stood since then for want of an echo */
+    uint8_t holds;               /**< HOLD: stalls since the backing off began */
+    bool hold_back;              /**< HOLD: back off after it (else look) */
+    bool one_wheel;              /**< set by the caller with `stalled`: only one wheel
+                                      stalled, the other turning (motion_one_wheel()) */
     bool decide;                 /**< TM: the next LOOK decides a new heading */
     bool trail_due;              /**< walls mode: a trail step waits to be looked at */
     /* Walls mode. */

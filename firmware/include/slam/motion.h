@@ -32,6 +32,8 @@
  *  fast (µm/tick), for MOTION_STALL_TICKS ticks in a row: pushing against something. */
 #define MOTION_STALL_MIN_UM_TICK 300
 #define MOTION_STALL_TICKS 25u
+/** After this many of those ticks the wheel is driven by its feed-forward alone. */
+#define MOTION_DEAD_TICKS 5u
 
 /** Ticks the proportional part averages the speed error over (a power of two). */
 #define MOTION_SPEED_TICKS 4u
@@ -71,6 +73,10 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2]);
 
 /** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
 bool motion_stalled(const motion_t *m);
+
+/** Whether one wheel has stalled while the other turns as asked: not a body held against
+ *  something (that stops both), but a wheel or an encoder that stopped on its own. */
+bool motion_one_wheel(const motion_t *m);
 
 /**
  * Whether both ramps are at rest: set speeds zero, so motion_step() returns zero duties
