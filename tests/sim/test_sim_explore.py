@@ -2,10 +2,9 @@
 # SPDX-License-Identifier: MIT
 """Exploration in the simulator: the default (walls) mode touches nothing and maps the walls.
 
-1. Over every shipped room and three seeds, ten minutes each: no collision, the body never
+1. Over every shipped room and five seeds, ten minutes each: no collision, the body never
    nearer than 1 cm to anything, and the wall coverage (metrics.json) at least 0.9 on
-   average, 0.8 in every room. One run is known to touch, once: KNOWN says why; it may
-   touch no more, and every other run must keep clear.
+   average, 0.8 in every room.
 2. In the default room (seeds 1-5), the walls mode covers more of the walls than the
    paper's random mode, and maps them with a higher raw F1.
 3. The narrow room's east half lies beyond a 0.36 m opening: some seed passes it.
@@ -24,22 +23,14 @@ def run(room, seed, *args):
     return sim.metrics(d)
 
 
-# Runs that touch something, and why; none may touch more than once. Clutter, seed 3: the
-# free-standing screen's east end was mapped from the south, then cleared from OM by the
-# misses of later beams and dropped from the obstacle memory; seen end-on from the west,
-# none of its faces echoes within 45°, so the robot turns into a thing it cannot see.
-KNOWN = {("clutter.room", 3)}
-
 per_room = {}
 for room in ROOMS:
-    ms = [run(room, s) for s in (1, 2, 3)]
+    # Five seeds: in the multi-room flat a run finds the doors or not (wall coverage 0.43,
+    # 0.70 or 0.9+), so three seeds judge luck more than the exploration.
+    ms = [run(room, s) for s in range(1, 6)]
     per_room[room] = ms
-    known = [m for s, m in zip((1, 2, 3), ms) if (room, s) in KNOWN]
-    clear = [m for s, m in zip((1, 2, 3), ms) if (room, s) not in KNOWN]
-    check(all(m["robot"]["collisions"] <= 1 for m in known),
-          "%s: the known run touches at most once" % room)
-    coll = sum(m["robot"]["collisions"] for m in clear)
-    closest = min(m["exploration"]["min_clearance_m"] for m in clear)
+    coll = sum(m["robot"]["collisions"] for m in ms)
+    closest = min(m["exploration"]["min_clearance_m"] for m in ms)
     cover = mean(m["exploration"]["wall_coverage"] for m in ms)
     print("%s: collisions %d, closest %.3f m, wall coverage %.3f" % (room, coll, closest, cover))
     check(coll == 0 and closest > 0.01, "%s: no collision, closest %.3f m" % (room, closest))
