@@ -344,15 +344,6 @@ static void hold_step(explore_t *e)
     }
 }
 
-bool explore_deaf(explore_t *e)
-{
-    if (e->now - e->heard <= EXPLORE_DEAF_TICKS || e->deaf_stood >= EXPLORE_DEAF_STAND_TICKS) {
-        return false;
-    }
-    e->deaf_stood++;
-    return true;
-}
-
 /*
  * Reverse toward the trail positions, newest first: the rear is turned toward the next
  * one in place when it is more than about 27° off, and steered onto it while reversing
@@ -466,10 +457,11 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     }
     job(e, pose, g);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-    bool moving = e->state == EXPLORE_FORWARD || e->state == EXPLORE_FOLLOW ||
-                  e->state == EXPLORE_PASS;
-    if (moving && e->mode != EXPLORE_SQUARE && explore_deaf(e)) {
-        /* Deaf: stand (the wheels at 0) until an echo comes back. */
+    if (e->now - e->heard > EXPLORE_DEAF_TICKS && e->deaf_stood < EXPLORE_DEAF_STAND_TICKS &&
+        (e->state == EXPLORE_FORWARD || e->state == EXPLORE_FOLLOW || e->state == EXPLORE_PASS) &&
+        e->mode != EXPLORE_SQUARE) {
+        /* Deaf: stand (the wheels at 0) until an echo comes back, or for long enough. */
+        e->deaf_stood++;
     } else if (!stall(e, pose, stalled)) {
         switch (e->state) {
         case EXPLORE_LOOK:

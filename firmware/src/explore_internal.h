@@ -27,10 +27,6 @@ uint32_t explore_isqrt(uint32_t v);
 /* The squared distance from a pose to a world point, defined for any two positions. */
 uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um);
 
-/* Whether no stop has heard an echo for EXPLORE_DEAF_TICKS, and the robot has not yet
- * stood EXPLORE_DEAF_STAND_TICKS for one: counts the tick stood. */
-bool explore_deaf(explore_t *e);
-
 /* Enter a state: its tick count and look count start again. */
 void explore_enter(explore_t *e, explore_state_t s);
 

@@ -124,9 +124,10 @@ void robot_tick(robot_t *r)
             r->pose = r->umbmark.start;
         }
     } else {
-        r->explore.one_wheel = motion_one_wheel(&r->motion);
-        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid,
-                     motion_stalled(&r->motion), target_mm_s);
+        bool stalled = motion_stalled(&r->motion);
+        r->explore.one_wheel = stalled && motion_one_wheel(&r->motion);
+        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, stalled,
+                     target_mm_s);
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];
