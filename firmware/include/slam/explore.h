@@ -21,9 +21,13 @@
  *   touches anything (the body is round about the axle); after every turn the robot
  *   stands still for a full sweep and looks before it drives into what was blind.
  * - Heading choices read the maps through grid_state(): an occupied cell blocks a way.
+ * - Deafness: with no echo from any stop for a second the robot stands, up to three
+ *   seconds (a stuck echo line or lost pings pass; open space stays silent).
  * - A trail of the last EXPLORE_TRAIL positions, EXPLORE_TRAIL_STEP_UM apart: wheels that
- *   stall (something unseen touched) make the robot back off along the path that brought
- *   it in, whose cells its body has just swept.
+ *   stall (something unseen touched) make the robot stand a while (HOLD), then back off
+ *   along the path that brought it in, whose cells its body has just swept; one wheel
+ *   stalled while the other turns (a wheel or an encoder failed, nothing touched) makes
+ *   it stand and look instead.
  *
  * The modes:
  * - EXPLORE_RANDOM, the paper's: drive straight; when something is ahead, stop and turn
