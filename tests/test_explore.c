@@ -234,38 +234,57 @@ static void test_map_corridor(void **state)
     }
 }
 
+/* Random mode, past its first look with nothing seen: driving on, then east to x_um. */
+static void drive_to(double x_um)
+{
+    setup_mode(EXPLORE_RANDOM);
+    full_clear_sweep();
+    wait_while(EXPLORE_LOOK, 100u);
+    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    while (px < x_um) {
+        tick(0, -2.0);
+    }
+}
+
+/* A stall in one tick; then ticks without readings while the robot stands (at most n). */
+static void stall_once(void)
+{
+    stalled = true;
+    tick(0, -2.0);
+    stalled = false;
+}
+
+static unsigned stand_out(unsigned n)
+{
+    unsigned t = 0;
+    while (ex.state == EXPLORE_HOLD && t++ < n) {
+        tick(0, -2.0);
+    }
+    return t;
+}
+
 /* Wheels that stall while driving (something the sonar missed): stand a while, then back
  * off along the path that brought the robot in, newest trail position first, then turn
  * away. The square, an odometry experiment, ignores stalls. */
 static void test_stall_backs_off_along_the_trail(void **state)
 {
     (void)state;
-    setup_mode(EXPLORE_RANDOM);
-    full_clear_sweep();
-    wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
     /* 0.3 m east, then the robot is turned 90° (as by a turn) and drives 0.1 m north. */
-    while (px < 300000.0) {
-        tick(0, -2.0);
-    }
+    drive_to(300000.0);
     pth = EW_PI / 2.0;
     while (py < 100000.0) {
         tick(0, -2.0);
     }
     double sx = px;
     double sy = py;
-    stalled = true;
-    tick(0, -2.0);
-    stalled = false;
+    stall_once();
     /* It stands a while first (the wheels at rest), then backs off. */
     assert_int_equal(ex.state, EXPLORE_HOLD);
     assert_int_equal(ex.stalls, 1u);
-    unsigned held = 0;
-    while (ex.state == EXPLORE_HOLD && held++ < 1000u) {
-        tick(0, -2.0);
-        assert_int_equal(target[0], 0);
-        assert_int_equal(target[1], 0);
-    }
+    tick(0, -2.0);
+    assert_int_equal(target[0], 0);
+    assert_int_equal(target[1], 0);
+    unsigned held = stand_out(1000u) + 1u;
     printf("stood %u ticks\n", held);
     assert_true(held >= 100u && held < 1000u);
     assert_int_equal(ex.state, EXPLORE_BACK);
@@ -300,53 +319,34 @@ static void test_stall_backs_off_along_the_trail(void **state)
 static void test_one_wheel_stall_stands_and_looks(void **state)
 {
     (void)state;
-    setup_mode(EXPLORE_RANDOM);
-    full_clear_sweep();
-    wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
-    while (px < 200000.0) {
-        tick(0, -2.0);
-    }
+    drive_to(200000.0);
     double sx = px;
     uint8_t next = ex.next_point;
-    stalled = true;
     ex.one_wheel = true;
-    tick(0, -2.0);
-    stalled = false;
+    stall_once();
     ex.one_wheel = false;
     assert_int_equal(ex.state, EXPLORE_HOLD);
     assert_int_equal(ex.next_point, next); /* no obstacle remembered */
-    unsigned t = 0;
-    while (ex.state == EXPLORE_HOLD && t++ < 1000u) {
-        tick(0, -2.0);
-    }
+    stand_out(1000u);
     assert_int_equal(ex.state, EXPLORE_LOOK);
     assert_true(fabs(px - sx) < 1.0); /* it never moved */
 
     /* Both wheels: back off; stalled again while backing, stand again, then back on. */
-    while (ex.state != EXPLORE_FORWARD && t++ < 3000u) {
+    for (unsigned t = 0; ex.state != EXPLORE_FORWARD && t < 3000u; t++) {
         tick(t % 6u == 0u ? (int)(t / 6u % 6u) : 0, t % 6u == 0u ? -1.0 : -2.0);
     }
     assert_int_equal(ex.state, EXPLORE_FORWARD);
     while (px < sx + 100000.0) {
         tick(0, -2.0);
     }
-    stalled = true;
-    tick(0, -2.0);
-    stalled = false;
+    stall_once();
     assert_int_equal(ex.state, EXPLORE_HOLD);
-    for (t = 0; ex.state == EXPLORE_HOLD && t < 1000u; t++) {
-        tick(0, -2.0);
-    }
+    stand_out(1000u);
     assert_int_equal(ex.state, EXPLORE_BACK);
     tick(0, -2.0);
-    stalled = true;
-    tick(0, -2.0);
-    stalled = false;
+    stall_once();
     assert_int_equal(ex.state, EXPLORE_HOLD);
-    for (t = 0; ex.state == EXPLORE_HOLD && t < 1000u; t++) {
-        tick(0, -2.0);
-    }
+    stand_out(1000u);
     assert_int_equal(ex.state, EXPLORE_BACK);
     assert_int_equal(ex.stalls, 3u);
 }
