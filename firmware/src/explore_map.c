@@ -81,11 +81,12 @@ bool explore_map_cells(explore_t *e, const grid_t *g)
         if (grid_state(g, k) != GRID_OCCUPIED) {
             continue;
         }
-        /* A cell hit twice on balance is no ghost: it stops the robot alone (the end of a
-         * thin screen, whose faces beyond the grazing angle send nothing back). */
+        /* A cell holding more than one hit's evidence, after the beams that passed through it,
+         * is no ghost: it stops the robot alone (the end of a thin screen, whose faces beyond the
+         * grazing angle send nothing back). */
         e->map_hits = (uint8_t)(e->map_hits + 1u +
                                 (g->mode == OM_MODE_EVIDENCE &&
-                                 g->om[k] >= GRID_EVIDENCE_ZERO + 2u * g->hit));
+                                 g->om[k] > GRID_EVIDENCE_ZERO + g->hit));
         if (e->map_hits >= 2u) {
             e->map_work_um = (int32_t)(e->map_row + 1u) * (int32_t)e->cell_um;
             e->map_next = total; /* rows further on can only be further: done */
