@@ -28,7 +28,7 @@ odometry errors in mobile robots", IEEE Trans. Robotics and Automation 12(6), 86
 1996: its UMBmark section (the bidirectional square path) and its section on correcting
 Type A and Type B errors. WAI: the same method in Borenstein, Everett & Feng, "Where am I?
 Sensors and methods for mobile robot positioning", 1996, chapter 5 "Dead-reckoning"
-(Fig. 5.9 draws both error types). The formulas are numbered [1] to [7] below, each with
+(Fig. 5.9 draws both error types). The formulas are numbered [1] to [8] below, each with
 the part of the sources it comes from (the code cites these numbers); where a formula is
 this tool's own, it says so.
 
@@ -50,9 +50,18 @@ this tool's own, it says so.
    (B&F, correction section; WAI pp. 140-141);
    with y, by the same geometry (this tool's),
    alpha = (y_cg,cw - y_cg,ccw) / (-4L),  beta = (y_cg,cw + y_cg,ccw) / (-4L).
-   This tool takes the mean of the two, the least-squares solution of all four: their
-   second-order terms, as large as a fifth of alpha for a 1.5 m square, largely cancel.
-3. The radius of a curved leg  R = (L/2) / sin(beta/2)  [4], the wheel diameter ratio
+   The mean of the two is the least-squares solution of all four to first order: their
+   second-order terms, as large as a fifth of alpha for a 1.5 m square, largely cancel,
+   but not wholly (in the simulator, E_b 1.03094 for a robot of 1.03 without slip or
+   noise: a 0.09 % error that every turn of a long run adds up).
+   So the tool then solves the same model exactly  [8] (this tool's): each leg an arc of
+   length L whose heading turns by beta, each of the three corners a turn of 90 - alpha
+   degrees; the alpha and beta whose four end coordinates (x and y, cw and ccw) best fit
+   the two centres of gravity in least squares, by Gauss-Newton from the first-order
+   solution. The first-order figures are printed beside it.
+3. From the exact alpha and beta: the radius of a curved leg  R = (L/2) / sin(beta/2)  [4]
+   (an arc of length L, as [8] takes it, has R = L / beta: the same to 1e-4 for the small
+   beta UMBmark measures), the wheel diameter ratio
    E_d = D_R / D_L = (R + b/2) / (R - b/2)  [5], and the wheel base error
    E_b = b_actual / b_nominal = 90 / (90 - alpha), alpha in degrees  [6] (B&F, correction
    section; WAI pp. 140-141). b here is the wheel base odometry believes after the
@@ -158,6 +167,59 @@ def centre(points):
     return sum(p[0] for p in points) / n, sum(p[1] for p in points) / n
 
 
+def square_end(alpha, beta, side, turn):
+    """Where the model of [8] ends a run: four legs of length side, each an arc whose
+    heading turns by beta, and three corner turns of turn (+1 ccw, -1 cw) x (90 deg - alpha);
+    (x, y) in the frame of the start pose, mm."""
+    x = y = heading = 0.0
+    for leg in range(4):
+        if beta == 0.0:
+            ahead, left = side, 0.0
+        else:
+            radius = side / beta
+            ahead, left = radius * math.sin(beta), radius * (1.0 - math.cos(beta))
+        x += ahead * math.cos(heading) - left * math.sin(heading)
+        y += ahead * math.sin(heading) + left * math.cos(heading)
+        heading += beta
+        if leg < 3:
+            heading += turn * (math.pi / 2.0 - alpha)
+    return x, y
+
+
+def exact_fit(cg_cw, cg_ccw, side, alpha, beta):
+    """[8]: the alpha and beta (rad) whose model ends fit both centres of gravity in least
+    squares, by Gauss-Newton from a first-order (alpha, beta); and the largest residual
+    left, mm."""
+    measured = cg_cw + cg_ccw
+
+    def ends(a, b):
+        return square_end(a, b, side, -1.0) + square_end(a, b, side, 1.0)
+
+    step = 1e-7  # rad: a forward difference far above rounding, far below the angles
+    for _ in range(20):
+        now = ends(alpha, beta)
+        res = [f - m for f, m in zip(now, measured)]
+        cols = [[(f - g) / step for f, g in zip(ends(alpha + step, beta), now)],
+                [(f - g) / step for f, g in zip(ends(alpha, beta + step), now)]]
+        # The normal equations, 2 x 2: (J^T J) d = J^T res.
+        a11 = sum(c * c for c in cols[0])
+        a12 = sum(c * d for c, d in zip(cols[0], cols[1]))
+        a22 = sum(d * d for d in cols[1])
+        g1 = sum(c * r for c, r in zip(cols[0], res))
+        g2 = sum(d * r for d, r in zip(cols[1], res))
+        det = a11 * a22 - a12 * a12
+        if det == 0.0:
+            break
+        d_alpha = (a22 * g1 - a12 * g2) / det
+        d_beta = (a11 * g2 - a12 * g1) / det
+        alpha -= d_alpha
+        beta -= d_beta
+        if abs(d_alpha) < 1e-13 and abs(d_beta) < 1e-13:
+            break
+    left = max(abs(f - m) for f, m in zip(ends(alpha, beta), measured))
+    return alpha, beta, left
+
+
 def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
     """Every figure of UMBmark and the new calibration; the module docstring says how."""
     L = side_mm
@@ -168,13 +230,15 @@ def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
     alpha_y = (ycw - yccw) / (-4.0 * L)  # the same from y (docstring, 2.)
     beta_x = (xcw - xccw) / (-4.0 * L)  # [3]
     beta_y = (ycw + yccw) / (-4.0 * L)  # the same from y (docstring, 2.)
-    alpha = (alpha_x + alpha_y) / 2.0
-    beta = (beta_x + beta_y) / 2.0
-    alpha_deg = math.degrees(alpha)
-    if not -45.0 < alpha_deg < 45.0 or abs(beta) >= math.pi / 4:
+    alpha_first = (alpha_x + alpha_y) / 2.0
+    beta_first = (beta_x + beta_y) / 2.0
+    if not -45.0 < math.degrees(alpha_first) < 45.0 or abs(beta_first) >= math.pi / 4:
         raise Bad("the return errors mean turns wrong by %.0f deg and legs curving by %.0f deg: "
                   "far beyond UMBmark's small angles (check the signs, the units (mm) and "
-                  "the side of the square)" % (alpha_deg, math.degrees(beta)))
+                  "the side of the square)"
+                  % (math.degrees(alpha_first), math.degrees(beta_first)))
+    alpha, beta, fit_mm = exact_fit((xcw, ycw), (xccw, yccw), L, alpha_first, beta_first)  # [8]
+    alpha_deg = math.degrees(alpha)
     e_b = 90.0 / (90.0 - alpha_deg)  # [6]
     b = base_mm * cal[2] * e_b
     if beta == 0.0:
@@ -194,7 +258,9 @@ def analyse(runs, side_mm, base_mm, cal=(1.0, 1.0, 1.0)):
         "n_cw": len(runs["cw"]), "n_ccw": len(runs["ccw"]), "side_mm": L, "base_mm": base_mm,
         "cg_cw": (xcw, ycw), "cg_ccw": (xccw, yccw), "r_cw": r_cw, "r_ccw": r_ccw,
         "e_max_syst": max(r_cw, r_ccw),  # [1]
-        "alpha_deg": alpha_deg, "alpha_x_deg": math.degrees(alpha_x),
+        "alpha_deg": alpha_deg, "alpha_first_deg": math.degrees(alpha_first),
+        "beta_first_deg": math.degrees(beta_first), "fit_mm": fit_mm,
+        "alpha_x_deg": math.degrees(alpha_x),
         "alpha_y_deg": math.degrees(alpha_y),
         "beta_deg": math.degrees(beta), "beta_x_deg": math.degrees(beta_x),
         "beta_y_deg": math.degrees(beta_y),
@@ -217,10 +283,11 @@ def report(a, source):
         "# centre of gravity ccw: x %8.1f mm, y %8.1f mm, r %7.1f mm"
         % (a["cg_ccw"][0], a["cg_ccw"][1], a["r_ccw"]),
         "# E_max,syst = %.1f mm" % a["e_max_syst"],
-        "# alpha = %.4f deg a 90-deg turn (x: %.4f, y: %.4f)"
-        % (a["alpha_deg"], a["alpha_x_deg"], a["alpha_y_deg"]),
-        "# beta  = %.4f deg a leg (x: %.4f, y: %.4f)"
-        % (a["beta_deg"], a["beta_x_deg"], a["beta_y_deg"]),
+        "# alpha = %.4f deg a 90-deg turn (first order %.4f; from x: %.4f, from y: %.4f)"
+        % (a["alpha_deg"], a["alpha_first_deg"], a["alpha_x_deg"], a["alpha_y_deg"]),
+        "# beta  = %.4f deg a leg (first order %.4f; from x: %.4f, from y: %.4f)"
+        % (a["beta_deg"], a["beta_first_deg"], a["beta_x_deg"], a["beta_y_deg"]),
+        "# the exact model fits both centres of gravity within %.1f mm" % a["fit_mm"],
         "# R = %s, E_d = D_R/D_L = %.6f, E_b = %.6f" % (radius, a["e_d"], a["e_b"]),
         "# c_L = %.6f, c_R = %.6f; in force during the runs: cal_left %.6f, cal_right %.6f, "
         "cal_base %.6f" % ((a["c_l"], a["c_r"]) + a["cal_before"]),

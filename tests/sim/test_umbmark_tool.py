@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""tools/umbmark.py: the formulas against their first-order model and a worked example
-computed by hand, the signs proven by
+"""tools/umbmark.py: the formulas against their first-order model, the exact solution
+against its own model written out anew, a worked example computed by hand, the signs proven by
 simulation (a robot with a known E_d and E_b gets them back from its own UMBmark, both
 ways of each), a calibration in force composed, and bad input answered with file:line and
 exit 2, nothing written."""
@@ -57,45 +57,69 @@ alpha, beta = math.radians(1.5), math.radians(-0.8)
 model = {"cw": [(-2 * L * (alpha + beta), -2 * L * (alpha + beta))] * 5,
          "ccw": [(-2 * L * (alpha - beta), 2 * L * (alpha - beta))] * 5}
 a = umbmark.analyse(model, L, b)
-R = (L / 2) / math.sin(beta / 2)
-check(abs(a["alpha_deg"] - 1.5) < 1e-9 and abs(a["beta_deg"] + 0.8) < 1e-9
+check(abs(a["alpha_first_deg"] - 1.5) < 1e-9 and abs(a["beta_first_deg"] + 0.8) < 1e-9
       and abs(a["alpha_x_deg"] - a["alpha_y_deg"]) < 1e-9,
-      "alpha and beta come back from the model, the x and y forms alike (%.6f, %.6f deg)"
-      % (a["alpha_deg"], a["beta_deg"]))
-e_b = 90.0 / 88.5
-e_d = (R + b * e_b / 2) / (R - b * e_b / 2)
-check(abs(a["e_b"] - e_b) < 1e-12 and abs(a["e_d"] - e_d) < 1e-12 and a["e_d"] < 1.0,
-      "E_b = 90/(90 - alpha) = %.6f, E_d = (R + b/2)/(R - b/2) = %.6f (legs curving right: "
-      "the left wheel larger)" % (a["e_b"], a["e_d"]))
-check(abs(a["cal"][0] - 2 / (e_d + 1)) < 1e-12 and abs(a["cal"][1] - 2 / (1 / e_d + 1)) < 1e-12
-      and abs(a["cal"][2] - e_b) < 1e-12, "c_L = 2/(E_d + 1), c_R = 2/(1/E_d + 1), cal_base = E_b")
+      "first order: alpha and beta come back from the model, the x and y forms alike "
+      "(%.6f, %.6f deg)" % (a["alpha_first_deg"], a["beta_first_deg"]))
 check(abs(a["e_max_syst"] - max(math.hypot(*model["cw"][0]), math.hypot(*model["ccw"][0]))) < 1e-9,
       "E_max,syst is the larger distance of the two centres of gravity (%.1f mm)" % a["e_max_syst"])
-a2 = umbmark.analyse(model, L, b, cal=(0.99, 1.01, 1.02))
+
+
+# ---- the exact model [8], written out here on its own: legs as arcs, three corner turns -----
+def run_end(alpha, beta, side, turn):
+    """End of a square of four arcs (heading turning by beta along each) and three turns of
+    turn x (90 deg - alpha), as complex numbers: the start pose's frame, x + iy."""
+    pos, heading = 0j, 0.0
+    chord = side * (math.sin(beta / 2) / (beta / 2) if beta else 1.0)  # an arc's chord
+    for leg in range(4):
+        pos += chord * complex(math.cos(heading + beta / 2), math.sin(heading + beta / 2))
+        heading += beta + (turn * (math.pi / 2 - alpha) if leg < 3 else 0.0)
+    return pos.real, pos.imag
+
+
+ends = {"cw": [run_end(alpha, beta, L, -1)] * 5, "ccw": [run_end(alpha, beta, L, 1)] * 5}
+a = umbmark.analyse(ends, L, b)
+check(abs(a["alpha_deg"] - 1.5) < 1e-7 and abs(a["beta_deg"] + 0.8) < 1e-7 and a["fit_mm"] < 1e-6
+      and abs(a["alpha_first_deg"] - 1.5) > 1e-3,
+      "exact: alpha and beta come back from the model's own ends (%.8f, %.8f deg; first order "
+      "%.4f, %.4f)" % (a["alpha_deg"], a["beta_deg"], a["alpha_first_deg"], a["beta_first_deg"]))
+R = (L / 2) / math.sin(beta / 2)
+e_b = 90.0 / 88.5
+e_d = (R + b * e_b / 2) / (R - b * e_b / 2)
+check(abs(a["e_b"] - e_b) < 1e-9 and abs(a["e_d"] - e_d) < 1e-9 and a["e_d"] < 1.0,
+      "E_b = 90/(90 - alpha) = %.6f, E_d = (R + b/2)/(R - b/2) = %.6f (legs curving right: "
+      "the left wheel larger)" % (a["e_b"], a["e_d"]))
+check(abs(a["cal"][0] - 2 / (a["e_d"] + 1)) < 1e-12
+      and abs(a["cal"][1] - 2 / (1 / a["e_d"] + 1)) < 1e-12 and abs(a["cal"][2] - a["e_b"]) < 1e-12,
+      "c_L = 2/(E_d + 1), c_R = 2/(1/E_d + 1), cal_base = E_b")
+a2 = umbmark.analyse(ends, L, b, cal=(0.99, 1.01, 1.02))
 check(abs(a2["cal"][0] - 0.99 * a2["c_l"]) < 1e-12 and abs(a2["cal"][2] - 1.02 * a2["e_b"]) < 1e-12,
       "on top of a calibration in force, the factors multiply")
 
 # ---- a worked example, computed by hand ----------------------------------------------------
 # L = 1000 mm, b = 100 mm. cw runs (-30, -30) and (-50, -50): centre (-40, -40), r = 40 sqrt 2
 # = 56.569 mm; ccw runs (-10, 10) and (-30, 30): centre (-20, 20), r = 28.284 mm.
-# alpha = (-40 + -20) / -4000 = 0.015 rad from x, (-40 - 20) / -4000 = 0.015 from y: 0.859437 deg.
-# beta = (-40 - -20) / -4000 = 0.005 rad from x, (-40 + 20) / -4000 = 0.005 from y: 0.286479 deg.
-# E_b = 90 / (90 - 0.859437) = 1.009641; b = 100 E_b = 100.9641 mm.
-# R = 500 / sin(0.0025) = 200000.21 mm; E_d = (R + 50.482) / (R - 50.482) = 1.000505.
-# c_L = 2 / 2.000505 = 0.999748, c_R = 2 / (1 / 1.000505 + 1) = 1.000252.
+# First order: alpha = (-40 + -20) / -4000 = 0.015 rad from x, (-40 - 20) / -4000 = 0.015 from
+# y: 0.859437 deg; beta = (-40 - -20) / -4000 = 0.005 rad from x, (-40 + 20) / -4000 = 0.005
+# from y: 0.286479 deg. The exact model moves them a little (checked above); from them
+# E_b = 90 / (90 - alpha), b = 100 E_b, R = 500 / sin(beta / 2), E_d = (R + b/2) / (R - b/2).
 hand = write("hand.csv", "direction,x_mm,y_mm\ncw,-30,-30\ncw,-50,-50\nccw,-10,10\nccw,-30,30\n")
 p = run_tool(hand, "--side-mm", 1000, "--base-mm", 100)
 got = keys(p.stdout)
 h = umbmark.calibrate(hand, side_mm=1000.0, base_mm=100.0)[0]
 # (figure: value by hand, within the digits written down)
-expect = {"e_max_syst": (56.569, 5e-4), "r_ccw": (28.284, 5e-4), "alpha_deg": (0.859437, 5e-7),
-          "beta_deg": (0.286479, 5e-7), "e_b": (1.009641, 5e-7), "radius_mm": (200000.21, 5e-3),
-          "e_d": (1.000505, 5e-7)}
+expect = {"e_max_syst": (56.569, 5e-4), "r_ccw": (28.284, 5e-4),
+          "alpha_first_deg": (0.859437, 5e-7), "beta_first_deg": (0.286479, 5e-7)}
 bad_figures = ["%s %.7f, by hand %g" % (k, h[k], v) for k, (v, tol) in expect.items()
                if abs(h[k] - v) > tol]
+hb = 100.0 * 90.0 / (90.0 - h["alpha_deg"])
+hr = 500.0 / math.sin(math.radians(h["beta_deg"]) / 2)
+he_d = (hr + hb / 2) / (hr - hb / 2)
 check(p.returncode == 0 and not bad_figures and "E_max,syst = 56.6 mm" in p.stdout
-      and abs(got["cal_left"] - 0.999748) < 1e-6 and abs(got["cal_right"] - 1.000252) < 1e-6
-      and abs(got["cal_base"] - 1.009641) < 1e-6,
+      and abs(h["alpha_deg"] - 0.859437) < 0.05 and abs(h["beta_deg"] - 0.286479) < 0.05
+      and abs(got["cal_left"] - 2 / (he_d + 1)) < 1e-6
+      and abs(got["cal_right"] - 2 / (1 / he_d + 1)) < 1e-6
+      and abs(got["cal_base"] - hb / 100.0) < 1e-6,
       "a worked example: the tool's figures and lines agree with the hand computation %s\n%s"
       % (bad_figures, p.stdout))
 
@@ -108,9 +132,10 @@ for ed, eb in ((1.004, 1.02), (0.996, 0.98)):
     p = run_tool(os.path.join(out, "umbmark.csv"), "--config", os.path.join(out, "config.txt"))
     got = keys(p.stdout)
     est = umbmark.calibrate(os.path.join(out, "umbmark.csv"), os.path.join(out, "config.txt"))[0]
-    # Within a tenth of each error: what the first-order formulas and a +-5 mm tape allow.
-    check(p.returncode == 0 and abs(est["e_d"] - ed) < 0.1 * abs(ed - 1)
-          and abs(est["e_b"] - eb) < 0.1 * abs(eb - 1)
+    # Within 3 % of each error: what the exact model and a +-5 mm tape allow (the first-order
+    # formulas alone are 3-5 % off here).
+    check(p.returncode == 0 and abs(est["e_d"] - ed) < 0.03 * abs(ed - 1)
+          and abs(est["e_b"] - eb) < 0.03 * abs(eb - 1)
           and abs(got["cal_base"] - est["e_b"]) < 1e-6,
           "a robot with E_d %g and E_b %g: UMBmark measures %.5f and %.5f" % (ed, eb, est["e_d"],
                                                                             est["e_b"]))
