@@ -434,55 +434,6 @@ static void test_one_wall_never_slides_along_it(void **state)
     assert_true(fabs(along_fix) < 0.005); /* nothing moved the pose along the wall */
 }
 
-/* One reading of the test below: the robot at (x, y) heading east, the sonar 25° to the
- * left (servo 65°), an echo from `range` metres. */
-static void post_left(double x, double y, double range)
-{
-    loc_reading_t rd = {
-        .ping = {(int32_t)lround(x * 1e6), (int32_t)lround(y * 1e6), 0u},
-        .range_um = (uint32_t)lround(range * 1e6),
-        .servo = fix_bam_from_mdeg(65000),
-        .echo = true,
-    };
-    (void)loc_post(&loc, &rd);
-    loc_idle(&loc, &mapper, &grid);
-}
-
-/* A wall the map has seen from one side only (free cells below it, nothing known above),
- * and held-back hits on it; then the robot stands beyond the wall's line (through a door
- * at its end). A face it stands behind is no wall it sees from there: those hits are left
- * out of the match, which finds too few points and changes nothing. */
-static void test_a_face_the_robot_is_behind_is_left_out(void **state)
-{
-    (void)state;
-    paint_line(-3.0, 0.8, 3.0, 0.8);
-    for (double y = 0.3; y < 0.76; y += 0.01) {
-        for (double x = -3.0; x <= 3.0; x += 0.01) {
-            grid_cell_t c;
-            if (grid_cell_of(&grid, (int32_t)lround(x * 1e6), (int32_t)lround(y * 1e6), &c) ==
-                SLAM_OK) {
-                grid.om[grid_index(c)] = 0u;
-            }
-        }
-    }
-    /* Below the wall, echoes from it: they fill the window and match. */
-    double x = -2.0;
-    for (unsigned k = 0; k < LOC_WINDOW; k++, x += 0.02) {
-        post_left(x, 0.5, 0.3 / sin(25.0 * PI / 180.0));
-    }
-    assert_true(loc.applied > 0u && loc.last_points >= LOC_MIN_POINTS);
-    /* Beyond its line: echoes from far off, which match nothing, bring on a match of the
-     * hits still held back, all on the face the robot is now behind. */
-    uint32_t refused = loc.refused;
-    for (unsigned k = 0; k < LOC_EVERY; k++, x += 0.02) {
-        post_left(x, 1.0, 0.9);
-    }
-    print_message("behind the face: %u points matched, %u refused before, %u after\n",
-                  loc.last_points, refused, loc.refused);
-    assert_true(loc.last_points < LOC_MIN_POINTS);
-    assert_int_equal(loc.refused, refused + 1u);
-}
-
 /* The same readings give the same map and the same correction whenever the background
  * loop runs, as long as it keeps up (on an MCU it runs after every tick; here after every
  * reading, or every third). */
@@ -569,7 +520,6 @@ int main(void)
         cmocka_unit_test(test_predict_against_double),
         cmocka_unit_test_setup(test_corner_holds_the_heading, setup),
         cmocka_unit_test_setup(test_one_wall_never_slides_along_it, setup),
-        cmocka_unit_test_setup(test_a_face_the_robot_is_behind_is_left_out, setup),
         cmocka_unit_test_setup(test_timing_changes_nothing, setup),
         cmocka_unit_test_setup(test_full_queue_drops_and_counts, setup),
         cmocka_unit_test_setup(test_off_maps_as_the_mapper, setup),

@@ -165,11 +165,8 @@ static bool occupied(const grid_t *g, int32_t a, int32_t b)
 }
 
 /* The normal of the wall through cell (a, b), Q12, from the occupied cells of the 5×5
- * block around it: the direction of least spread, when the cells lie along a line. Where
- * the block's known free cells lie on one side of the line, the normal points to that
- * side and *faced is true: the face the sonar saw looks that way. */
-static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int32_t *ny,
-                        bool *faced)
+ * block around it: the direction of least spread, when the cells lie along a line. */
+static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int32_t *ny)
 {
     int32_t n = 0;
     int32_t sx = 0;
@@ -177,26 +174,15 @@ static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int3
     int32_t sxx = 0;
     int32_t syy = 0;
     int32_t sxy = 0;
-    int32_t nf = 0;
-    int32_t fx = 0;
-    int32_t fy = 0;
     for (int32_t j = -LOC_NORMAL_HALF; j <= LOC_NORMAL_HALF; j++) {
         for (int32_t i = -LOC_NORMAL_HALF; i <= LOC_NORMAL_HALF; i++) {
-            if ((uint32_t)(a + i) >= SLAM_GRID_A || (uint32_t)(b + j) >= SLAM_GRID_B) {
-                continue;
-            }
-            grid_state_t st = grid_state(g, (uint32_t)(b + j) * SLAM_GRID_A + (uint32_t)(a + i));
-            if (st == GRID_OCCUPIED) {
+            if (occupied(g, a + i, b + j)) {
                 n++;
                 sx += i;
                 sy += j;
                 sxx += i * i;
                 syy += j * j;
                 sxy += i * j;
-            } else if (st == GRID_FREE) {
-                nf++;
-                fx += i;
-                fy += j;
             }
         }
     }
@@ -228,16 +214,6 @@ static bool wall_normal(const grid_t *g, int32_t a, int32_t b, int32_t *nx, int3
     }
     *nx = (int32_t)fix_div_s64(-vy * LKF_J_ONE, len);
     *ny = (int32_t)fix_div_s64(vx * LKF_J_ONE, len);
-    /* The free cells' centre against the occupied cells', n·nf times, along the normal:
-     * more than half a cell to one side says which face was seen. */
-    int64_t side = (int64_t)*nx * ((int64_t)fx * n - (int64_t)sx * nf) +
-                   (int64_t)*ny * ((int64_t)fy * n - (int64_t)sy * nf);
-    int64_t half = (int64_t)n * nf * (LKF_J_ONE / 2);
-    *faced = nf > 0 && (side > half || side < -half);
-    if (side < 0) {
-        *nx = -*nx;
-        *ny = -*ny;
-    }
     return true;
 }
 
@@ -251,11 +227,9 @@ static const int8_t loc_assoc_order[][2] = {
 _Static_assert(LOC_ASSOC_CELLS == 3, "loc_assoc_order holds the cells within 3");
 
 /* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells, its
- * centre and normal; none when the robot, now at (vx, vy), stands behind the face the map
- * holds there: a face it cannot see from where it is, such as one whose end it has just
- * gone round through a door (firmware/README.md says what that was measured to do). */
-static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t vx, int32_t vy,
-                      int32_t *wx, int32_t *wy, int32_t *nx, int32_t *ny)
+ * centre and normal. */
+static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, int32_t *wy,
+                      int32_t *nx, int32_t *ny)
 {
     grid_cell_t c;
     if (grid_cell_of(g, x_um, y_um, &c) != SLAM_OK) {
@@ -271,14 +245,13 @@ static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t vx, i
     }
     int32_t ba = c.a + loc_assoc_order[k][0];
     int32_t bb = c.b + loc_assoc_order[k][1];
-    bool faced;
-    if (!wall_normal(g, ba, bb, nx, ny, &faced)) {
+    if (!wall_normal(g, ba, bb, nx, ny)) {
         return false;
     }
     int32_t half = (int32_t)(g->cell_um / 2u);
     *wx = g->origin_x_um + ba * (int32_t)g->cell_um + half;
     *wy = g->origin_y_um + bb * (int32_t)g->cell_um + half;
-    return !faced || (int64_t)*nx * ((int64_t)vx - *wx) + (int64_t)*ny * ((int64_t)vy - *wy) > 0;
+    return true;
 }
 
 /* ---- the match --------------------------------------------------------------------------- */
@@ -306,7 +279,7 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         int32_t wx;
         int32_t wy;
         int32_t j[3];
-        if (!wall_near(g, qx, qy, cx, cy, &wx, &wy, &j[0], &j[1])) {
+        if (!wall_near(g, qx, qy, &wx, &wy, &j[0], &j[1])) {
             continue;
         }
         int64_t h = ((int64_t)j[0] * ((int64_t)qx - wx) + (int64_t)j[1] * ((int64_t)qy - wy)) >>
