@@ -20,10 +20,13 @@ static uint32_t angle_off(bam32_t a, bam32_t b)
     return (uint32_t)(d < 0 ? -d : d);
 }
 
+/* Two passes of the sweep that hear the room's walls 3 m off at every stop (beyond the
+ * confidence radius: nothing enters the memory): the robot hears well, and nothing is
+ * near. */
 static void full_clear_sweep(void)
 {
-    for (int s = 0; s < 6; s++) {
-        tick(s, -1.0);
+    for (int s = 0; s < 12; s++) {
+        tick(s < 6 ? s : 11 - s, 3000.0);
         tick(0, -2.0);
     }
 }
@@ -138,6 +141,36 @@ static void test_slows_down_near_an_obstacle(void **state)
         assert_true(target[0] >= cases[c].lo && target[0] <= cases[c].hi);
         assert_int_equal(target[0], target[1]);
     }
+}
+
+/* A sonar that hears little (pings lost, faces at grazing angles) may not have heard what
+ * is ahead: the robot drives no faster than the share of the last sweep it heard, down to
+ * a crawl, and at full speed again once it hears. */
+static void test_hears_little_slows_down(void **state)
+{
+    (void)state;
+    static const struct {
+        unsigned lost;
+        int32_t speed;
+    } cases[] = {{4, 200}, {6, 165}, {12, 60}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        setup_mode(EXPLORE_RANDOM);
+        full_clear_sweep();
+        wait_while(EXPLORE_LOOK, 100u);
+        for (unsigned k = 0; k < cases[c].lost; k++) {
+            tick((int)(k % 6u), -1.0); /* no echo */
+            for (int t = 0; t < 5; t++) {
+                tick(0, -2.0);
+            }
+        }
+        printf("%u of the last 12 pings lost: %d mm/s\n", cases[c].lost, target[0]);
+        assert_int_equal(ex.state, EXPLORE_FORWARD);
+        assert_int_equal(target[0], cases[c].speed);
+        assert_int_equal(target[1], cases[c].speed);
+    }
+    full_clear_sweep();
+    tick(0, -2.0);
+    assert_int_equal(target[0], 200);
 }
 
 static void test_corridor_and_memory(void **state)
@@ -535,6 +568,7 @@ int main(void)
         cmocka_unit_test(test_reading_ticks_only_note),
         cmocka_unit_test(test_obstacle_ahead_turns_away),
         cmocka_unit_test(test_slows_down_near_an_obstacle),
+        cmocka_unit_test(test_hears_little_slows_down),
         cmocka_unit_test(test_corridor_and_memory),
         cmocka_unit_test(test_map_corridor),
         cmocka_unit_test(test_stall_backs_off_along_the_trail),

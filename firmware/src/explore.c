@@ -440,7 +440,12 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     if (sw->reading_ready) {
         /* This tick maps the reading: only note it, and keep the wheels as they were. */
         e->look_readings++;
-        if (sw->reading.echo) {
+        /* The last sweep's echoes, counted as the window slides. */
+        uint32_t echo = sw->reading.echo ? 1u : 0u;
+        uint32_t out = (e->echo_bits >> (EXPLORE_ECHO_WINDOW - 1u)) & 1u;
+        e->echoes = (uint8_t)(e->echoes + echo - out);
+        e->echo_bits = (uint16_t)((((uint32_t)e->echo_bits << 1) | echo) & EXPLORE_ECHO_MASK);
+        if (echo) {
             e->heard = e->now;
             e->deaf_stood = 0u;
         }

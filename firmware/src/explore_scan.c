@@ -137,8 +137,16 @@ int32_t explore_ahead_um(const explore_t *e, const odom_pose_t *pose)
 
 int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)
 {
+    /* A sonar that hears little (pings lost, faces at grazing angles) may not have heard
+     * what is ahead: no faster than the share of the last sweep it heard. */
+    int32_t top = e->cruise_mm_s;
+    if (e->echoes < EXPLORE_ECHOES_SURE) {
+        top = EXPLORE_CRAWL_MM_S + (e->cruise_mm_s - EXPLORE_CRAWL_MM_S) * (int32_t)e->echoes /
+                                       (int32_t)EXPLORE_ECHOES_SURE;
+        top = top < e->cruise_mm_s ? top : e->cruise_mm_s;
+    }
     if (ahead_um >= EXPLORE_SLOW_UM) {
-        return e->cruise_mm_s;
+        return top;
     }
     /* In millimetres every product fits 32 bits (no 64-bit division in the tick). */
     int32_t span = (EXPLORE_SLOW_UM - e->avoid_um) / 1000;
@@ -146,7 +154,7 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)
     near = near < 0 ? 0 : near;
     span = span < 1 ? 1 : span;
     int32_t v = EXPLORE_CRAWL_MM_S + (e->cruise_mm_s - EXPLORE_CRAWL_MM_S) * near / span;
-    return v < e->cruise_mm_s ? v : e->cruise_mm_s;
+    return v < top ? v : top;
 }
 
 bool explore_blocked(const explore_t *e, const odom_pose_t *pose)

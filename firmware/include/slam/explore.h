@@ -71,6 +71,9 @@
 #define EXPLORE_CANDIDATES 12u          /**< headings weighed in TM mode, 30° apart */
 #define EXPLORE_POINTS 16u              /**< obstacle points remembered */
 #define EXPLORE_MEMORY_TICKS 500u       /**< obstacle points are forgotten after 5 s */
+#define EXPLORE_ECHO_WINDOW 12u         /**< readings whose echoes are counted: a sweep */
+#define EXPLORE_ECHOES_SURE 8u          /**< of them, echoes below which it slows down */
+#define EXPLORE_ECHO_MASK ((1u << EXPLORE_ECHO_WINDOW) - 1u)
 #define EXPLORE_SCAN_POINTS 4u          /**< memory points checked a tick */
 #define EXPLORE_TRAIL 8u                /**< trail positions kept */
 #define EXPLORE_TRAIL_STEP_UM 50000     /**< one trail position each 50 mm driven */
@@ -139,6 +142,8 @@ typedef struct {
     uint8_t back_left;   /**< BACK: trail positions still to reach */
     uint8_t lefts;       /**< left turns in a row without getting clear */
     uint8_t after_turn;  /**< the state LOOK hands over to */
+    uint8_t echoes;      /**< echoes among the last EXPLORE_ECHO_WINDOW readings */
+    uint16_t echo_bits;  /**< those readings, the newest in bit 0: 1 an echo */
     uint32_t leg;        /**< SQUARE: legs done */
     uint32_t best_cost;  /**< DECIDE: its cost */
     uint32_t ray_left;   /**< DECIDE: cells of the ray still to walk */
