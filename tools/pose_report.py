@@ -116,8 +116,8 @@ def report(args):
 
     print("### Long runs (default room, seeds 1–%d)\n" % args.long_seeds)
     print("| run | correction | F1 raw (own pose) median | heading error median (°) "
-          "| runs with F1 >= 0.75 | runs with heading <= 5° "
-          "| F1 raw per seed | heading per seed (°) |\n|---|---|---|---|---|---|---|---|")
+          "| runs with F1 >= 0.75 | runs with heading <= 5° | runs that touch "
+          "| F1 raw per seed | heading per seed (°) |\n|---|---|---|---|---|---|---|---|---|")
     longs = sorted({n.split("-")[0] for n in res if n.startswith("long")},
                    key=lambda x: int(x[4:]))
     for name in longs:
@@ -126,10 +126,12 @@ def report(args):
             f1 = [m["maps"]["odometry"]["raw"]["f1"] for m in ms]
             head = [abs(m["odometry"]["final_heading_deg"]) for m in ms]
             secs = int(name[4:])
-            print("| %s | %s | %.3f | %.1f | %d of %d | %d of %d | %s | %s |" % (
+            touch = sum(m["robot"]["collisions"] > 0 for m in ms)
+            print("| %s | %s | %.3f | %.1f | %d of %d | %d of %d | %d of %d | %s | %s |" % (
                 "%g h" % (secs / 3600.0) if secs >= 3600 else "%g min" % (secs / 60.0),
                 mode, median(f1), median(head),
                 sum(f >= 0.75 for f in f1), len(ms), sum(h <= 5.0 for h in head), len(ms),
+                touch, len(ms),
                 " / ".join("%.2f" % f for f in f1), " / ".join("%.1f" % h for h in head)))
     print()
 

@@ -304,20 +304,14 @@ static bool stall(explore_t *e, const odom_pose_t *pose, bool stalled)
     e->stalls++;
     e->narrow = false;
     e->door = false;
-    if (e->state == EXPLORE_BACK || e->state == EXPLORE_DOOR) {
-        /* Reversing: what stopped it is behind, or a count stopped; stand, then go on
-         * backing off (it ends after a few such stalls), or look. */
+    /* Reversing: what stopped it is behind, or a count stopped; stand, then go on backing
+     * off (it ends after a few such stalls), or look. One wheel stopped while the other
+     * turned: no body against anything (that stops both), a wheel or its count that
+     * failed; backing off on that count would go blind, so stand, then look. */
+    bool reversing = e->state == EXPLORE_BACK || e->state == EXPLORE_DOOR;
+    if (reversing || e->one_wheel) {
         e->hold_back = e->state == EXPLORE_BACK;
-        e->holds++;
-        e->after_turn = EXPLORE_FOLLOW;
-        explore_enter(e, EXPLORE_HOLD);
-        return true;
-    }
-    if (e->one_wheel) {
-        /* One wheel stopped while the other turned: no body against anything (that
-         * stops both), a wheel or its count that failed. Backing off on that count
-         * would go blind; stand, then look. */
-        e->hold_back = false;
+        e->holds = (uint8_t)(e->holds + reversing);
         e->after_turn = EXPLORE_FOLLOW;
         explore_enter(e, EXPLORE_HOLD);
         return true;
@@ -451,9 +445,7 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
         }
         /* Its point is copied now: the background loop may map older readings, and
          * change the mapper's last outcome, before the next tick. */
-        e->pending = sw->reading.echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE)
-                         ? 1u
-                         : 0u;
+        e->pending = echo && (m->last == MAPPER_HIT || m->last == MAPPER_OUTSIDE) ? 1u : 0u;
         e->pending_x_um = m->last_x_um;
         e->pending_y_um = m->last_y_um;
         target_mm_s[ODOM_LEFT] = e->target_mm_s[ODOM_LEFT];
