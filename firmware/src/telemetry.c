@@ -325,7 +325,11 @@ void telem_send_config(telem_t *t, const slam_config_t *cfg, uint8_t key)
 static void rx_drop(telem_t *t, uint8_t n)
 {
     t->rx_len = (uint8_t)(t->rx_len - n);
-    memmove(t->rx, t->rx + n, t->rx_len);
+    /* Forward, a byte at a time: the few bytes kept move down over the ones dropped
+     * (and the image needs no memmove for them). */
+    for (uint8_t i = 0; i < t->rx_len; i++) {
+        t->rx[i] = t->rx[i + n];
+    }
 }
 
 bool telem_rx_byte(telem_t *t, uint8_t byte, uint32_t ticks, telem_cmd_t *cmd)
