@@ -208,20 +208,23 @@ def report(args):
     def group(prefix):
         return [res[n] for n in sorted(res) if n.startswith(prefix + "-")]
 
-    print("### Post-processing, the paper's method (`--paper`; mean of %d seeds, %d s each)\n"
-          % (len(seeds), dur))
-    for room in ("default", "obstacles"):
-        ms = group("post-" + room)
-        pm = post_means(ms)
-        th, k, f1, p, r = tuned(ms)
-        post = ms[0]["scenario"]["post"]
-        print("`%s.room` — the run's TH = %d, K = %d; tuned TH = %d, K = %d\n"
-              % (room, post["threshold"], post["k"], th, k))
-        print("| map | precision | recall | F1 |\n|---|---|---|---|")
-        for s, label in zip(STEPS, ("raw OM (OM ≥ 1)", "after threshold", "after template",
-                                    "after insert (final)")):
-            print("| %s | %.3f | %.3f | %.3f |" % ((label,) + pm[s]))
-        print("| tuned chain (TH %d, K %d) | %.3f | %.3f | %.3f |\n" % (th, k, p, r, f1))
+    def post_tables(title, prefix):
+        print("### Post-processing, %s (mean of %d seeds, %d s each)\n" % (title, len(seeds), dur))
+        for room in ("default", "obstacles"):
+            ms = group(prefix % room)
+            pm = post_means(ms)
+            th, k, f1, p, r = tuned(ms)
+            post = ms[0]["scenario"]["post"]
+            print("`%s.room` — the run's TH = %d, K = %d; tuned TH = %d, K = %d\n"
+                  % (room, post["threshold"], post["k"], th, k))
+            print("| map | precision | recall | F1 |\n|---|---|---|---|")
+            for s, label in zip(STEPS, ("raw OM (OM ≥ 1)", "after threshold", "after template",
+                                        "after insert (final)")):
+                print("| %s | %.3f | %.3f | %.3f |" % ((label,) + pm[s]))
+            print("| tuned chain (TH %d, K %d) | %.3f | %.3f | %.3f |\n" % (th, k, p, r, f1))
+
+    post_tables("the paper's method, `--paper`", "post-%s")
+    post_tables("the evidence map, the default", "explore-" + MODES[0] + "-%s")
 
     print("### Acceleration and odometry (ten 1 m squares, %d seeds)\n" % len(seeds))
     print("| acceleration limit | final position error (m) | final heading error (°) |\n|---|---|---|")
