@@ -10,11 +10,13 @@ Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 s
 minutes each, once with the pose correction (the default, `localize = 1`) and once
 without it (`localize = 0`: the paper's odometry alone), then 1-hour and 10-hour runs
 of the default room both ways, seeds 1..12 (--long-seeds): where a ten-hour run ends turns
-on small differences early on, so the table gives medians and how many runs met the goal. Prints Markdown tables (the ones in the README): mean raw
-and final F1 of OM built from the firmware's own pose and from the true poses, the gap
-between them, median and worst final heading and position error, and the correction's
-counters. With --figure, also draws the 1-hour maps side by side and the heading error
-over time (host_sim/figures/pose_correction.png in the README).
+on small differences early on, so the table gives medians and how many runs met the goal.
+Prints Markdown tables (the ones in the README): mean raw and final F1 of OM built from
+the firmware's own pose and from the true poses, the gap between them, median and worst
+final heading and position error, the correction's counters, and per room the mean
+difference on − off over the seeds with its standard error. With --figure, also draws the
+1-hour maps side by side and the heading error over time
+(host_sim/figures/pose_correction.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options.
 """
 import argparse
@@ -80,6 +82,20 @@ def summary(ms):
             "refused": mean(x["refused"] for x in loc), "n": len(ms)}
 
 
+def paired_difference(on, off):
+    """Mean of the per-seed differences of raw F1 (own pose), on minus off, and its standard
+    error: the runs of one seed share the room and the start, so they are paired. Within about
+    two standard errors of zero, the seeds cannot tell the two apart."""
+    by_seed = {m["scenario"]["seed"]: m["maps"]["odometry"]["raw"]["f1"] for m in off}
+    d = [m["maps"]["odometry"]["raw"]["f1"] - by_seed[m["scenario"]["seed"]]
+         for m in on if m["scenario"]["seed"] in by_seed]
+    if len(d) < 2:
+        return (d[0] if d else float("nan")), float("nan")
+    mu = mean(d)
+    var = sum((x - mu) ** 2 for x in d) / (len(d) - 1)
+    return mu, math.sqrt(var / len(d))
+
+
 ROW = "| %s | %s | %.3f | %.3f | %.3f | %.3f | %.3f | %.1f | %.1f | %.3f | %.3f |"
 HEAD = ("| room | correction | F1 raw (own pose) | F1 final (own pose) | F1 raw (true poses) "
         "| F1 final (true poses) | gap | heading median (°) | heading worst (°) "
@@ -140,6 +156,12 @@ def report(args):
     print("| matches tried | applied | refused |\n|---|---|---|")
     print("| %.0f | %.0f | %.0f |\n" % (on["tried"], on["applied"], on["refused"]))
 
+    print("### What the correction changes, room by room\n")
+    print("| room | raw F1 (own pose), on − off | standard error |\n|---|---|---|")
+    for room in rooms():
+        diff, se = paired_difference(group(room + "-on"), group(room + "-off"))
+        print("| %s | %+.3f | %.3f |" % (room, diff, se))
+    print()
     worse = [room for room in rooms()
              if summary(group(room + "-on"))["est_raw"] < summary(group(room + "-off"))["est_raw"]]
     print("Rooms whose mean raw F1 (own pose) is lower with the correction than without: %s\n"

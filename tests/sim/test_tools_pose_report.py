@@ -1,0 +1,54 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""tools/pose_report.py: the paired difference on − off and its standard error against a
+case worked by hand, and its room-by-room table against the runs' own metrics.json (a short
+report: two seeds, two-minute runs, no long runs)."""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+
+from simtest import Sim, check
+
+sim = Sim()
+sys.path.insert(0, os.path.join(sim.src, "tools"))
+import pose_report  # noqa: E402
+
+
+def run(seed, f1):
+    return {"scenario": {"seed": seed}, "maps": {"odometry": {"raw": {"f1": f1}}}}
+
+
+# By hand: differences 0.1, 0.3, 0.2 (seed 4 has no partner and is left out); mean 0.2,
+# sample variance 0.01, standard error sqrt(0.01 / 3).
+on = [run(1, 0.6), run(2, 0.9), run(3, 0.5), run(4, 0.1)]
+off = [run(3, 0.3), run(1, 0.5), run(2, 0.6)]
+diff, se = pose_report.paired_difference(on, off)
+check(abs(diff - 0.2) < 1e-12, "paired by seed, not by order: mean difference %.6f = 0.2" % diff)
+check(abs(se - math.sqrt(0.01 / 3)) < 1e-12,
+      "standard error %.6f = sqrt(0.01 / 3) = %.6f" % (se, math.sqrt(0.01 / 3)))
+check(math.isnan(pose_report.paired_difference([run(1, 0.5)], [run(1, 0.4)])[1]),
+      "one seed: no standard error claimed")
+
+out = sim.out("report")
+p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "pose_report.py"),
+                    "--host-sim", sim.bin, "--quick", "--seeds", "2", "--out", out],
+                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+check(p.returncode == 0, "pose_report --quick --seeds 2 runs (%s)" % p.stderr.strip()[-200:])
+table = p.stdout.split("### What the correction changes, room by room", 1)
+check(len(table) == 2, "the report prints the room-by-room table")
+rows = re.findall(r"^\| (\w+) \| ([+-]\d\.\d{3}) \| (\d\.\d{3}|nan) \|$", table[1], re.M)
+rooms = pose_report.rooms()
+check([r[0] for r in rows] == rooms, "a row for every shipped room: %s" % rooms)
+for room, shown, _ in rows:
+    f1 = {}
+    for mode in ("on", "off"):
+        for s in (1, 2):
+            with open(os.path.join(out, "%s-%s-%d" % (room, mode, s), "metrics.json")) as f:
+                f1[mode, s] = json.load(f)["maps"]["odometry"]["raw"]["f1"]
+    expect = ((f1["on", 1] - f1["off", 1]) + (f1["on", 2] - f1["off", 2])) / 2
+    check(abs(float(shown) - expect) <= 0.0005 + 1e-9,
+          "%s: %s is the mean of its seeds' differences (%.4f)" % (room, shown, expect))
+sim.done()
