@@ -194,9 +194,57 @@ static void test_evidence_reading_clears_its_beam(void **state)
     assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){88, 80})), GRID_UNKNOWN);
 }
 
+/* The faces of walls, along the beam of the reading above (robot's cell 80, echo in 87).
+ * An echo from a cell already held as a wall lowers the cell behind it (88) by om_miss, to
+ * unknown at most and never to free, and leaves the one beyond (89) alone; an echo from a
+ * cell just behind a wall (86) is `shadowed`, and mapper_free() maps no hit. */
+static void test_evidence_faces(void **state)
+{
+    (void)state;
+    odom_pose_t p = {0, 0, 0u};
+    bam32_t ahead = fix_bam_from_mdeg(90000);
+    uint32_t face = grid_index((grid_cell_t){87, 80});
+    uint32_t back = grid_index((grid_cell_t){88, 80});
+    uint32_t beyond = grid_index((grid_cell_t){89, 80});
+    grid.om[face] = 132u;
+    grid.om[back] = 130u;
+    grid.om[beyond] = 140u;
+    for (int i = 0; i < 4; i++) {
+        assert_int_equal(mapper_reading(&mapper, &grid, &p, ahead, 299954u), MAPPER_HIT);
+        assert_false(mapper.shadowed);
+    }
+    assert_int_equal(grid.om[face], 148u);
+    assert_int_equal(grid.om[back], GRID_EVIDENCE_ZERO); /* 130, 129, 128, 128 */
+    assert_int_equal(grid_state(&grid, back), GRID_UNKNOWN);
+    assert_int_equal(grid.om[beyond], 140u);
+
+    setup_evidence(NULL);
+    uint32_t front = grid_index((grid_cell_t){86, 80});
+    grid.om[front] = 140u;
+    int32_t x;
+    int32_t y;
+    assert_int_equal(mapper_free(&mapper, &grid, &p, ahead, 299954u, &x, &y), MAPPER_HIT);
+    assert_true(mapper.shadowed);
+    assert_int_equal(grid.om[face], GRID_EVIDENCE_ZERO);
+    assert_int_equal(grid.om[front], 139u); /* the beam still passed it */
+    grid.om[front] = GRID_EVIDENCE_ZERO - 1u;
+    assert_int_equal(mapper_free(&mapper, &grid, &p, ahead, 299954u, &x, &y), MAPPER_HIT);
+    assert_false(mapper.shadowed);
+
+    /* Hit counts (the paper's Eq. 6) know no faces. */
+    setup(NULL);
+    grid.om[face] = 3u;
+    grid.om[back] = 5u;
+    grid_om_behind(&grid, (grid_cell_t){88, 80});
+    (void)mapper_reading(&mapper, &grid, &p, ahead, 299954u);
+    assert_int_equal(grid.om[face], 4u);
+    assert_int_equal(grid.om[back], 5u);
+    assert_false(mapper.shadowed);
+}
+
 /* An echo beyond rc clears the last 0.5 m of the beam before rc and the robot's cell, and
- * marks nothing occupied; a timeout clears only the robot's cell; a reading touches at most
- * 0.5 m / L + 3 cells, whatever its angle. */
+ * marks nothing occupied; a timeout clears only the robot's cell; a reading clears and
+ * marks at most 0.5 m / L + 3 cells, whatever its angle (and lowers one behind a face). */
 static void test_evidence_far_and_timeout(void **state)
 {
     (void)state;
@@ -246,6 +294,7 @@ int main(void)
         cmocka_unit_test_setup(test_outside_points_are_counted_not_written, setup),
         cmocka_unit_test_setup(test_evidence_reading_clears_its_beam, setup_evidence),
         cmocka_unit_test_setup(test_evidence_far_and_timeout, setup_evidence),
+        cmocka_unit_test_setup(test_evidence_faces, setup_evidence),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

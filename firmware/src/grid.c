@@ -114,6 +114,15 @@ int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um)
     return SLAM_OK;
 }
 
+void grid_om_behind(grid_t *g, grid_cell_t c)
+{
+    uint8_t *cell = &g->om[grid_index(c)];
+    if (g->mode == OM_MODE_EVIDENCE && *cell > GRID_EVIDENCE_ZERO) {
+        uint32_t v = (uint32_t)*cell - GRID_EVIDENCE_ZERO;
+        *cell = (uint8_t)(GRID_EVIDENCE_ZERO + (v > g->miss ? v - g->miss : 0u));
+    }
+}
+
 /* Cell coordinate of a point along one axis, unbounded: the ray needs the end cell even
  * when it lies outside the grid. floor((v - origin) / L): the difference fits 32 bits (the
  * world is within 1 km), and a 32-bit division is one instruction on the MCU. */

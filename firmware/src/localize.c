@@ -225,6 +225,7 @@ static const int8_t loc_assoc_order[][2] = {
     {1, 2},   {-2, -2}, {2, -2}, {-2, 2}, {2, 2},  {0, -3},  {-3, 0}, {3, 0},  {0, 3},
 };
 _Static_assert(LOC_ASSOC_CELLS == 3, "loc_assoc_order holds the cells within 3");
+_Static_assert(LOC_WINDOW <= 64u, "win_shadowed holds a bit per held-back hit");
 
 /* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells, its
  * centre and normal. */
@@ -340,7 +341,9 @@ static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
     int32_t x;
     int32_t y;
     apply_xy(&l->corr, pt->x_um, pt->y_um, &x, &y);
-    (void)mapper_hit(m, g, x, y);
+    if ((l->win_shadowed >> l->win_first & 1u) == 0u) {
+        (void)mapper_hit(m, g, x, y);
+    }
     l->win_first = (uint8_t)((l->win_first + 1u) % LOC_WINDOW);
     l->win_count--;
 }
@@ -364,12 +367,16 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
         (void)mapper_hit(m, g, x, y); /* the correction is zero: odometry's frame is the map's */
         return;
     }
-    /* Held back in the odometry frame. */
+    /* Held back in the odometry frame; one just behind a wall the map holds is matched
+     * (it says where the pose is wrong) but never mapped (mapper.c, faces()). */
+    bool shadowed = m->shadowed;
     sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
     if (l->win_count == LOC_WINDOW) {
         hit_enters_map(l, m, g);
     }
-    l->win[(l->win_first + l->win_count) % LOC_WINDOW] = (loc_point_t){x, y};
+    unsigned slot = (l->win_first + l->win_count) % LOC_WINDOW;
+    l->win[slot] = (loc_point_t){x, y};
+    l->win_shadowed = (l->win_shadowed & ~(1ull << slot)) | ((uint64_t)shadowed << slot);
     l->win_count++;
     if (++l->since_match >= LOC_EVERY && l->win_count == LOC_WINDOW) {
         l->since_match = 0u;

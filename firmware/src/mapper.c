@@ -38,6 +38,41 @@ mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
     return range_um < m->sonar.range_min_um ? MAPPER_NEAR : MAPPER_HIT;
 }
 
+/*
+ * The faces of walls, for an echo in the evidence map, before its beam clears anything.
+ * - Its cell already holds a wall: the face is there, and the cell a cell further along
+ *   the beam lies behind it, where no beam reaches. Evidence of a wall there came from
+ *   readings placed wrongly (a pose or a range error), and nothing else could ever take it
+ *   away: it is lowered, to unknown at most (grid_om_behind()), so that a wall seen from
+ *   one side stays as thin as its face instead of thickening over hours.
+ * - Its cell does not, and the cell a cell nearer along the beam does: the echo lies just
+ *   behind a face the map holds, `shadowed`. A caller that holds the pose to the map
+ *   (localize.c) matches such a hit, which pulls the pose back to the face, but does not
+ *   map it.
+ */
+static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t range_um,
+                  int32_t x_um, int32_t y_um)
+{
+    grid_cell_t hit;
+    if (grid_cell_of(g, x_um, y_um, &hit) != SLAM_OK ||
+        (range_um <= m->cell_um && grid_state(g, grid_index(hit)) != GRID_OCCUPIED)) {
+        return;
+    }
+    bool wall = grid_state(g, grid_index(hit)) == GRID_OCCUPIED;
+    int32_t x;
+    int32_t y;
+    grid_cell_t next;
+    sonar_beam_point(beam, wall ? range_um + m->cell_um : range_um - m->cell_um, &x, &y);
+    if (grid_cell_of(g, x, y, &next) != SLAM_OK || (next.a == hit.a && next.b == hit.b)) {
+        return;
+    }
+    if (wall) {
+        grid_om_behind(g, next);
+    } else {
+        m->shadowed = grid_state(g, grid_index(next)) == GRID_OCCUPIED;
+    }
+}
+
 mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
                              uint32_t range_um, int32_t *hit_x_um, int32_t *hit_y_um)
 {
@@ -55,6 +90,10 @@ mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
         count(&m->far);
     }
     if (g->mode == OM_MODE_EVIDENCE) {
+        m->shadowed = false;
+        if (out == MAPPER_HIT) {
+            faces(m, g, &beam, range_um, *hit_x_um, *hit_y_um);
+        }
         /* Up to one cell short of the echo, or to rc for a far one, over the last
          * MAPPER_RAY_UM: the cells nearer the robot are crossed by readings from farther
          * away, and its own cell holds no obstacle: the body stands there. */

@@ -103,6 +103,14 @@ int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um);
 int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um);
 
 /**
+ * OM_MODE_EVIDENCE: a cell just behind a wall face the sonar has heard, where no beam
+ * reaches: evidence of a wall there came from readings placed wrongly (a pose or a range
+ * error), and its log-odds −= om_miss while above 0, down to 0 (unknown): never to free,
+ * for nothing has been seen there. Nothing in OM_MODE_COUNT. ISR-safe, O(1).
+ */
+void grid_om_behind(grid_t *g, grid_cell_t c);
+
+/**
  * OM_MODE_EVIDENCE: free-space evidence along a beam: the log-odds of every cell on the
  * line from the cell of (x0, y0) to the cell of (x1, y1), both included, −= om_miss.
  * The line is walked one cell a step along its longer axis (Bresenham between the cell

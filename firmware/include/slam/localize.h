@@ -132,6 +132,7 @@ typedef struct {
     loc_corr_t tick_corr;
     /* The window of held-back hits, a ring. */
     loc_point_t win[LOC_WINDOW];
+    uint64_t win_shadowed;            /**< bit i: win[i] lay just behind a wall: not mapped */
     uint8_t win_first;
     uint8_t win_count;
     uint8_t since_match;              /**< hits added since the last match */

@@ -54,6 +54,7 @@ typedef struct {
     mapper_outcome_t last;  /**< outcome of the most recent reading */
     int32_t last_x_um;      /**< its obstacle point, when it had one (MAPPER_HIT, */
     int32_t last_y_um;      /**< MAPPER_OUTSIDE) */
+    bool shadowed;          /**< mapper_free(): the hit lies just behind a wall OM holds */
 } mapper_t;
 
 /** Prepare the mapper for a checked configuration. */
