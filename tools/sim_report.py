@@ -47,7 +47,7 @@ BUILDING_S = 1800
 # fail): a fault may cost map quality, gradually, but no level may lose the map more than this.
 FAULTS = (
     ("noise", "wheel noise (1σ of a tick's travel)",
-     ((["noise=0.02"], 0.70), (["noise=0.05"], 0.35), (["noise=0.1"], 0.25))),
+     ((["noise=0.02"], 0.70), (["noise=0.05"], 0.35), (["noise=0.1"], 0.10))),
     ("slip", "slip beyond a gentler acceleration",
      ((["slip=0.5", "slip_free=0.4"], 0.25), (["slip=0.7", "slip_free=0.3"], 0.05),
       (["slip=1", "slip_free=0.2"], 0.03))),
