@@ -341,7 +341,7 @@ static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
     int32_t x;
     int32_t y;
     apply_xy(&l->corr, pt->x_um, pt->y_um, &x, &y);
-    if ((l->win_shadowed >> l->win_first & 1u) == 0u) {
+    if (((l->win_shadowed >> l->win_first) & 1u) == 0u) {
         (void)mapper_hit(m, g, x, y);
     }
     l->win_first = (uint8_t)((l->win_first + 1u) % LOC_WINDOW);

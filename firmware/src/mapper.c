@@ -56,7 +56,7 @@ static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t ran
     grid_cell_t hit;
     if (grid_cell_of(g, x_um, y_um, &hit) != SLAM_OK ||
         (range_um <= m->cell_um && grid_state(g, grid_index(hit)) != GRID_OCCUPIED)) {
-        return;
+        return; /* (an echo nearer than a cell has no cell nearer along its beam) */
     }
     bool wall = grid_state(g, grid_index(hit)) == GRID_OCCUPIED;
     int32_t x;
