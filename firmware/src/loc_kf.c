@@ -148,8 +148,9 @@ static uint64_t magnitude(int64_t v)
 void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
                 const int32_t j[3], int64_t r)
 {
-    /* P Jᵀ, in the state's units × µm Q12. The bounds of lkf_sane() keep every product
-     * here below 2^62. */
+    /* P Jᵀ, in the state's units × µm Q12. The bounds of lkf_sane(), |j0|, |j1| <= 2^12
+     * and |j2| <= 2^15 (an 8 m lever, localize.c) keep |P Jᵀ| below 2^55, and so its
+     * gain numerator below 2^63. */
     int64_t pj[LKF_N];
     for (unsigned i = 0; i < LKF_N; i++) {
         pj[i] = c->p[i][LKF_X] * j[0] + c->p[i][LKF_Y] * j[1] + c->p[i][LKF_T] * j[2];
