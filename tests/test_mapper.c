@@ -196,8 +196,8 @@ static void test_evidence_reading_clears_its_beam(void **state)
 
 /* The faces of walls, along the beam of the reading above (robot's cell 80, echo in 87).
  * An echo from a cell already held as a wall lowers the cell behind it (88) by om_miss, to
- * unknown at most and never to free, and leaves the one beyond (89) alone; an echo from a
- * cell just behind a wall (86) is `shadowed`, and mapper_free() maps no hit. */
+ * unknown at most and never to free, and leaves the one beyond (89) alone; an echo from 87
+ * with a wall in 86, the cell just nearer, is `shadowed`, and mapper_free() maps no hit. */
 static void test_evidence_faces(void **state)
 {
     (void)state;
