@@ -22,9 +22,10 @@
 #define LOC_HUBER_UM 50000LL
 #endif
 
-/* A hit's lever about the robot, in dh/dθ units (Q12 µm per µrad): at most 8 m. Hits
- * farther away (from before a jump of odometry that only a corrupt log makes) are not
- * matched; the bound keeps lkf_update()'s products within 64 bits. */
+/* A hit's lever about the robot, in dh/dθ units (Q12 µm per µrad): at most 8 m, which
+ * keeps lkf_update()'s products within 64 bits. Held-back hits lie farther when the robot
+ * drove that far between echoes (in a large open space) or when a log's odometry jumps;
+ * they are not matched. */
 #define LOC_LEVER_MAX 32768
 
 /* A 5×5 block says where a wall runs. */
@@ -294,7 +295,7 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         j[2] = (int32_t)fix_div_s64(
             (int64_t)j[1] * ((int64_t)qx - cx) - (int64_t)j[0] * ((int64_t)qy - cy), 1000000);
         if (j[2] > LOC_LEVER_MAX || j[2] < -LOC_LEVER_MAX) {
-            continue; /* farther from the robot than an echo reaches: odometry jumped */
+            continue; /* heard more than 8 m from where the robot now is */
         }
         /* Each hit is matched LOC_WINDOW / LOC_EVERY times: count it once in all. */
         int64_t r = LOC_SIGMA2_UM2 * (int64_t)(LOC_WINDOW / LOC_EVERY);
