@@ -4,7 +4,7 @@
 
 usage: tools/pose_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--jobs N]
                             [--quick] [--no-long] [--long-seeds N] [--host-arg ARG]...
-                            [--figure PNG]
+                            [--perfect-odometry] [--figure PNG]
 
 Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 simulated
 minutes each, once with the pose correction (the default, `localize = 1`) and once
@@ -16,7 +16,9 @@ the firmware's own pose and from the true poses, the gap between them, median an
 final heading and position error, the correction's counters, and per room the mean
 difference on − off over the seeds with its standard error. With --figure, also draws the
 1-hour maps side by side and the heading error over time
-(host_sim/figures/pose_correction.png in the README).
+(host_sim/figures/pose_correction.png in the README). With --perfect-odometry every run's
+odometry is exact (no E_d, E_b, wheel noise or slip, no calibration file): what gap is
+left is the matcher's own.
 Exit status: 0 done, 1 a run failed, 2 bad options.
 """
 import argparse
@@ -34,6 +36,9 @@ from sim_report import SRC, ROOMS, mean, run_all  # noqa: E402
 MODES = (("off", "0"), ("on", "1"))
 LONG = (3600, 36000)  # s: the issue's 1-hour and 10-hour runs
 LONG_SEEDS = 12  # a ten-hour run's outcome turns on small differences: one seed says little
+# Odometry without an error of any kind, systematic or not (--perfect-odometry).
+PERFECT_ODOMETRY = ["--error", "ed=1", "--error", "eb=1", "--error", "noise=0",
+                    "--error", "slip=0", "--calibration", "none"]
 
 
 def median(xs):
@@ -51,18 +56,19 @@ def rooms():
 
 def jobs_for(args):
     dur = 120 if args.quick else 600
+    extra = args.host_arg + (PERFECT_ODOMETRY if args.perfect_odometry else [])
     jobs = {}
     for room in rooms():
         for s in range(1, args.seeds + 1):
             for mode, val in MODES:
                 jobs["%s-%s-%d" % (room, mode, s)] = [
                     "--room", os.path.join(ROOMS, room + ".room"), "--seed", s,
-                    "--duration", dur, "--set", "localize=" + val] + args.host_arg
+                    "--duration", dur, "--set", "localize=" + val] + extra
     for dur_l in () if args.no_long else LONG if not args.quick else (600,):
         for s in range(1, args.long_seeds + 1):
             for mode, val in MODES:
                 jobs["long%d-%s-%d" % (dur_l, mode, s)] = [
-                    "--seed", s, "--duration", dur_l, "--set", "localize=" + val] + args.host_arg
+                    "--seed", s, "--duration", dur_l, "--set", "localize=" + val] + extra
     return jobs, dur
 
 
@@ -116,7 +122,8 @@ def report(args):
     def group(prefix):
         return [res[n] for n in sorted(res) if n.rsplit("-", 1)[0] == prefix]
 
-    print("### Pose correction on and off (%d seeds, %d s each)\n" % (args.seeds, dur))
+    print("### Pose correction on and off (%d seeds, %d s each%s)\n"
+          % (args.seeds, dur, ", odometry perfect" if args.perfect_odometry else ""))
     print(HEAD)
     alls = {}
     for room in rooms():
@@ -247,6 +254,9 @@ def main():
     ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
                     help="one more host_sim argument for every run (repeatable), for example "
                     "--host-arg=--error --host-arg=eb=1.0")
+    ap.add_argument("--perfect-odometry", action="store_true",
+                    help="odometry without any error in every run: the gap that is left is "
+                    "the matcher's own")
     ap.add_argument("--figure", help="also draw the 1-hour maps and heading error into this PNG")
     args = ap.parse_args()
     if args.seeds < 1 or args.jobs < 1:
