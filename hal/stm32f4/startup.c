@@ -1,5 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* Start-up of the STM32F405: vector table with weak default handlers, RAM init, faults. */
+#include <stddef.h>
+#include <string.h>
+
 #include "cortex_m.h"
 #include "stm32f4_port.h"
 #include "text.h"
@@ -68,6 +71,31 @@ void Reset_Handler(void)
     cm_isb();
     (void)main();
     stm32_panic("main returned");
+}
+
+/* ---- the C library's two copies -------------------------------------------------------- */
+
+/* Ours instead of newlib-nano's, which are unrolled for speed (470 bytes of flash). Only
+ * start-up and the background loop copy or clear memory (the tick never does: `make bench`
+ * lists no such call on its path), where a byte at a time costs nothing that matters. This
+ * file is built with -fno-tree-loop-distribute-patterns, so the loops stay loops. */
+void *memcpy(void *restrict dst, const void *restrict src, size_t n)
+{
+    unsigned char *d = dst;
+    const unsigned char *s = src;
+    while (n-- != 0u) {
+        *d++ = *s++;
+    }
+    return dst;
+}
+
+void *memset(void *dst, int c, size_t n)
+{
+    unsigned char *d = dst;
+    while (n-- != 0u) {
+        *d++ = (unsigned char)c;
+    }
+    return dst;
 }
 
 /* ---- faults ------------------------------------------------------------------------- */
