@@ -55,24 +55,31 @@ void explore_map_begin(explore_t *e, const odom_pose_t *pose, const grid_t *g, q
 bool explore_map_cells(explore_t *e, const grid_t *g)
 {
     uint8_t total = (uint8_t)(e->map_along * e->map_across);
-    for (uint32_t n = 0; n < EXPLORE_MAP_CELLS && e->map_next < total; n++) {
-        /* Sample map_next: row map_next / across (along the heading), column
-         * map_next % across (to the right), kept as a running position. */
-        if (e->map_col == e->map_across) {
-            e->map_col = 0u;
-            e->map_row++;
-            e->map_x = e->map_fx + (int32_t)e->map_row * e->map_dx;
-            e->map_y = e->map_fy + (int32_t)e->map_row * e->map_dy;
+    /* The pass's position in locals: OM's bytes may alias anything, so fields of e would be
+     * read again after every cell (this runs in the tick). */
+    uint8_t next = e->map_next;
+    uint8_t row = e->map_row;
+    uint8_t col = e->map_col;
+    int32_t x = e->map_x;
+    int32_t y = e->map_y;
+    for (uint32_t n = 0; n < EXPLORE_MAP_CELLS && next < total; n++) {
+        /* Sample next: row next / across (along the heading), column next % across (to
+         * the right), kept as a running position. */
+        if (col == e->map_across) {
+            col = 0u;
+            row++;
+            x = e->map_fx + (int32_t)row * e->map_dx;
+            y = e->map_fy + (int32_t)row * e->map_dy;
         }
-        int32_t x = e->map_x;
-        int32_t y = e->map_y;
-        e->map_x += e->map_dy; /* a cell to the right */
-        e->map_y -= e->map_dx;
-        e->map_col++;
-        e->map_next++;
-        uint32_t a = (uint32_t)x >> 16;
-        uint32_t b = (uint32_t)y >> 16;
-        if (x < 0 || y < 0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B) {
+        int32_t sx = x;
+        int32_t sy = y;
+        x += e->map_dy; /* a cell to the right */
+        y -= e->map_dx;
+        col++;
+        next++;
+        uint32_t a = (uint32_t)sx >> 16;
+        uint32_t b = (uint32_t)sy >> 16;
+        if (sx < 0 || sy < 0 || a >= SLAM_GRID_A || b >= SLAM_GRID_B) {
             continue;
         }
         /* A lone occupied cell is left alone (a ghost echo, or the cone's smear beside
@@ -88,9 +95,14 @@ bool explore_map_cells(explore_t *e, const grid_t *g)
                                 (g->mode == OM_MODE_EVIDENCE &&
                                  g->om[k] > GRID_EVIDENCE_ZERO + g->hit));
         if (e->map_hits >= 2u) {
-            e->map_work_um = (int32_t)(e->map_row + 1u) * (int32_t)e->cell_um;
-            e->map_next = total; /* rows further on can only be further: done */
+            e->map_work_um = (int32_t)(row + 1u) * (int32_t)e->cell_um;
+            next = total; /* rows further on can only be further: done */
         }
     }
-    return e->map_next >= total;
+    e->map_next = next;
+    e->map_row = row;
+    e->map_col = col;
+    e->map_x = x;
+    e->map_y = y;
+    return next >= total;
 }
