@@ -87,8 +87,8 @@ compare:
 # by the simulator with the MCU's 160 x 160 grid placement. Record it again whenever the
 # firmware's behaviour changes (the test replay_host_matches_trace says when).
 trace: build-host
-	build/host/host_sim/host_sim --duration 60 --seed 1 --set start_cell_a=80 \
-	    --set start_cell_b=80 --trace tests/data/default_room_60s.trace \
+	build/host/host_sim/host_sim --duration 110 --seed 9 --set start_cell_a=80 \
+	    --set start_cell_b=80 --trace tests/data/default_room_110s.trace \
 	    --out out/trace --no-plot --quiet
 
 # The fuzz targets of tests/fuzz, built with clang's libFuzzer and run one after another;

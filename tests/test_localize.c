@@ -511,11 +511,14 @@ static void test_off_maps_as_the_mapper(void **state)
     assert_int_equal(loc.tried, 0u);
 }
 
-/* Odometry that jumps 1 km (only a corrupt log does that) between hits on a wall, with the
+/* Odometry that jumps 10 m (only a corrupt log does that) between hits on a wall, with the
  * heading as uncertain as the filter lets it be (10°): the hits held back from before the
- * jump lie 1 km from where the robot now is, and so long a lever would take the filter's
- * products beyond 64 bits (the sanitizer build traps that). They are not matched, and the
- * few hits since the jump find no wall: every match is refused, the correction stays. */
+ * jump lie 10 m from where the robot now is, beyond the 8 m lever that keeps the filter's
+ * products within 64 bits. They are not matched (without the bound five of these matches
+ * turn the pose about them), and the hits since the jump, off the 8 m grid, find no wall:
+ * every match is refused, the correction stays. A jump of a kilometre puts the hits
+ * beyond what a held-back point reaches, and they are not held at all
+ * (test_far_hits_are_not_held). */
 static void test_a_jump_of_odometry_is_not_matched(void **state)
 {
     (void)state;
@@ -526,7 +529,7 @@ static void test_a_jump_of_odometry_is_not_matched(void **state)
             loc.cov.p[LKF_T][LKF_T] = LKF_VAR_TH_MAX;
         }
         /* Facing +x, the beam turned to the left (+y) onto the wall. */
-        loc_reading_t rd = {.ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 1000000000 : 0),
+        loc_reading_t rd = {.ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 10000000 : 0),
                                      0, 0u},
                             .range_um = 700000u, .servo = 0u, .echo = true};
         assert_true(loc_post(&loc, &rd));
@@ -537,6 +540,84 @@ static void test_a_jump_of_odometry_is_not_matched(void **state)
     assert_int_equal(loc.corr.th, 0u);
     assert_int_equal(loc.corr.tx_um, 0);
     assert_int_equal(loc.corr.ty_um, 0);
+}
+
+/* A hit enters OM only when LOC_HOLD more have come in, in its own cell: 0.6 mm inside a
+ * cell's edge still lands in that cell (a held-back point is kept to 2^point_shift µm,
+ * rounded: 1.024 mm for 50 mm cells, so within 0.512 mm). Nothing is matched: the map
+ * around it is empty. */
+static void test_hits_enter_om_after_the_hold(void **state)
+{
+    (void)state;
+    assert_int_equal(loc.point_shift, 10u); /* 512 cells · 50 mm = 25.6 m in 2^15 units */
+    /* Facing +x, the beam turned to the left (+y): where a ping at x = 0 puts its hit. */
+    odom_pose_t at = {0, 0, 0u};
+    int32_t hx;
+    int32_t hy;
+    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, &hx, &hy);
+    /* Pings whose hits lie 600 µm inside the lower x edge of a cell, every other cell. */
+    int32_t edge = grid.origin_x_um + 100 * (int32_t)grid.cell_um;
+    for (unsigned i = 0; i < LOC_HOLD + 5u; i++) {
+        int32_t x = edge + (int32_t)(i % 20u) * 2 * (int32_t)grid.cell_um + 600 - hx;
+        loc_reading_t rd = {.ping = {x, 0, 0u}, .range_um = 700000u, .servo = 0u, .echo = true};
+        assert_true(loc_post(&loc, &rd));
+        loc_idle(&loc, &mapper, &grid);
+        assert_int_equal(mapper.hits, i < LOC_HOLD ? 0u : i + 1u - LOC_HOLD);
+    }
+    for (unsigned k = 0; k < 5u; k++) {
+        grid_cell_t c;
+        int32_t x = edge + (int32_t)k * 2 * (int32_t)grid.cell_um;
+        assert_int_equal(grid_cell_of(&grid, x + 600, hy, &c), SLAM_OK);
+        assert_int_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
+        assert_int_equal(grid_cell_of(&grid, x - 600, hy, &c), SLAM_OK);
+        assert_int_not_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
+    }
+    assert_int_equal(loc.applied, 0u);
+}
+
+/* Half of a hit's log-odds step enters OM when it leaves the matched window (so that
+ * exploration, which reads OM, knows the walls just seen), the rest when it leaves the
+ * hold; it counts as one hit, then. The first hit lies in a cell of its own. */
+static void test_half_a_hit_enters_early(void **state)
+{
+    (void)state;
+    odom_pose_t at = {0, 0, 0u};
+    int32_t hx;
+    int32_t hy;
+    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, &hx, &hy);
+    grid_cell_t first;
+    assert_int_equal(grid_cell_of(&grid, hx, hy, &first), SLAM_OK);
+    uint32_t k = grid_index(first);
+    for (unsigned i = 0; i < LOC_HOLD + 1u; i++) {
+        /* The first at x = 0, the others 1 m further along, in cells of their own. */
+        loc_reading_t rd = {.ping = {i == 0u ? 0 : 1000000 + (int32_t)(i % 8u) * 100000, 0, 0u},
+                            .range_um = 700000u, .servo = 0u, .echo = true};
+        assert_true(loc_post(&loc, &rd));
+        loc_idle(&loc, &mapper, &grid);
+        uint8_t want = i < LOC_WINDOW ? GRID_EVIDENCE_ZERO
+                       : i < LOC_HOLD ? (uint8_t)(GRID_EVIDENCE_ZERO + grid.hit / 2u)
+                                      : (uint8_t)(GRID_EVIDENCE_ZERO + grid.hit);
+        assert_int_equal(grid.om[k], want);
+        assert_int_equal(mapper.hits, i < LOC_HOLD ? 0u : 1u);
+    }
+}
+
+/* A hit a kilometre off (a corrupt log) lies beyond what a held-back point reaches: it is
+ * not held, and OM counts it outside the grid at once. */
+static void test_far_hits_are_not_held(void **state)
+{
+    (void)state;
+    loc_reading_t rd = {.ping = {1000000000, 0, 0u}, .range_um = 700000u, .servo = 0u,
+                        .echo = true};
+    assert_true(loc_post(&loc, &rd));
+    loc_idle(&loc, &mapper, &grid);
+    assert_int_equal(loc.win_count, 0u);
+    assert_int_equal(mapper.outside, 1u);
+    assert_int_equal(mapper.hits, 0u);
+    rd.ping.x_um = 0;
+    assert_true(loc_post(&loc, &rd));
+    loc_idle(&loc, &mapper, &grid);
+    assert_int_equal(loc.win_count, 1u); /* one near the grid is */
 }
 
 /* A hit just behind a wall the map holds is matched but never mapped (it says the pose is
@@ -583,6 +664,9 @@ int main(void)
         cmocka_unit_test_setup(test_off_maps_as_the_mapper, setup),
         cmocka_unit_test_setup(test_shadowed_hit_is_not_mapped, setup),
         cmocka_unit_test_setup(test_a_jump_of_odometry_is_not_matched, setup),
+        cmocka_unit_test_setup(test_hits_enter_om_after_the_hold, setup),
+        cmocka_unit_test_setup(test_far_hits_are_not_held, setup),
+        cmocka_unit_test_setup(test_half_a_hit_enters_early, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -87,7 +87,13 @@ static inline uint8_t evidence_lower(uint8_t v, uint8_t miss)
     return (uint8_t)(v > GRID_EVIDENCE_LO + miss ? (uint32_t)v - miss : GRID_EVIDENCE_LO);
 }
 
-int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um)
+static void evidence_raise(uint8_t *cell, uint8_t step)
+{
+    uint32_t b = (uint32_t)*cell + step;
+    *cell = (uint8_t)(b < GRID_EVIDENCE_HI ? b : GRID_EVIDENCE_HI);
+}
+
+int grid_om_add(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step)
 {
     if (g->mode != OM_MODE_EVIDENCE) {
         return grid_count(g, g->om, g->om_max, x_um, y_um);
@@ -96,9 +102,21 @@ int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um)
     if (cell == NULL) {
         return SLAM_EOUTSIDE;
     }
-    uint32_t b = (uint32_t)*cell + g->hit;
-    *cell = (uint8_t)(b < GRID_EVIDENCE_HI ? b : GRID_EVIDENCE_HI);
+    evidence_raise(cell, step);
     return SLAM_OK;
+}
+
+int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um)
+{
+    return grid_om_add(g, x_um, y_um, g->hit);
+}
+
+void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step)
+{
+    grid_cell_t c;
+    if (g->mode == OM_MODE_EVIDENCE && grid_cell_of(g, x_um, y_um, &c) == SLAM_OK) {
+        evidence_raise(&g->om[grid_index(c)], step);
+    }
 }
 
 int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um)

@@ -28,6 +28,12 @@
  * they are not matched. */
 #define LOC_LEVER_MAX 32768
 
+/* How far from the grid's origin a held-back hit reaches, either way: a grid's length and
+ * more beyond any side. */
+#define LOC_REACH_CELLS 512u
+_Static_assert(SLAM_GRID_A <= LOC_REACH_CELLS / 2u && SLAM_GRID_B <= LOC_REACH_CELLS / 2u,
+               "a held-back hit reaches a grid's length beyond the grid");
+
 /* A 5×5 block says where a wall runs. */
 #ifndef LOC_NORMAL_HALF
 #define LOC_NORMAL_HALF 2
@@ -57,9 +63,14 @@ void loc_init(loc_t *l, const slam_config_t *cfg)
     memset(l, 0, sizeof *l);
     l->on = cfg->localize != 0u;
     l->deferred = l->on || cfg->om_mode == OM_MODE_EVIDENCE;
-    l->corr = corr_of(0, 0, 0u);
-    l->pub = l->corr;
-    l->tick_corr = l->corr;
+    /* LOC_REACH_CELLS within 2^15 units, the same for every grid size (the host's grid and
+     * the MCU's then hold a point alike): 1 mm for 50 mm cells. Cells of 5 mm to 1 m make
+     * the reach 2^16 µm or more and keep it within 32 bits. */
+    l->point_shift = (uint8_t)(17 - __builtin_clz(LOC_REACH_CELLS * cfg->cell_um));
+    /* No correction: cos 0 is one, the rest is zero. */
+    l->corr.c = FIX_Q30_ONE;
+    l->pub.c = FIX_Q30_ONE;
+    l->tick_corr.c = FIX_Q30_ONE;
     lkf_init(&l->cov);
 }
 
@@ -231,7 +242,8 @@ static const int8_t loc_assoc_order[][2] = {
     {1, 2},   {-2, -2}, {2, -2}, {-2, 2}, {2, 2},  {0, -3},  {-3, 0}, {3, 0},  {0, 3},
 };
 _Static_assert(LOC_ASSOC_CELLS == 3, "loc_assoc_order holds the cells within 3");
-_Static_assert(LOC_WINDOW <= 64u, "win_shadowed holds a bit per held-back hit");
+_Static_assert(LOC_WINDOW <= LOC_HOLD && LOC_HOLD % 32u == 0u && LOC_HOLD <= UINT16_MAX,
+               "win_shadowed holds a bit per held-back hit");
 
 /* The wall a point lies on: the nearest occupied cell within LOC_ASSOC_CELLS cells, its
  * centre and normal. */
@@ -263,9 +275,27 @@ static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, 
 
 /* ---- the match --------------------------------------------------------------------------- */
 
-static const loc_point_t *win_at(const loc_t *l, unsigned i)
+/* Held-back hit i (0 the oldest) in the odometry frame, µm. */
+static void win_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
 {
-    return &l->win[(l->win_first + i) % LOC_WINDOW];
+    const loc_point_t *p = &l->win[(l->win_first + i) % LOC_HOLD];
+    /* Modulo 2^32, as grid.c's cells: the point came from an int32_t within the reach. */
+    *x = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << l->point_shift));
+    *y = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << l->point_shift));
+}
+
+/* A point of the odometry frame as a loc_point_t, rounded to its unit; false when it lies
+ * beyond a loc_point_t's reach (a grid's length and more off the grid). */
+static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_point_t *p)
+{
+    /* The differences modulo 2^32, as grid.c's: points and origin lie within 1 km. */
+    int32_t u = (((int32_t)((uint32_t)x - (uint32_t)g->origin_x_um) >> (l->point_shift - 1u)) + 1) >> 1;
+    int32_t v = (((int32_t)((uint32_t)y - (uint32_t)g->origin_y_um) >> (l->point_shift - 1u)) + 1) >> 1;
+    if ((((uint32_t)u + 32768u) | ((uint32_t)v + 32768u)) > UINT16_MAX) {
+        return false; /* one of them outside int16_t */
+    }
+    *p = (loc_point_t){(int16_t)u, (int16_t)v};
+    return true;
 }
 
 /* One pass: every held-back hit, linearised at lin, updates (d, p) from the prior. */
@@ -275,13 +305,13 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
     q1_30_t c = fix_cos(bam_of_urad(lin->v[LKF_T]));
     q1_30_t s = fix_sin(bam_of_urad(lin->v[LKF_T]));
     uint32_t used = 0;
-    for (unsigned i = 0; i < l->win_count; i++) {
-        const loc_point_t *pt = win_at(l, i);
+    for (unsigned i = l->win_count - LOC_WINDOW; i < l->win_count; i++) {
         int32_t mx;
         int32_t my;
         int32_t qx;
         int32_t qy;
-        apply_xy(&l->corr, pt->x_um, pt->y_um, &mx, &my);
+        win_at(l, g, i, &mx, &my);
+        apply_xy(&l->corr, mx, my, &mx, &my);
         move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
         int32_t wx;
         int32_t wy;
@@ -344,16 +374,31 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
 
 /* ---- draining the queue ------------------------------------------------------------------ */
 
+/* The first half of a hit's log-odds step, placed when it leaves the window (half of one
+ * in OM_MODE_COUNT is none). */
+static uint8_t early_half(const loc_t *l, const grid_t *g, unsigned i)
+{
+    return i + LOC_WINDOW < l->win_count && g->mode == OM_MODE_EVIDENCE ? g->hit / 2u : 0u;
+}
+
+/* Held-back hit i where the correction now puts it, unless it is shadowed (never mapped). */
+static bool held_hit(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
+{
+    unsigned slot = (l->win_first + i) % LOC_HOLD;
+    win_at(l, g, i, x, y);
+    apply_xy(&l->corr, *x, *y, x, y);
+    return ((l->win_shadowed[slot / 32u] >> (slot % 32u)) & 1u) == 0u;
+}
+
+/* The oldest held-back hit leaves the hold: the rest of it enters OM. */
 static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
 {
-    const loc_point_t *pt = win_at(l, 0u);
     int32_t x;
     int32_t y;
-    apply_xy(&l->corr, pt->x_um, pt->y_um, &x, &y);
-    if (((l->win_shadowed >> l->win_first) & 1u) == 0u) {
-        (void)mapper_hit(m, g, x, y);
+    if (held_hit(l, g, 0u, &x, &y)) {
+        (void)mapper_hit_rest(m, g, x, y, early_half(l, g, 0u));
     }
-    l->win_first = (uint8_t)((l->win_first + 1u) % LOC_WINDOW);
+    l->win_first = (uint16_t)((l->win_first + 1u) % LOC_HOLD);
     l->win_count--;
 }
 
@@ -380,14 +425,27 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
      * (it says where the pose is wrong) but never mapped (mapper.c, faces()). */
     bool shadowed = m->shadowed;
     sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
-    if (l->win_count == LOC_WINDOW) {
+    loc_point_t pt;
+    if (!to_point(l, g, x, y, &pt)) {
+        count(&m->outside); /* a grid's length off the grid: nothing to match or map */
+        return;
+    }
+    if (l->win_count == LOC_HOLD) {
         hit_enters_map(l, m, g);
     }
-    unsigned slot = (l->win_first + l->win_count) % LOC_WINDOW;
-    l->win[slot] = (loc_point_t){x, y};
-    l->win_shadowed = (l->win_shadowed & ~(1ull << slot)) | ((uint64_t)shadowed << slot);
+    unsigned slot = (l->win_first + l->win_count) % LOC_HOLD;
+    l->win[slot] = pt;
+    uint32_t *word = &l->win_shadowed[slot / 32u];
+    *word = (*word & ~(1u << (slot % 32u))) | ((uint32_t)shadowed << (slot % 32u));
     l->win_count++;
-    if (++l->since_match >= LOC_EVERY && l->win_count == LOC_WINDOW) {
+    /* The hit that just left the window: half of it enters OM now, at the correction of now,
+     * so that what exploration reads in OM holds the walls just seen; the rest enters
+     * when it leaves the hold, where the correction then puts it. */
+    unsigned left = l->win_count - LOC_WINDOW - 1u;
+    if (l->win_count > LOC_WINDOW && held_hit(l, g, left, &x, &y)) {
+        grid_om_part(g, x, y, early_half(l, g, left));
+    }
+    if (++l->since_match >= LOC_EVERY && l->win_count >= LOC_WINDOW) {
         l->since_match = 0u;
         match(l, g, &rd->ping);
     }

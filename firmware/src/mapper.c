@@ -115,9 +115,15 @@ mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
 
 mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um)
 {
+    return mapper_hit_rest(m, g, x_um, y_um, 0u);
+}
+
+mapper_outcome_t mapper_hit_rest(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um,
+                                 uint8_t placed)
+{
     m->last_x_um = x_um;
     m->last_y_um = y_um;
-    if (grid_om_hit(g, x_um, y_um) == SLAM_OK) {
+    if (grid_om_add(g, x_um, y_um, (uint8_t)(g->hit - placed)) == SLAM_OK) {
         m->last = MAPPER_HIT;
         count(&m->hits);
     } else {

@@ -117,6 +117,8 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
         if (!r->store.available) {
             telem_send_error(t, c->type, TELEM_ERR_UNSUPPORTED, 0u);
         } else {
+            /* What is asked for is the map as it stands: the held-back hits go in first. */
+            loc_flush(&r->loc, &r->mapper, &r->grid);
             robot_request_save(r);
             telem_send_ack(t, c->type);
         }

@@ -74,7 +74,7 @@ check(s2["true_positive"] == 0 and s2["matched"] == 0 and sd["true_positive"] ==
 
 # host_sim's own scores of the firmware's maps, reproduced from the masks --scoring writes.
 run = sim.out("run")
-sim.run("--room", sim.room("obstacles.room"), "--duration", 90, "--seed", 3, "--out", run,
+sim.run("--room", sim.room("obstacles.room"), "--duration", 300, "--seed", 3, "--out", run,
         "--scoring")
 truth, observable = mapscore.load_truth(run)
 maps = sim.metrics(run)["maps"]

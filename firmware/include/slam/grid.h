@@ -95,6 +95,18 @@ int grid_cell_of(const grid_t *g, int32_t x_um, int32_t y_um, grid_cell_t *cell)
  */
 int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um);
 
+/** grid_om_hit() with a log-odds step of its own in OM_MODE_EVIDENCE (OM_MODE_COUNT counts
+ *  the hit as grid_om_hit() does). Same return values. ISR-safe, O(1). */
+int grid_om_add(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step);
+
+/**
+ * OM_MODE_EVIDENCE: part of a hit ahead of the rest, its cell's log-odds += step up to
+ * +127 (localize.c places half of a held-back hit when it leaves the matched window, the
+ * rest when it leaves the hold). Nothing outside the grid, nothing counted; nothing in
+ * OM_MODE_COUNT. ISR-safe, O(1).
+ */
+void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step);
+
 /**
  * OM_MODE_EVIDENCE: free-space evidence at one world point (the robot stands there):
  * its cell's log-odds −= om_miss down to −127. Nothing in OM_MODE_COUNT.

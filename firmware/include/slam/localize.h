@@ -14,19 +14,23 @@
  * O(1) (loc_post()). robot_idle() drains the queue (loc_idle()), reading by reading:
  *
  * - the reading's free-space evidence enters OM at once, at the corrected pose of its ping;
- * - a hit inside the confidence sector is held back in a window of the last LOC_WINDOW
- *   hits, as a point of the odometry frame; it enters OM only when it leaves the window,
- *   at the correction of that time. So the hits matched are never part of the map they
- *   are matched against, and a scan cannot pull the pose toward itself;
- * - every LOC_EVERY new hits the window is matched against OM. Each hit looks for the
- *   nearest occupied cell within LOC_ASSOC_CELLS cells and takes the wall's direction from
- *   the occupied cells around it (the principal axis of a 5×5 block, used only when they
- *   lie along a line). Its distance from that wall line is one scalar measurement. A
- *   sequential Kalman update over the hits, iterated LOC_PASSES times (associations and
- *   residuals taken again at the result), weighs them against the uncertainty of the
- *   correction, a covariance about the robot that grows with the distance driven and the
- *   angle turned since the last match (and carries the heading's uncertainty into the
- *   position across the path). A wall constrains only the direction across itself, so one
+ * - a hit inside the confidence sector is held back, as a point of the odometry frame,
+ *   while the next LOC_HOLD hits come in (about a minute of exploring in the shipped
+ *   rooms); it enters OM only then, at the correction of that time. So the hits matched
+ *   are never part of the map they are matched against, a scan cannot pull the pose
+ *   toward itself, and a hit is placed with what the matches of that minute learned about
+ *   the pose it was seen from: a drift found when the robot meets a mapped wall again
+ *   moves the hits seen on the way there, not only the ones after;
+ * - every LOC_EVERY new hits the window, the newest LOC_WINDOW held-back hits, is matched
+ *   against OM, so against hits at least LOC_HOLD - LOC_WINDOW hits old. Each hit looks
+ *   for the nearest occupied cell within LOC_ASSOC_CELLS cells and takes the wall's
+ *   direction from the occupied cells around it (the principal axis of a 5×5 block, used
+ *   only when they lie along a line). Its distance from that wall line is one scalar
+ *   measurement. A sequential Kalman update over the hits, iterated LOC_PASSES times
+ *   (associations and residuals taken again at the result), weighs them against the
+ *   uncertainty of the correction, a covariance about the robot that grows with the
+ *   distance driven and the angle turned since the last match (and carries the heading's
+ *   uncertainty into the position across the path). A wall constrains only the direction across itself, so one
  *   wall never slides the pose along it; two walls at an angle, or a turn, fix the rest.
  *   The filter also learns odometry's systematic drift, the heading it gains per metre
  *   driven and per radian turned (what calibration left of E_d and E_b), and between
@@ -62,7 +66,10 @@
 
 #define LOC_QUEUE 8u             /**< readings between the tick and robot_idle() */
 #ifndef LOC_WINDOW
-#define LOC_WINDOW 60u           /**< hits held back from OM and matched */
+#define LOC_WINDOW 60u           /**< the newest held-back hits: what a match matches */
+#endif
+#ifndef LOC_HOLD
+#define LOC_HOLD 256u            /**< hits held back from OM */
 #endif
 #ifndef LOC_EVERY
 #define LOC_EVERY 4u             /**< new hits between two matches */
@@ -108,10 +115,13 @@ typedef struct {
     int64_t p[LOC_STATES][LOC_STATES];
 } lkf_cov_t;
 
-/** A held-back hit: the obstacle point in the odometry frame. */
+/** A held-back hit: the obstacle point in the odometry frame, from the grid's origin in
+ *  units of 2^point_shift µm (loc_t), so that ±2^15 units reach 512 cells either way, a
+ *  grid's length beyond any side (1.024 mm for 50 mm cells). Four bytes, so that LOC_HOLD
+ *  of them fit the RAM budget. */
 typedef struct {
-    int32_t x_um;
-    int32_t y_um;
+    int16_t x;
+    int16_t y;
 } loc_point_t;
 
 /** Localization state and counters. */
@@ -131,10 +141,12 @@ typedef struct {
     volatile uint32_t pub_gen;        /**< odd while pub is being written */
     loc_corr_t tick_corr;
     /* The window of held-back hits, a ring. */
-    loc_point_t win[LOC_WINDOW];
-    uint64_t win_shadowed;            /**< bit i: win[i] lay just behind a wall: not mapped */
-    uint8_t win_first;
-    uint8_t win_count;
+    loc_point_t win[LOC_HOLD];
+    uint32_t win_shadowed[LOC_HOLD / 32u]; /**< bit i: win[i] lay just behind a wall: not
+                                                mapped */
+    uint16_t win_first;
+    uint16_t win_count;
+    uint8_t point_shift;              /**< a loc_point_t's unit, log2 µm */
     uint8_t since_match;              /**< hits added since the last match */
     /* The filter (src/loc_kf.h): the covariance of a correction about the robot and of the
      * systematic drift of odometry, κd (prad/mm) and κt (ppb), whose estimates are kept

@@ -88,6 +88,11 @@ mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
                              uint32_t range_um, int32_t *hit_x_um, int32_t *hit_y_um);
 mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um);
 
+/** mapper_hit() for a hit of which `placed` of the log-odds step is in OM already
+ *  (grid_om_part(); at most om_hit, 0 in OM_MODE_COUNT): the rest, counted as one hit. */
+mapper_outcome_t mapper_hit_rest(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um,
+                                 uint8_t placed);
+
 /** Whether a range is far (>= rc), near (< range_min) or a hit inside the sector. */
 mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um);
 

@@ -194,6 +194,10 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
                      "left them\n");
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
+    if (clean) {
+        /* The hits the pose correction still holds back belong in the maps written. */
+        loc_flush(&app_robot.loc, &app_robot.mapper, &app_robot.grid);
+    }
     lhal_report(out);
     if (app_write_maps(lc, out, err) != 0 && status == APP_EXIT_OK) {
         status = APP_EXIT_HARDWARE;

@@ -235,6 +235,13 @@ void selftest_report(const selftest_t *st, bool with_costs)
     text_str(&l, " ping_errors ");
     text_u32(&l, r->ping_errors);
     print_line(&l);
+    text_str(&l, "localize tried ");
+    text_u32(&l, r->loc.tried);
+    text_str(&l, " applied ");
+    text_u32(&l, r->loc.applied);
+    text_str(&l, " refused ");
+    text_u32(&l, r->loc.refused);
+    print_line(&l);
     text_str(&l, "pose ");
     text_i32(&l, r->pose.x_um);
     text_str(&l, " ");

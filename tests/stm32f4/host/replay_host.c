@@ -8,7 +8,8 @@
  * --check-trace first decodes the compiled-in scenario tick by tick against the text
  * trace it was generated from (read with hal_common's trace_read()), so the generator and
  * the decoder are checked against the project's own trace reader. Exit status 0 when
- * everything matches and the replay saw no mismatch, 1 otherwise, 2 on a bad argument.
+ * everything matches, the replay saw no mismatch and the pose correction applied matches
+ * (when on), 1 otherwise, 2 on a bad argument.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -138,6 +139,11 @@ int main(int argc, char **argv)
     selftest_report(&st, false);
     if (!selftest_passed(&st)) {
         fprintf(stderr, "replay_host: the replay failed (see the 'replay' line)\n");
+        rc = 1;
+    }
+    if (robot.cfg.localize != 0u && robot.loc.applied == 0u) {
+        fprintf(stderr, "replay_host: the scenario never applies the pose correction: a longer "
+                        "trace is needed (make trace)\n");
         rc = 1;
     }
     return rc;
