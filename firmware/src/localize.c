@@ -288,9 +288,11 @@ static void win_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int3
  * beyond a loc_point_t's reach (a grid's length and more off the grid). */
 static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_point_t *p)
 {
-    /* The differences modulo 2^32, as grid.c's: points and origin lie within 1 km. */
-    int32_t u = (((int32_t)((uint32_t)x - (uint32_t)g->origin_x_um) >> (l->point_shift - 1u)) + 1) >> 1;
-    int32_t v = (((int32_t)((uint32_t)y - (uint32_t)g->origin_y_um) >> (l->point_shift - 1u)) + 1) >> 1;
+    /* The differences modulo 2^32, as grid.c's: points and origin lie within 1 km. Halved
+     * last, so that the rounding cannot overflow. */
+    unsigned half = l->point_shift - 1u;
+    int32_t u = (((int32_t)((uint32_t)x - (uint32_t)g->origin_x_um) >> half) + 1) >> 1;
+    int32_t v = (((int32_t)((uint32_t)y - (uint32_t)g->origin_y_um) >> half) + 1) >> 1;
     if ((((uint32_t)u + 32768u) | ((uint32_t)v + 32768u)) > UINT16_MAX) {
         return false; /* one of them outside int16_t */
     }
