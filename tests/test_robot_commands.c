@@ -249,10 +249,20 @@ static void test_save_on_command(void **state)
     (void)state;
     cfg.explore_mode = EXPLORE_OFF;
     assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    /* Five hits the pose correction holds back: the save asked for puts them in OM first. */
+    for (int i = 0; i < 5; i++) {
+        loc_reading_t rd = {.ping = {i * 100000, 0, 0u}, .range_um = 700000u, .servo = 0u,
+                            .echo = true};
+        assert_true(loc_post(&robot.loc, &rd));
+    }
+    loc_idle(&robot.loc, &robot.mapper, &robot.grid);
+    assert_int_equal(robot.loc.win_count, 5u);
+    assert_int_equal(robot.mapper.hits, 0u);
     send(TELEM_CMD_SAVE, NULL, 0u);
     run(400);
     assert_int_equal(replies().acks, 1u);
     assert_int_equal(robot.store.saves, 1u);
+    assert_true(robot.mapper.hits >= 5u);
 
     /* A robot without storage says so. */
     fake_hal_reset();
