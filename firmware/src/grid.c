@@ -81,10 +81,10 @@ static int grid_count(grid_t *g, uint8_t *map, uint8_t max, int32_t x_um, int32_
 #define GRID_EVIDENCE_LO (GRID_EVIDENCE_ZERO - GRID_EVIDENCE_CAP)
 #define GRID_EVIDENCE_HI (GRID_EVIDENCE_ZERO + GRID_EVIDENCE_CAP)
 
-/* Evidence: the byte stays in LO..HI. */
-static inline uint8_t evidence_lower(uint8_t v, uint8_t miss)
+/* Evidence: the byte stays in LO..HI. A miss lowers it, down to floor at most. */
+static inline uint8_t evidence_lower(uint8_t v, uint8_t miss, uint32_t floor)
 {
-    return (uint8_t)(v > GRID_EVIDENCE_LO + miss ? (uint32_t)v - miss : GRID_EVIDENCE_LO);
+    return (uint8_t)(v > floor + miss ? (uint32_t)v - miss : floor);
 }
 
 static void evidence_raise(uint8_t *cell, uint8_t step)
@@ -128,7 +128,7 @@ int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um)
     if (cell == NULL) {
         return SLAM_EOUTSIDE;
     }
-    *cell = evidence_lower(*cell, g->miss);
+    *cell = evidence_lower(*cell, g->miss, GRID_EVIDENCE_LO);
     return SLAM_OK;
 }
 
@@ -136,8 +136,7 @@ void grid_om_behind(grid_t *g, grid_cell_t c)
 {
     uint8_t *cell = &g->om[grid_index(c)];
     if (g->mode == OM_MODE_EVIDENCE && *cell > GRID_EVIDENCE_ZERO) {
-        uint32_t v = (uint32_t)*cell - GRID_EVIDENCE_ZERO;
-        *cell = (uint8_t)(GRID_EVIDENCE_ZERO + (v > g->miss ? v - g->miss : 0u));
+        *cell = evidence_lower(*cell, g->miss, GRID_EVIDENCE_ZERO);
     }
 }
 
@@ -199,7 +198,7 @@ uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int
     int32_t nb = along_a ? sb : 0;
     uint32_t n = 0u;
     for (int32_t k = major; k >= 0; k--) {
-        *cell = evidence_lower(*cell, (uint8_t)miss);
+        *cell = evidence_lower(*cell, (uint8_t)miss, GRID_EVIDENCE_LO);
         n++;
         a += ma;
         b += mb;
