@@ -275,13 +275,23 @@ static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, 
 
 /* ---- the match --------------------------------------------------------------------------- */
 
-/* Held-back hit i (0 the oldest) in the odometry frame, µm. */
-static void win_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
+/* Held-back hit i (0 the oldest) where the correction now puts it in the map, µm. */
+static void held_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
 {
     const loc_point_t *p = &l->win[(l->win_first + i) % LOC_HOLD];
-    /* Modulo 2^32, as grid.c's cells: the point came from an int32_t within the reach. */
-    *x = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << l->point_shift));
-    *y = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << l->point_shift));
+    /* In the odometry frame, modulo 2^32 as grid.c's cells: the point came from an int32_t
+     * within the reach. */
+    unsigned k = l->point_shift;
+    int32_t ox = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << k));
+    int32_t oy = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << k));
+    apply_xy(&l->corr, ox, oy, x, y);
+}
+
+/* Whether held-back hit i goes into OM at all: not when it lay just behind a wall. */
+static bool held_mapped(const loc_t *l, unsigned i)
+{
+    unsigned slot = (l->win_first + i) % LOC_HOLD;
+    return ((l->win_shadowed[slot / 32u] >> (slot % 32u)) & 1u) == 0u;
 }
 
 /* A point of the odometry frame as a loc_point_t, rounded to its unit; false when it lies
@@ -312,8 +322,7 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         int32_t my;
         int32_t qx;
         int32_t qy;
-        win_at(l, g, i, &mx, &my);
-        apply_xy(&l->corr, mx, my, &mx, &my);
+        held_at(l, g, i, &mx, &my);
         move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
         int32_t wx;
         int32_t wy;
@@ -383,21 +392,13 @@ static uint8_t early_half(const loc_t *l, const grid_t *g, unsigned i)
     return i + LOC_WINDOW < l->win_count && g->mode == OM_MODE_EVIDENCE ? g->hit / 2u : 0u;
 }
 
-/* Held-back hit i where the correction now puts it, unless it is shadowed (never mapped). */
-static bool held_hit(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
-{
-    unsigned slot = (l->win_first + i) % LOC_HOLD;
-    win_at(l, g, i, x, y);
-    apply_xy(&l->corr, *x, *y, x, y);
-    return ((l->win_shadowed[slot / 32u] >> (slot % 32u)) & 1u) == 0u;
-}
-
 /* The oldest held-back hit leaves the hold: the rest of it enters OM. */
 static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
 {
-    int32_t x;
-    int32_t y;
-    if (held_hit(l, g, 0u, &x, &y)) {
+    if (held_mapped(l, 0u)) {
+        int32_t x;
+        int32_t y;
+        held_at(l, g, 0u, &x, &y);
         (void)mapper_hit_rest(m, g, x, y, early_half(l, g, 0u));
     }
     l->win_first = (uint16_t)((l->win_first + 1u) % LOC_HOLD);
@@ -443,8 +444,9 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
     /* The hit that just left the window: half of it enters OM now, at the correction of now,
      * so that what exploration reads in OM holds the walls just seen; the rest enters
      * when it leaves the hold, where the correction then puts it. */
-    unsigned left = l->win_count - LOC_WINDOW - 1u;
-    if (l->win_count > LOC_WINDOW && held_hit(l, g, left, &x, &y)) {
+    unsigned left = l->win_count - LOC_WINDOW - 1u; /* (wraps when none has left yet) */
+    if (l->win_count > LOC_WINDOW && held_mapped(l, left)) {
+        held_at(l, g, left, &x, &y);
         grid_om_part(g, x, y, early_half(l, g, left));
     }
     if (++l->since_match >= LOC_EVERY && l->win_count >= LOC_WINDOW) {
