@@ -318,6 +318,29 @@ static void test_evidence_steps_and_saturation(void **state)
     assert_guards_intact();
 }
 
+/* Part of a hit goes in and is taken back: the cell is as it was, both saturate, nothing
+ * outside the grid is written or counted. */
+static void test_part_of_a_hit_and_back(void **state)
+{
+    (void)state;
+    init_evidence();
+    const int32_t l = (int32_t)L;
+    grid_om_part(&gg.g, 0, 0, 2u, false);
+    assert_int_equal(om_at(0, 0), 130);
+    grid_om_part(&gg.g, 0, 0, 2u, true);
+    assert_int_equal(om_at(0, 0), GRID_EVIDENCE_ZERO);
+    for (int i = 0; i < 200; i++) {
+        grid_om_part(&gg.g, l, 0, 2u, false);
+        grid_om_part(&gg.g, 2 * l, 0, 2u, true);
+    }
+    assert_int_equal(om_at(l, 0), 255); /* L = +127 */
+    assert_int_equal(om_at(2 * l, 0), 1); /* L = -127 */
+    grid_om_part(&gg.g, INT32_MAX, 0, 2u, false);
+    grid_om_part(&gg.g, 0, INT32_MIN, 2u, true);
+    assert_int_equal(gg.g.rejected, 0u);
+    assert_guards_intact();
+}
+
 /* The paper's mode ignores free-space evidence entirely. */
 static void test_count_mode_has_no_free_space(void **state)
 {
@@ -325,6 +348,7 @@ static void test_count_mode_has_no_free_space(void **state)
     assert_int_equal(gg.g.mode, OM_MODE_COUNT);
     assert_int_equal(grid_om_free(&gg.g, 0, 0), SLAM_OK);
     assert_int_equal(grid_om_ray(&gg.g, 0, 0, 10 * (int32_t)L, 3 * (int32_t)L), 0u);
+    grid_om_part(&gg.g, 0, 0, 2u, false);
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
         assert_int_equal(gg.g.om[i], 0);
     }
@@ -401,6 +425,7 @@ int main(void)
         cmocka_unit_test_setup(test_state_reads_om_then_tm, setup),
         cmocka_unit_test_setup(test_evidence_steps_and_saturation, setup),
         cmocka_unit_test_setup(test_count_mode_has_no_free_space, setup),
+        cmocka_unit_test_setup(test_part_of_a_hit_and_back, setup),
         cmocka_unit_test(test_ray_against_exact_segment),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -111,11 +111,16 @@ int grid_om_hit(grid_t *g, int32_t x_um, int32_t y_um)
     return grid_om_add(g, x_um, y_um, g->hit);
 }
 
-void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step)
+void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step, bool take_back)
 {
     grid_cell_t c;
     if (g->mode == OM_MODE_EVIDENCE && grid_cell_of(g, x_um, y_um, &c) == SLAM_OK) {
-        evidence_raise(&g->om[grid_index(c)], step);
+        uint8_t *cell = &g->om[grid_index(c)];
+        if (take_back) {
+            *cell = evidence_lower(*cell, step, GRID_EVIDENCE_LO);
+        } else {
+            evidence_raise(cell, step);
+        }
     }
 }
 

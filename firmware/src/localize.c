@@ -71,6 +71,7 @@ void loc_init(loc_t *l, const slam_config_t *cfg)
     l->corr.c = FIX_Q30_ONE;
     l->pub.c = FIX_Q30_ONE;
     l->tick_corr.c = FIX_Q30_ONE;
+    l->placed.c = FIX_Q30_ONE;
     lkf_init(&l->cov);
 }
 
@@ -275,8 +276,9 @@ static bool wall_near(const grid_t *g, int32_t x_um, int32_t y_um, int32_t *wx, 
 
 /* ---- the match --------------------------------------------------------------------------- */
 
-/* Held-back hit i (0 the oldest) where the correction now puts it in the map, µm. */
-static void held_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int32_t *y)
+/* Held-back hit i (0 the oldest) where correction c puts it in the map, µm. */
+static void held_under(const loc_t *l, const grid_t *g, const loc_corr_t *c, unsigned i,
+                       int32_t *x, int32_t *y)
 {
     const loc_point_t *p = &l->win[(l->win_first + i) % LOC_HOLD];
     /* In the odometry frame, modulo 2^32 as grid.c's cells: the point came from an int32_t
@@ -284,7 +286,7 @@ static void held_at(const loc_t *l, const grid_t *g, unsigned i, int32_t *x, int
     unsigned k = l->point_shift;
     int32_t ox = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << k));
     int32_t oy = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << k));
-    apply_xy(&l->corr, ox, oy, x, y);
+    apply_xy(c, ox, oy, x, y);
 }
 
 /* Whether held-back hit i goes into OM at all: not when it lay just behind a wall. */
@@ -322,7 +324,7 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         int32_t my;
         int32_t qx;
         int32_t qy;
-        held_at(l, g, i, &mx, &my);
+        held_under(l, g, &l->corr, i, &mx, &my);
         move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
         int32_t wx;
         int32_t wy;
@@ -392,13 +394,34 @@ static uint8_t early_half(const loc_t *l, const grid_t *g, unsigned i)
     return i + LOC_WINDOW < l->win_count && g->mode == OM_MODE_EVIDENCE ? g->hit / 2u : 0u;
 }
 
-/* The oldest held-back hit leaves the hold: the rest of it enters OM. */
+/* The early halves in OM, those of the held-back hits past the window: taken out at
+ * l->placed, or put back at the correction now, which becomes l->placed. */
+static void halves(loc_t *l, grid_t *g, bool take_back)
+{
+    if (!take_back) {
+        l->placed = l->corr;
+    }
+    if (g->mode != OM_MODE_EVIDENCE) {
+        return; /* no halves */
+    }
+    for (unsigned i = 0; i + LOC_WINDOW < l->win_count; i++) {
+        if (held_mapped(l, i)) {
+            int32_t x;
+            int32_t y;
+            held_under(l, g, &l->placed, i, &x, &y);
+            grid_om_part(g, x, y, early_half(l, g, i), take_back);
+        }
+    }
+}
+
+/* The oldest held-back hit leaves the hold: the rest of it enters OM, at the correction now
+ * (its half stays where it lies). */
 static void hit_enters_map(loc_t *l, mapper_t *m, grid_t *g)
 {
     if (held_mapped(l, 0u)) {
         int32_t x;
         int32_t y;
-        held_at(l, g, 0u, &x, &y);
+        held_under(l, g, &l->corr, 0u, &x, &y);
         (void)mapper_hit_rest(m, g, x, y, early_half(l, g, 0u));
     }
     l->win_first = (uint16_t)((l->win_first + 1u) % LOC_HOLD);
@@ -441,17 +464,21 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
     uint32_t *word = &l->win_shadowed[slot / 32u];
     *word = (*word & ~(1u << (slot % 32u))) | ((uint32_t)shadowed << (slot % 32u));
     l->win_count++;
-    /* The hit that just left the window: half of it enters OM now, at the correction of now,
+    /* The hit that just left the window: half of it enters OM now, with the other halves,
      * so that what exploration reads in OM holds the walls just seen; the rest enters
      * when it leaves the hold, where the correction then puts it. */
     unsigned left = l->win_count - LOC_WINDOW - 1u; /* (wraps when none has left yet) */
     if (l->win_count > LOC_WINDOW && held_mapped(l, left)) {
-        held_at(l, g, left, &x, &y);
-        grid_om_part(g, x, y, early_half(l, g, left));
+        held_under(l, g, &l->placed, left, &x, &y);
+        grid_om_part(g, x, y, early_half(l, g, left), false);
     }
+    /* A match sees OM without the halves (the minute just seen would hold the pose where
+     * it drew them); they go back where the new correction puts them. */
     if (++l->since_match >= LOC_EVERY && l->win_count >= LOC_WINDOW) {
         l->since_match = 0u;
+        halves(l, g, true);
         match(l, g, &rd->ping);
+        halves(l, g, false);
     }
 }
 

@@ -29,6 +29,7 @@
 #ifndef SLAM_GRID_H
 #define SLAM_GRID_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "slam/config.h"
@@ -101,11 +102,12 @@ int grid_om_add(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step);
 
 /**
  * OM_MODE_EVIDENCE: part of a hit ahead of the rest, its cell's log-odds += step up to
- * +127 (localize.c places half of a held-back hit when it leaves the matched window, the
- * rest when it leaves the hold). Nothing outside the grid, nothing counted; nothing in
- * OM_MODE_COUNT. ISR-safe, O(1).
+ * +127, or, taken back, −= step down to −127 (localize.c places half of a held-back hit
+ * when it leaves the matched window and the rest when it leaves the hold, and takes the
+ * halves out of OM while it matches). Nothing outside the grid, nothing counted; nothing
+ * in OM_MODE_COUNT. ISR-safe, O(1).
  */
-void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step);
+void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step, bool take_back);
 
 /**
  * OM_MODE_EVIDENCE: free-space evidence at one world point (the robot stands there):

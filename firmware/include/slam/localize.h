@@ -21,28 +21,30 @@
  *   toward itself, and a hit is placed with what the matches of that minute learned about
  *   the pose it was seen from: a drift found when the robot meets a mapped wall again
  *   moves the hits seen on the way there, not only the ones after. Half of its log-odds
- *   step goes in earlier, when it leaves the matched window (below), at the correction of
- *   that moment: exploration reads OM to keep clear of walls the sweep cannot see, and
- *   must know the ones just seen. A save asked for by command, and the end of a run,
- *   move every held-back hit into OM first (loc_flush()); a periodic save stores OM as
- *   it stands, without them;
+ *   step goes in earlier, when it leaves the matched window (below): exploration reads OM
+ *   to keep clear of walls the sweep cannot see, and must know the ones just seen. These
+ *   early halves lie where the correction of the last match puts their hits (placed);
+ *   each match takes them out of OM and puts them back at its result, so that OM holds
+ *   them for exploration and never for a match. A save asked for by command, and the end
+ *   of a run, move every held-back hit into OM first (loc_flush()); a periodic save
+ *   stores OM as it stands, without them;
  * - every LOC_EVERY new hits the window, the newest LOC_WINDOW held-back hits, is
- *   matched against OM (which holds half of each older hit, and the whole of those older
- *   than the hold, never a hit of the window itself). Each hit looks for the nearest
- *   occupied cell within LOC_ASSOC_CELLS cells and takes the wall's direction from the
- *   occupied cells around it (the principal axis of a 5×5 block, used only when they lie
- *   along a line). Its distance from that wall line is one scalar measurement. A
- *   sequential Kalman update over the hits, iterated LOC_PASSES times (associations and
- *   residuals taken again at the result), weighs them against the uncertainty of the
- *   correction, a covariance about the robot that grows with the distance driven and the
- *   angle turned since the last match (and carries the heading's uncertainty into the
- *   position across the path). A wall constrains only the direction across itself, so
- *   one wall never slides the pose along it; two walls at an angle, or a turn, fix the
- *   rest. The filter also learns odometry's systematic drift, the heading it gains per
- *   metre driven and per radian turned (what calibration left of E_d and E_b), and
- *   between matches turns the correction by it, so the pose follows the drift it has
- *   learned. A hit stays in the window for LOC_WINDOW / LOC_EVERY matches, so each
- *   counts with LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
+ *   matched against OM without the early halves: against the hits older than the hold,
+ *   never those of the last minute, which would hold the pose where they were drawn.
+ *   Each hit looks for the nearest occupied cell within LOC_ASSOC_CELLS cells and takes the
+ *   wall's direction from the occupied cells around it (the principal axis of a 5×5 block,
+ *   used only when they lie along a line). Its distance from that wall line is one scalar
+ *   measurement. A sequential Kalman update over the hits, iterated LOC_PASSES times
+ *   (associations and residuals taken again at the result), weighs them against the
+ *   uncertainty of the correction, a covariance about the robot that grows with the
+ *   distance driven and the angle turned since the last match (and carries the heading's
+ *   uncertainty into the position across the path). A wall constrains only the direction
+ *   across itself, so one wall never slides the pose along it; two walls at an angle, or a
+ *   turn, fix the rest. The filter also learns odometry's systematic drift, the heading it
+ *   gains per metre driven and per radian turned (what calibration left of E_d and E_b),
+ *   and between matches turns the correction by it, so the pose follows the drift it has
+ *   learned. A hit stays in the window for LOC_WINDOW / LOC_EVERY matches, so each counts
+ *   with LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
  *   LOC_MAX_STEP_MDEG or LOC_MAX_STEP_UM, or finds fewer than LOC_MIN_POINTS walls, is
  *   refused and changes nothing;
  * - after each reading it publishes T for the tick.
@@ -146,6 +148,7 @@ typedef struct {
     volatile uint32_t pub_seq;        /**< pub holds the correction after this many readings */
     volatile uint32_t pub_gen;        /**< odd while pub is being written */
     loc_corr_t tick_corr;
+    loc_corr_t placed;                /**< where the held-back hits' early halves lie */
     /* The window of held-back hits, a ring. */
     loc_point_t win[LOC_HOLD];
     uint32_t win_shadowed[LOC_HOLD / 32u]; /**< bit i: win[i] lay just behind a wall: not
