@@ -55,22 +55,23 @@ static const q1_30_t fix_sin_table[257] = {
 
 q1_30_t fix_sin(bam32_t a)
 {
-    uint32_t quadrant = a >> 30;
     uint32_t p = a & (FIX_BAM_QUARTER - 1u);
-    if (quadrant & 1u) {
+    if ((a & FIX_BAM_QUARTER) != 0u) {
         /* sin(90° + x) = sin(90° - x): mirror within the quadrant; p may become 2^30. */
         p = FIX_BAM_QUARTER - p;
     }
     uint32_t idx = p >> FIX_SIN_FRAC_BITS;
     uint32_t frac = p & ((1u << FIX_SIN_FRAC_BITS) - 1u);
-    q1_30_t v = fix_sin_table[idx];
+    uint32_t v = (uint32_t)fix_sin_table[idx];
     if (frac != 0u) {
-        /* idx < 256 here, so idx + 1 is inside the table. The slope is below 2^23 and
-         * never negative: a 32 x 32-bit product suffices. */
-        int32_t slope = fix_sin_table[idx + 1u] - v;
-        v += (q1_30_t)fix_round_shift((int64_t)slope * (int32_t)frac, FIX_SIN_FRAC_BITS);
+        /* idx < 256 here, so idx + 1 is inside the table. The slope is below 2^23 and never
+         * negative (the table rises): an unsigned product, rounded to nearest, is the
+         * signed one's value with fewer instructions (this runs several times a tick). */
+        uint32_t slope = (uint32_t)fix_sin_table[idx + 1u] - v;
+        v += (uint32_t)(((uint64_t)slope * frac + (1u << (FIX_SIN_FRAC_BITS - 1u))) >>
+                        FIX_SIN_FRAC_BITS);
     }
-    return (quadrant & 2u) ? -v : v;
+    return (a & FIX_BAM_HALF) != 0u ? -(q1_30_t)v : (q1_30_t)v;
 }
 
 q1_30_t fix_cos(bam32_t a)
