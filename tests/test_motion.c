@@ -48,7 +48,7 @@ static void test_ramp_respects_the_acceleration_limit(void **state)
     int32_t before = 0;
     unsigned ticks_to_target = 0;
     for (unsigned t = 1; t <= 100; t++) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         int32_t step = m.set_um_tick[0] - before;
         assert_true(step >= 0 && step <= 50); /* 500 mm/s² = 50 µm/tick per tick */
         before = m.set_um_tick[0];
@@ -63,7 +63,7 @@ static void test_ramp_respects_the_acceleration_limit(void **state)
     motion_set_target(&m, 200, 200);
     unsigned t = 0;
     while (m.set_um_tick[0] != 2000) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         t++;
     }
     assert_int_equal(t, 4);
@@ -78,7 +78,7 @@ static void test_feed_forward_follows_the_ramp(void **state)
     motion_set_target(&m, 150, -90);
     int16_t duty[2] = {0, 0};
     for (int t = 1; t <= 100; t++) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         int32_t l = t * 50 < 1500 ? t * 50 : 1500;
         int32_t r = t * 50 < 900 ? -t * 50 : -900;
         /* Within one duty step of set · 1000 / top. */
@@ -102,7 +102,7 @@ static void test_pi_tracks_a_weaker_motor(void **state)
     double travelled[2] = {0.0, 0.0};
     int16_t duty[2] = {0, 0};
     for (int t = 0; t < 300; t++) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         for (int w = 0; w < 2; w++) {
             plant_step(&p[w], duty[w]);
             /* The encoder sees whole counts. */
@@ -121,6 +121,56 @@ static void test_pi_tracks_a_weaker_motor(void **state)
     assert_true(duty[0] > 2000 * 1000 / 3000); /* more than feed-forward alone */
 }
 
+/* A lost tick: the next one sees the travel of two periods. Taken over the periods it
+ * spans, that is the speed it was, and the duty holds; taken as one period's, it reads as
+ * twice the speed, the control brakes, then pushes (the jolts that make wheels slip). */
+static void test_a_lost_tick_reads_as_the_speed_it_was(void **state)
+{
+    (void)state;
+    const double um_per_count = 3.14159265358979 * 65000.0 / 700.0;
+    for (int spans = 1; spans >= 0; spans--) {
+        motion_init(&m, &cfg);
+        motion_set_target(&m, 200, 200);
+        plant_t p = {0.0, 0.8, 8.0};
+        double counts = 0.0;
+        double travelled = 0.0;
+        unsigned periods = 0u;
+        int16_t duty[2] = {0, 0};
+        int16_t lo = INT16_MAX;
+        int16_t hi = INT16_MIN;
+        for (unsigned t = 0; t < 600u; t++) {
+            /* From t = 300 every fifth tick is lost: the world runs on at the duty in force. */
+            unsigned n = t >= 300u && t % 5u == 0u ? 2u : 1u;
+            double before = floor(counts);
+            for (unsigned k = 0; k < n; k++) {
+                plant_step(&p, duty[0]);
+                counts += p.v_um_tick / um_per_count;
+                if (t >= 300u) {
+                    travelled += p.v_um_tick;
+                }
+            }
+            odom.step_um[0] = (int32_t)lround((floor(counts) - before) * um_per_count);
+            odom.step_um[1] = odom.step_um[0];
+            motion_step(&m, &odom, spans ? n : 1u, duty);
+            if (t >= 300u) {
+                periods += n;
+                lo = duty[0] < lo ? duty[0] : lo;
+                hi = duty[0] > hi ? duty[0] : hi;
+            }
+        }
+        double mean = travelled / periods;
+        print_message("lost ticks, travel %s: mean %.0f um/tick, duty %d..%d\n",
+                      spans ? "over its periods" : "as one period's", mean, lo, hi);
+        if (spans) {
+            assert_true(fabs(mean - 2000.0) < 40.0); /* within 2 % of the target */
+            assert_true(hi - lo < 60);
+        } else {
+            assert_true(hi - lo > 150); /* measured: 211, and 16 % slow */
+            assert_true(mean < 1850.0);
+        }
+    }
+}
+
 static void test_clamps_and_a_stalled_wheel(void **state)
 {
     (void)state;
@@ -130,7 +180,7 @@ static void test_clamps_and_a_stalled_wheel(void **state)
     assert_int_equal(m.target_um_tick[1], -3000);
     int16_t duty[2];
     for (int t = 0; t < 5000; t++) { /* the wheels never move */
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         assert_true(abs(duty[0]) <= 1000 && abs(duty[1]) <= 1000);
         /* A stall is seen a quarter second after the set speed reaches 30 mm/s (in the
          * sixth tick of the ramp at 500 mm/s², t = 5): 25 slow ticks end at t = 29. */
@@ -143,12 +193,12 @@ static void test_clamps_and_a_stalled_wheel(void **state)
     /* Once the wheels turn again the stall is over. */
     odom.step_um[0] = 2900;
     odom.step_um[1] = -2900;
-    motion_step(&m, &odom, duty);
+    motion_step(&m, &odom, 1u, duty);
     assert_false(motion_stalled(&m));
     /* A huge measured speed (an encoder glitch) saturates, never overflows. */
     odom.step_um[0] = INT32_MAX;
     odom.step_um[1] = INT32_MIN;
-    motion_step(&m, &odom, duty);
+    motion_step(&m, &odom, 1u, duty);
     assert_int_equal(duty[0], -1000);
     assert_int_equal(duty[1], 1000);
 }
@@ -165,7 +215,7 @@ static void test_a_stalled_wheel_gets_feed_forward_only(void **state)
     for (int t = 0; t < 200; t++) {
         odom.step_um[0] = 0;                   /* its count has stopped */
         odom.step_um[1] = m.set_um_tick[1];    /* the other turns as asked */
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         if (m.slow_ticks[0] >= MOTION_DEAD_TICKS) {
             assert_int_equal(duty[0], m.set_um_tick[0] * 1000 / m.top_um_tick);
             assert_int_equal(m.integral_um[0], 0);
@@ -179,7 +229,7 @@ static void test_a_stalled_wheel_gets_feed_forward_only(void **state)
     motion_set_target(&m, 100, 100);
     odom.step_um[0] = odom.step_um[1] = 0;
     for (int t = 0; t < 200; t++) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
         assert_false(motion_one_wheel(&m));
     }
     assert_true(motion_stalled(&m));
@@ -192,14 +242,14 @@ static void test_rest_means_zero_duty(void **state)
     motion_set_target(&m, 200, 200);
     int16_t duty[2];
     for (int t = 0; t < 100; t++) {
-        motion_step(&m, &odom, duty); /* wheel not moving: the integral grows */
+        motion_step(&m, &odom, 1u, duty); /* wheel not moving: the integral grows */
     }
     motion_set_target(&m, 0, 0);
     for (int t = 0; t < 39; t++) {
-        motion_step(&m, &odom, duty);
+        motion_step(&m, &odom, 1u, duty);
     }
     assert_true(m.set_um_tick[0] > 0); /* still ramping down */
-    motion_step(&m, &odom, duty);
+    motion_step(&m, &odom, 1u, duty);
     assert_int_equal(m.set_um_tick[0], 0);
     assert_int_equal(duty[0], 0);
     assert_int_equal(duty[1], 0);
@@ -212,6 +262,7 @@ int main(void)
         cmocka_unit_test_setup(test_ramp_respects_the_acceleration_limit, setup),
         cmocka_unit_test_setup(test_feed_forward_follows_the_ramp, setup),
         cmocka_unit_test_setup(test_pi_tracks_a_weaker_motor, setup),
+        cmocka_unit_test_setup(test_a_lost_tick_reads_as_the_speed_it_was, setup),
         cmocka_unit_test_setup(test_clamps_and_a_stalled_wheel, setup),
         cmocka_unit_test_setup(test_a_stalled_wheel_gets_feed_forward_only, setup),
         cmocka_unit_test_setup(test_rest_means_zero_duty, setup),

@@ -69,7 +69,7 @@ FAULTS = (
     ("servo_stall", "servo stalls (episodes a second)",
      ((["servo_stall=0.02"], 0.60), (["servo_stall=0.1"], 0.40), (["servo_stall=0.3"], 0.50))),
     ("tick_miss", "missed control ticks (per tick)",
-     ((["tick_miss=0.01"], 0.65), (["tick_miss=0.05"], 0.45), (["tick_miss=0.2"], 0.20))),
+     ((["tick_miss=0.01"], 0.85), (["tick_miss=0.05"], 0.80), (["tick_miss=0.2"], 0.80))),
     ("encoder_stop", "an encoder stops counting (episodes a second)",
      ((["encoder_stop=0.002"], 0.55), (["encoder_stop=0.01"], 0.45),
       (["encoder_stop=0.05"], 0.03))),

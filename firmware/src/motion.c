@@ -37,7 +37,7 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
     m->target_um_tick[ODOM_RIGHT] = clamp(right_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
 }
 
-void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
+void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2])
 {
     m->err_pos = (uint8_t)((m->err_pos + 1u) % MOTION_SPEED_TICKS);
     for (unsigned w = 0; w < 2u; w++) {
@@ -46,12 +46,20 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
                              m->accel_um_tick2);
         int32_t set = m->set_um_tick[w] + step;
         m->set_um_tick[w] = set;
+        /* The speed: the travel over the periods it took. After a lost tick the travel is
+         * that of two periods, and taken for one it would read as twice the speed: the
+         * control would brake, then push, and the wheels would slip. */
+        int32_t rolled = odom->step_um[w];
+        if (periods > 1u) {
+            rolled /= (int32_t)periods;
+        }
         /* An encoder glitch may claim any speed; the error is bounded so every product
-         * below fits 32 bits. */
-        int32_t err = clamp(fix_sat_sub_i32(set, odom->step_um[w]), -MOTION_ERR_MAX, MOTION_ERR_MAX);
+         * below fits 32 bits. |set| is far below MOTION_ERR_MAX, so bounding the travel at
+         * twice that first changes no error and keeps the difference within 32 bits. */
+        int32_t err = clamp(set - clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX),
+                            -MOTION_ERR_MAX, MOTION_ERR_MAX);
         /* Stall watch: a wheel asked to turn that hardly does. */
         int32_t set_abs = set < 0 ? -set : set;
-        int32_t rolled = odom->step_um[w];
         uint32_t got = rolled >= 0 ? (uint32_t)rolled : 0u - (uint32_t)rolled;
         if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < (uint32_t)set_abs / 4u) {
             m->slow_ticks[w] = (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
@@ -78,14 +86,15 @@ void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2])
             duty[w] = (int16_t)clamp(ff, -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
             continue;
         }
-        m->integral_um[w] = clamp(fix_sat_add_i32(m->integral_um[w], err), -m->integral_max_um,
+        /* |integral| <= 256 000 (integral_max_um) and |err| <= 2^17: the sum fits. */
+        m->integral_um[w] = clamp(m->integral_um[w] + err, -m->integral_max_um,
                                   m->integral_max_um);
         /* (kp · Σe/N + ki · I) / 256, the division by N = 4 folded into the shift. With
          * |Σe| <= 2^19, kp <= 2^11 and |ki · I| <= 256 000, everything fits 32 bits. */
         int32_t acc = m->kp_q8 * m->err_sum[w] +
                       m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS;
         int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
-        duty[w] = (int16_t)clamp(fix_sat_add_i32(ff, pi), -MOTION_DUTY_MAX, MOTION_DUTY_MAX);
+        duty[w] = (int16_t)clamp(ff + pi, -MOTION_DUTY_MAX, MOTION_DUTY_MAX); /* both small */
     }
 }
 

@@ -29,6 +29,7 @@ int robot_init(robot_t *r, const slam_config_t *cfg)
     r->pose = odom_pose(&r->odom);
     r->last = (sweep_out_t){0};
     r->ticks = 0u;
+    r->tick_us = hal_time_us();
     r->ping_errors = 0u;
     r->idle_ticks = 0u;
     mapstore_init(&r->store);
@@ -60,6 +61,15 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
 
 void robot_tick(robot_t *r)
 {
+    /* The periods since the last tick: more than one when ticks were lost (a tick that
+     * overran, a late timer), and the wheels' travel then spans them all. */
+    uint32_t now_us = hal_time_us();
+    uint32_t dt_us = now_us - r->tick_us;
+    r->tick_us = now_us;
+    uint32_t periods = 1u;
+    if (dt_us > SLAM_TICK_US + SLAM_TICK_US / 2u) {
+        periods = (dt_us + SLAM_TICK_US / 2u) / SLAM_TICK_US;
+    }
     /* Where are we: one odometry step (Eq. 8-12), and the correction against the map. */
     odom_step(&r->odom, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
     odom_pose_t odom = odom_pose(&r->odom);
@@ -131,7 +141,7 @@ void robot_tick(robot_t *r)
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];
-    motion_step(&r->motion, &r->odom, duty);
+    motion_step(&r->motion, &r->odom, periods, duty);
     hal_motor_set(HAL_WHEEL_LEFT, duty[ODOM_LEFT]);
     hal_motor_set(HAL_WHEEL_RIGHT, duty[ODOM_RIGHT]);
     r->held = hold && motion_at_rest(&r->motion);

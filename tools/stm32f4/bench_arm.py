@@ -147,6 +147,7 @@ def main(argv):
             print("    %-40s %3d instructions" % (k, v["instructions"]))
         per_tick_hal = (hal["SysTick_Handler (without the callback)"]["instructions"]
                         + hal["tick wrapper (main.c)"]["instructions"]
+                        + hal["hal_time_us"]["instructions"]
                         + 2 * hal["hal_encoder_count"]["instructions"]
                         + max(hal[k]["instructions"] for k in hal if k.startswith("hal_sonar_poll"))
                         + hal["hal_sonar_trigger"]["instructions"]

@@ -203,6 +203,7 @@ def measure_hal(path):
         c.close()
         out[label] = {"instructions": n, "stack": depth}
 
+    cost("hal_time_us", "hal_time_us")
     cost("hal_encoder_count", "hal_encoder_count", 0)
     cost("hal_motor_set", "hal_motor_set", 1, -500)  # int16_t arrives sign-extended
     cost("hal_servo_set_pulse", "hal_servo_set_pulse", 1500)

@@ -66,10 +66,11 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s);
 
 /**
  * One control step. ISR-safe, O(1).
- * @param odom  the odometry after this tick's step: its last wheel travel is the measure
- * @param duty  out: the duty for each motor, -1000 .. 1000
+ * @param odom     the odometry after this tick's step: its last wheel travel is the measure
+ * @param periods  control periods that travel took, 1 unless ticks were lost (at least 1)
+ * @param duty     out: the duty for each motor, -1000 .. 1000
  */
-void motion_step(motion_t *m, const odom_t *odom, int16_t duty[2]);
+void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2]);
 
 /** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
 bool motion_stalled(const motion_t *m);

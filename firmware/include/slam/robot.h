@@ -43,6 +43,7 @@ typedef struct {
     odom_pose_t pose;      /**< the pose after the last tick's odometry step */
     sweep_out_t last;      /**< what the sweep did in the last tick (for logs) */
     uint32_t ticks;        /**< control ticks since robot_init() */
+    uint32_t tick_us;      /**< hal_time_us() when the last tick began */
     uint32_t ping_errors;  /**< pings the sonar refused (busy) */
     uint32_t idle_ticks;   /**< robot_idle(): the tick count it saw last */
     mapstore_t store;      /**< map saves, run by robot_idle() */
