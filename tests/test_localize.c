@@ -381,6 +381,47 @@ static void test_a_match_does_not_see_the_halves(void **state)
     }
 }
 
+/* The far face of a thin wall: the map holds the wall's west face (x 1.00-1.05 m) as seen
+ * from the room west of it; the robot, east of the wall, hears its east face at x 1.10 m.
+ * Those hits lie a wall's thickness from the mapped face, with the wall's inside between,
+ * never seen: no match uses them. Had the beams cleared the cells between (the face is
+ * where the map says, and the pose is off), they would pull the pose onto it. */
+static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
+{
+    (void)state;
+    for (int seen = 0; seen <= 1; seen++) {
+        grid_init(&grid, &cfg);
+        mapper_init(&mapper, &cfg);
+        loc_init(&loc, &cfg);
+        paint_line(1.025, -1.5, 1.025, 1.5);
+        if (seen) {
+            for (double y = -1.5; y <= 1.5; y += 0.025) {
+                grid_cell_t c;
+                assert_int_equal(grid_cell_of(&grid, 1075000, (int32_t)lround(y * 1e6), &c), SLAM_OK);
+                grid.om[grid_index(c)] = 1u; /* known free: beams passed through */
+            }
+        }
+        /* Facing west from x = 1.8 m, the beam starts 50 mm ahead: 648 mm ends at 1.102 m. */
+        for (unsigned i = 0; i < LOC_WINDOW + 4u; i++) {
+            int32_t y = -500000 + (int32_t)i * 15000;
+            loc_reading_t rd = {.ping = {1800000, y, FIX_BAM_HALF}, .range_um = 648000u,
+                                .servo = fix_bam_from_mdeg(90000), .echo = true};
+            assert_true(loc_post(&loc, &rd));
+            loc_idle(&loc, &mapper, &grid);
+        }
+        assert_true(loc.tried >= 1u);
+        if (seen) {
+            assert_true(loc.last_points >= LOC_MIN_POINTS);
+            assert_true(loc.applied >= 1u);
+            print_message("seen: %u matches applied, correction x %d um\n", loc.applied, loc.corr.tx_um);
+            assert_true(loc.corr.tx_um < 0); /* pulled west, toward the mapped face */
+        } else {
+            assert_int_equal(loc.last_points, 0u);
+            assert_int_equal(loc.applied, 0u);
+        }
+    }
+}
+
 /* A hit a kilometre off (a corrupt log) lies beyond what a held-back point reaches: it is
  * not held, and OM counts it outside the grid at once. */
 static void test_far_hits_are_not_held(void **state)
@@ -443,6 +484,7 @@ int main(void)
         cmocka_unit_test_setup(test_far_hits_are_not_held, setup),
         cmocka_unit_test_setup(test_half_a_hit_enters_early, setup),
         cmocka_unit_test_setup(test_a_match_does_not_see_the_halves, setup),
+        cmocka_unit_test_setup(test_the_far_face_of_a_thin_wall_is_not_matched, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -312,6 +312,32 @@ static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_
     return true;
 }
 
+/* Whether hit q, associated with wall cell w (normal n, Q12; h the hit's offset along it),
+ * lies on a face of that wall never seen from the robot's side: the wall cell lies more than
+ * a cell beyond the hit as the robot at c sees it, and the cell next to it on the hit's side
+ * is not known free. The far face of a thin wall, first seen through a door, is then not
+ * matched to the face mapped from the other room, a wall's thickness away. */
+static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
+                        int32_t wx, int32_t wy, const int32_t n[2], int64_t h)
+{
+    /* Differences modulo 2^32, as grid.c's: the wall cell lies within LOC_ASSOC_CELLS cells
+     * of the hit, and a hit beyond the lever bound is not matched at all. */
+    int32_t ax = (int32_t)((uint32_t)wx - (uint32_t)qx);
+    int32_t ay = (int32_t)((uint32_t)wy - (uint32_t)qy);
+    int32_t bx = (int32_t)((uint32_t)qx - (uint32_t)cx);
+    int32_t by = (int32_t)((uint32_t)qy - (uint32_t)cy);
+    int32_t cell = (int32_t)g->cell_um;
+    if ((int64_t)ax * bx + (int64_t)ay * by <= 0 ||
+        (int64_t)ax * ax + (int64_t)ay * ay <= (int64_t)cell * cell) {
+        return false;
+    }
+    int32_t side = h < 0 ? -cell : cell;
+    grid_cell_t k;
+    return grid_cell_of(g, wx + (int32_t)(((int64_t)n[0] * side) >> LKF_J_SHIFT),
+                        wy + (int32_t)(((int64_t)n[1] * side) >> LKF_J_SHIFT), &k) == SLAM_OK &&
+           grid_state(g, grid_index(k)) != GRID_FREE;
+}
+
 /* One pass: every held-back hit, linearised at lin, updates (d, p) from the prior. */
 static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t cy,
                            const lkf_state_t *lin, lkf_state_t *d, lkf_cov_t *p)
@@ -339,6 +365,9 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
             (int64_t)j[1] * ((int64_t)qx - cx) - (int64_t)j[0] * ((int64_t)qy - cy), 1000000);
         if (j[2] > LOC_LEVER_MAX || j[2] < -LOC_LEVER_MAX) {
             continue; /* heard more than 8 m from where the robot now is */
+        }
+        if (unseen_face(g, cx, cy, qx, qy, wx, wy, j, h)) {
+            continue;
         }
         /* Each hit is matched LOC_WINDOW / LOC_EVERY times: count it once in all. */
         int64_t r = LOC_SIGMA2_UM2 * (int64_t)(LOC_WINDOW / LOC_EVERY);
