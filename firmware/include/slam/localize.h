@@ -33,7 +33,9 @@
  *   never those of the last minute, which would hold the pose where they were drawn.
  *   Each hit looks for the nearest occupied cell within LOC_ASSOC_CELLS cells and takes the
  *   wall's direction from the occupied cells around it (the principal axis of a 5×5 block,
- *   used only when they lie along a line). Its distance from that wall line is one scalar
+ *   used only when they lie along a line). A hit whose wall cell lies more than a cell
+ *   beyond it, seen from the robot, with the cell between not known free, is left out (the
+ *   far face of a thin wall, first heard through a door). Its distance from that wall line is one scalar
  *   measurement. A sequential Kalman update over the hits, iterated LOC_PASSES times
  *   (associations and residuals taken again at the result), weighs them against the
  *   uncertainty of the correction, a covariance about the robot that grows with the
