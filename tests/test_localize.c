@@ -292,6 +292,14 @@ static void test_a_jump_of_odometry_is_not_matched(void **state)
     assert_int_equal(loc.corr.ty_um, 0);
 }
 
+/* Where a ping from the origin facing +x, the beam turned to the left (+y), 700 mm long,
+ * puts its hit. */
+static void hit_of_the_origin(int32_t *hx, int32_t *hy)
+{
+    odom_pose_t at = {0, 0, 0u};
+    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, hx, hy);
+}
+
 /* A hit enters OM only when LOC_HOLD more have come in, in its own cell: 0.6 mm inside a
  * cell's edge still lands in that cell (a held-back point is kept to 2^point_shift µm,
  * rounded: 1.024 mm for 50 mm cells, so within 0.512 mm). Nothing is matched: the map
@@ -300,11 +308,9 @@ static void test_hits_enter_om_after_the_hold(void **state)
 {
     (void)state;
     assert_int_equal(loc.point_shift, 10u); /* 512 cells · 50 mm = 25.6 m in 2^15 units */
-    /* Facing +x, the beam turned to the left (+y): where a ping at x = 0 puts its hit. */
-    odom_pose_t at = {0, 0, 0u};
     int32_t hx;
     int32_t hy;
-    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, &hx, &hy);
+    hit_of_the_origin(&hx, &hy);
     /* Pings whose hits lie 600 µm inside the lower x edge of a cell, every other cell. */
     int32_t edge = grid.origin_x_um + 100 * (int32_t)grid.cell_um;
     for (unsigned i = 0; i < LOC_HOLD + 5u; i++) {
@@ -331,10 +337,9 @@ static void test_hits_enter_om_after_the_hold(void **state)
 static void test_half_a_hit_enters_early(void **state)
 {
     (void)state;
-    odom_pose_t at = {0, 0, 0u};
     int32_t hx;
     int32_t hy;
-    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, &hx, &hy);
+    hit_of_the_origin(&hx, &hy);
     grid_cell_t first;
     assert_int_equal(grid_cell_of(&grid, hx, hy, &first), SLAM_OK);
     uint32_t k = grid_index(first);
@@ -359,10 +364,9 @@ static void test_half_a_hit_enters_early(void **state)
 static void test_a_match_does_not_see_the_halves(void **state)
 {
     (void)state;
-    odom_pose_t at = {0, 0, 0u};
     int32_t hx;
     int32_t hy;
-    sonar_obstacle(&mapper.sonar, &at, 0u, 700000u, &hx, &hy);
+    hit_of_the_origin(&hx, &hy);
     for (unsigned i = 0; i < 200u; i++) {
         /* Along 1 m of the wall, 20 mm a reading, then back to its start. */
         loc_reading_t rd = {.ping = {(int32_t)(i % 50u) * 20000, 0, 0u}, .range_um = 700000u,
