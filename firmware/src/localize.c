@@ -320,8 +320,8 @@ static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_
 static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
                         int32_t wx, int32_t wy, const int32_t n[2], int64_t h)
 {
-    /* Differences modulo 2^32, as grid.c's: the wall cell lies within LOC_ASSOC_CELLS cells
-     * of the hit, and a hit beyond the lever bound is not matched at all. */
+    /* Differences modulo 2^32, as grid.c's: exact, since every position lies within the
+     * 1 km world slam_config_check() allows; their products fit 64 bits. */
     int32_t ax = (int32_t)((uint32_t)wx - (uint32_t)qx);
     int32_t ay = (int32_t)((uint32_t)wy - (uint32_t)qy);
     int32_t bx = (int32_t)((uint32_t)qx - (uint32_t)cx);

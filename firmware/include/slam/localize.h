@@ -35,18 +35,18 @@
  *   wall's direction from the occupied cells around it (the principal axis of a 5×5 block,
  *   used only when they lie along a line). A hit whose wall cell lies more than a cell
  *   beyond it, seen from the robot, with the cell between not known free, is left out (the
- *   far face of a thin wall, first heard through a door). Its distance from that wall line is one scalar
- *   measurement. A sequential Kalman update over the hits, iterated LOC_PASSES times
- *   (associations and residuals taken again at the result), weighs them against the
- *   uncertainty of the correction, a covariance about the robot that grows with the
- *   distance driven and the angle turned since the last match (and carries the heading's
- *   uncertainty into the position across the path). A wall constrains only the direction
- *   across itself, so one wall never slides the pose along it; two walls at an angle, or a
- *   turn, fix the rest. The filter also learns odometry's systematic drift, the heading it
- *   gains per metre driven and per radian turned (what calibration left of E_d and E_b),
- *   and between matches turns the correction by it, so the pose follows the drift it has
- *   learned. A hit stays in the window for LOC_WINDOW / LOC_EVERY matches, so each counts
- *   with LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
+ *   far face of a thin wall, first heard through a door). Its distance from that wall line
+ *   is one scalar measurement. A sequential Kalman update over the hits, iterated
+ *   LOC_PASSES times (associations and residuals taken again at the result), weighs them
+ *   against the uncertainty of the correction, a covariance about the robot that grows with
+ *   the distance driven and the angle turned since the last match (and carries the
+ *   heading's uncertainty into the position across the path). A wall constrains only the
+ *   direction across itself, so one wall never slides the pose along it; two walls at an
+ *   angle, or a turn, fix the rest. The filter also learns odometry's systematic drift, the
+ *   heading it gains per metre driven and per radian turned (what calibration left of E_d
+ *   and E_b), and between matches turns the correction by it, so the pose follows the drift
+ *   it has learned. A hit stays in the window for LOC_WINDOW / LOC_EVERY matches, so each
+ *   counts with LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
  *   LOC_MAX_STEP_MDEG or LOC_MAX_STEP_UM, or finds fewer than LOC_MIN_POINTS walls, is
  *   refused and changes nothing;
  * - after each reading it publishes T for the tick.
