@@ -4,8 +4,6 @@
 
 #include <string.h>
 
-#include "slam/fixed.h"
-
 /* 1 mm/s is 10 µm per 10 ms tick. */
 #define MOTION_UM_TICK_PER_MM_S 10
 #define MOTION_ERR_MAX (1 << 17) /* 131 mm in a tick: far beyond any real wheel */

@@ -44,18 +44,6 @@ static inline int32_t fix_sat_i32(int64_t v)
     return (int32_t)v;
 }
 
-/** a + b, saturated at the int32_t limits. */
-static inline int32_t fix_sat_add_i32(int32_t a, int32_t b)
-{
-    return fix_sat_i32((int64_t)a + b);
-}
-
-/** a - b, saturated at the int32_t limits. */
-static inline int32_t fix_sat_sub_i32(int32_t a, int32_t b)
-{
-    return fix_sat_i32((int64_t)a - b);
-}
-
 /** v >> shift, rounded to nearest (halves round up); shift in 1..62. */
 static inline int64_t fix_round_shift(int64_t v, unsigned shift)
 {
