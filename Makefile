@@ -2,7 +2,7 @@
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
-TEST_PRESETS := host host-asan host-m32 host-tsan stm32f4
+TEST_PRESETS := host host-asan host-m32 host-tsan host-clang stm32f4
 # The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
 # (generic_f405, the one QEMU runs) is sonarslam_stm32f4; every other is sonarslam_<BOARD>.
 BOARD ?= generic_f405
@@ -28,7 +28,7 @@ help:
 	@echo "make calibrate UMBmark on the simulated robot: the calibration make sim uses"
 	@echo "               (host_sim/calibration/default_robot.conf), E_max,syst before and after on 5 seeds"
 	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
-	@echo "               32-bit, ThreadSanitizer on the Linux backend, the STM32F4 images in QEMU)"
+	@echo "               32-bit, ThreadSanitizer on the Linux backend, clang, the STM32F4 images in QEMU)"
 	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"

@@ -83,7 +83,7 @@ int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m,
     r->half_cone = 0.5 * p->sonar_cone_deg * PI / 180.0;
     r->body_m = p->body_radius_m;
     r->wall_time_to[0] = r->wall_time_to[1] = r->wall_time_to[2] = -1.0;
-    r->min_clearance = INFINITY;
+    r->min_clearance = HUGE_VAL;
     r->clear_at = -1.0;
     return 0;
 }

@@ -481,7 +481,7 @@ static int run(options_t *o, held_t *h)
     r->time_to[0] = r->time_to[1] = r->time_to[2] = -1.0;
     r->last_x = sx;
     r->last_y = sy;
-    r->marked_x = r->marked_y = INFINITY;
+    r->marked_x = r->marked_y = HUGE_VAL;
 
     uint64_t ticks = (uint64_t)llround(o->duration_s / TICK_S);
     /* UMBmark says how far it is itself, a line a run. */

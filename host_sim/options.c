@@ -103,7 +103,7 @@ static void usage(FILE *f)
         "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
 }
 
-static int fail_usage(const char *fmt, ...)
+__attribute__((format(printf, 1, 2))) static int fail_usage(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);

@@ -534,7 +534,7 @@ static uint64_t random_run(uint32_t seed)
     add_wall(1.0, 1.0, -1.0, 1.0);
     add_wall(-1.0, 1.0, -1.0, -1.0);
     uint64_t h = 1469598103934665603ull;
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     for (int t = 0; t < 30000; t++) {
         uint8_t before = ex.state;
         world_tick();

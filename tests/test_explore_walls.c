@@ -41,10 +41,10 @@ static void test_follows_a_wall_on_the_right(void **state)
     (void)state;
     setup_mode(EXPLORE_WALLS);
     add_wall(-1.0, -0.25, 12.0, -0.25);
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     run_until(following, 3000u, &closest);
     assert_int_equal(ex.state, EXPLORE_FOLLOW);
-    double lo = INFINITY;
+    double lo = HUGE_VAL;
     double hi = 0.0;
     run_until(NULL, 1000u, &closest); /* settle */
     while (px < 8e6 && ex.state == EXPLORE_FOLLOW) {
@@ -73,7 +73,7 @@ static void test_concave_corner_turns_left(void **state)
     setup_mode(EXPLORE_WALLS);
     add_wall(-1.0, -0.25, 2.0, -0.25);
     add_wall(2.0, -0.25, 2.0, 5.0);
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     unsigned t = run_until(heading_north, 20000u, &closest);
     printf("round the corner in %u ticks, closest %.0f mm, at x %.0f mm\n", t, closest / 1000.0,
            px / 1000.0);
@@ -90,7 +90,7 @@ static void test_convex_corner_arcs_right(void **state)
     (void)state;
     setup_mode(EXPLORE_WALLS);
     add_wall(-1.0, -0.25, 2.0, -0.25); /* a free-standing wall, ending at x = 2 m */
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     run_until(following, 3000u, &closest);
     bool back = false;
     for (unsigned t = 0; t < 12000u && !back; t++) {
@@ -119,7 +119,7 @@ static void test_opening_is_passed_at_its_middle(void **state)
     setup_mode(EXPLORE_WALLS);
     add_wall(-1.0, -0.25, 1.5, -0.25);
     add_wall(1.86, -0.25, 6.0, -0.25);
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     unsigned t = run_until(passed, 20000u, &closest);
     printf("through at x %.0f mm after %u ticks, closest %.0f mm, doors %u\n", px / 1000.0, t,
            closest / 1000.0, ex.doors);
@@ -141,7 +141,7 @@ static void test_a_whole_wall_has_no_opening(void **state)
     (void)state;
     setup_mode(EXPLORE_WALLS);
     add_wall(-1.0, -0.25, 12.0, -0.25);
-    double closest = INFINITY;
+    double closest = HUGE_VAL;
     run_until(NULL, 6000u, &closest);
     assert_true(py > -0.25e6);
     assert_int_equal(ex.doors, 0u);

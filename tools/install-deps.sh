@@ -15,7 +15,7 @@ usage() {
 }
 
 # What each group needs (Debian bookworm package names).
-pkgs_test="cmake make gcc pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2"
+pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2"
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib python3-serial"
 pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
 pkgs_flash="openocd gdb-multiarch"

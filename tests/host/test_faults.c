@@ -227,7 +227,7 @@ static void test_levels_checked(void **state)
     assert_int_equal(sim_params_check(&p, &e, &bad), -1);
     assert_string_equal(bad, "e.tick_miss");
     e.tick_miss = 0.0;
-    e.encoder_stop_per_s = NAN;
+    e.encoder_stop_per_s = (double)NAN;
     assert_int_equal(sim_params_check(&p, &e, &bad), -1);
     assert_string_equal(bad, "e.encoder_stop_per_s");
 }

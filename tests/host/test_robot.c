@@ -554,7 +554,7 @@ static void test_create_refuses_bad_input(void **state)
     assert_string_equal(field, "p.motor_tau_s");
     assert_null(sim_create(&big, &p, &e, 1u));
     sim_params_default(&p);
-    e.sonar_dropout = NAN;
+    e.sonar_dropout = (double)NAN;
     assert_int_equal(sim_params_check(&p, &e, &field), -1);
     assert_string_equal(field, "e.sonar_dropout");
     sim_errors_default(&e);

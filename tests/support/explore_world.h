@@ -102,12 +102,12 @@ static void add_wall(double x1_m, double y1_m, double x2_m, double y2_m)
     nwalls++;
 }
 
-/* Distance along a ray to the nearest wall, µm; INFINITY when none. */
+/* Distance along a ray to the nearest wall, µm; HUGE_VAL (infinity) when none. */
 static double ray_to_walls(double ox, double oy, double dir)
 {
     double dx = cos(dir);
     double dy = sin(dir);
-    double best = INFINITY;
+    double best = HUGE_VAL;
     for (unsigned i = 0; i < nwalls; i++) {
         double ex_ = walls[i][2] - walls[i][0];
         double ey = walls[i][3] - walls[i][1];
@@ -129,7 +129,7 @@ static double ray_to_walls(double ox, double oy, double dir)
 /* Distance from the robot's centre to the nearest wall, µm. */
 static double clearance(void)
 {
-    double best = INFINITY;
+    double best = HUGE_VAL;
     for (unsigned i = 0; i < nwalls; i++) {
         double ex_ = walls[i][2] - walls[i][0];
         double ey = walls[i][3] - walls[i][1];
