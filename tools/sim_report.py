@@ -3,7 +3,7 @@
 """Reproduces the simulator's figures: the paper's claims, measured over several seeds.
 
 usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
-                           [--maps DIR]
+                           [--maps DIR] [--faults-only]
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
@@ -14,7 +14,8 @@ coverage and when it reached 50, 80 and 90 %, raw F1) and the time they take to 
 free cells; the wall coverage of each shipped room; and, when the building maps lie
 beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
 every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
-level must keep (tests/sim/test_sim_faults.py asserts it).
+level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
+alone, and each run that touched a wall as the arguments that repeat it.
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
@@ -203,10 +204,21 @@ def report(args):
             if crop:
                 a += ["--crop"] + list(crop)
             jobs["building-%s-%d" % (name, s)] = a
+    if args.faults_only:
+        jobs = {n: a for n, a in jobs.items() if n.startswith(("fault-", "cell-50-"))}
     res = run_all(args.host_sim, base, jobs, args.jobs)
 
     def group(prefix):
         return [res[n] for n in sorted(res) if n.startswith(prefix + "-")]
+
+    if args.faults_only:
+        touching = fault_table(group, len(seeds), dur)
+        runs = len(seeds) * (1 + sum(len(levels) for _, _, levels in FAULTS))
+        print("\n%d of %d runs touch%s" % (len(touching), runs, ":" if touching else "."))
+        for spec, seed in touching:
+            errors = "".join("--error %s " % e for e in spec.split()) if spec != "none" else ""
+            print("- `%s--seed %d`" % (errors, seed))
+        return
 
     def post_tables(title, prefix):
         print("### Post-processing, %s (mean of %d seeds, %d s each)\n" % (title, len(seeds), dur))
@@ -319,10 +331,18 @@ def report(args):
         print()
     else:
         print("(no building maps at %s: that table is left out)\n" % args.maps)
+    fault_table(group, len(seeds), dur)
+    if args.figure:
+        figure(args, res, group, base)
+
+
+def fault_table(group, nseeds, dur):
+    """The faults' table; returns the touching runs, (fault level, seed) each."""
     print("### Faults (default room, %d s, %d seeds; each level on top of the default errors)\n"
-          % (dur, len(seeds)))
+          % (dur, nseeds))
     print("| fault | `--error` | F1 raw | F1 final | floor | collisions | smallest clearance |")
     print("|---|---|---|---|---|---|---|")
+    touching = []
     for what, spec, ms in fault_rows(group, group("cell-50")):
         pm = post_means(ms)
         cols = [m["robot"]["collisions"] for m in ms]
@@ -332,8 +352,9 @@ def report(args):
         print("| %s | %s | %.3f | %.3f | %s | %d in %d of %d runs | %s |" % (
             what, "`%s`" % spec[0] if spec else "", pm["raw"][2], pm["insert"][2],
             "%.2f" % spec[1] if spec else "", sum(cols), hit, len(ms), clear))
-    if args.figure:
-        figure(args, res, group, base)
+        touching += [(spec[0] if spec else "none", m["scenario"]["seed"])
+                     for m, c in zip(ms, cols) if c > 0]
+    return touching
 
 
 def figure(args, res, group, base):
@@ -407,6 +428,8 @@ def main():
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
     ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
     ap.add_argument("--figure", help="also draw the results into this PNG")
+    ap.add_argument("--faults-only", action="store_true",
+                    help="only the faults' table, and the runs that touch (many seeds in minutes)")
     ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
                     help="the building maps (default: ../shared/maps beside the repository)")
     args = ap.parse_args()

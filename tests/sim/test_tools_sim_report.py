@@ -1,0 +1,62 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""tools/sim_report.py --faults-only: the faults' table alone, and every run that touched a
+wall listed as the arguments that repeat it; the listing against made-up runs, and a short
+report (one seed, two-minute runs) against its own table."""
+import contextlib
+import io
+import os
+import re
+import subprocess
+import sys
+
+from simtest import Sim, check
+
+sim = Sim()
+sys.path.insert(0, os.path.join(sim.src, "tools"))
+import sim_report  # noqa: E402
+
+
+def fake(seed, collisions):
+    maps = {s: {"precision": 0.9, "recall": 0.9, "f1": 0.9} for s in sim_report.STEPS}
+    return {"scenario": {"seed": seed}, "maps": {"odometry": maps},
+            "robot": {"collisions": collisions}, "exploration": {"min_clearance_m": 0.1}}
+
+
+# Made up: seed 2 of the first fault's second level touched twice, seed 1 of the baseline once.
+first = sim_report.FAULTS[0]
+
+
+def group(prefix):
+    if prefix == "cell-50":
+        return [fake(1, 1), fake(2, 0)]
+    if prefix == "fault-%s-2" % first[0]:
+        return [fake(1, 0), fake(2, 2)]
+    return [fake(1, 0), fake(2, 0)]
+
+
+text = io.StringIO()
+with contextlib.redirect_stdout(text):
+    touching = sim_report.fault_table(group, 2, 600)
+check(touching == [("none", 1), (" ".join(first[2][1][0]), 2)],
+      "the touching runs, in the table's order: %s" % touching)
+check("| 2 in 1 of 2 runs |" in text.getvalue(), "the table counts the collisions of a level")
+
+out = sim.out("faults")
+p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "sim_report.py"),
+                    "--host-sim", sim.bin, "--faults-only", "--quick", "--seeds", "1",
+                    "--out", out], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+check(p.returncode == 0, "sim_report --faults-only runs (%s)" % p.stderr.strip()[-200:])
+check("### Post-processing" not in p.stdout and "### Faults" in p.stdout,
+      "only the faults' table is printed")
+rows = re.findall(r"^\| [^|]+ \| [^|]* \| \d\.\d{3} \| \d\.\d{3} \| [^|]* \| (\d+) in (\d+) of 1 runs \|",
+                  p.stdout, re.M)
+levels = sum(len(levels) for _, _, levels in sim_report.FAULTS)
+check(len(rows) == 1 + levels, "a row for the baseline and each of the %d levels" % levels)
+runs = sum(int(hit) for _, hit in rows)
+m = re.search(r"^(\d+) of (\d+) runs touch", p.stdout, re.M)
+check(m is not None and int(m.group(1)) == runs and int(m.group(2)) == 1 + levels,
+      "the count line agrees with the table (%s)" % (m.group(0) if m else "missing"))
+listed = re.findall(r"^- `(?:--error \S+ )*--seed \d+`$", p.stdout, re.M)
+check(len(listed) == runs, "each touching run listed once (%d)" % len(listed))
+sim.done()
