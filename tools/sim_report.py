@@ -352,8 +352,8 @@ def fault_table(group, nseeds, dur):
         print("| %s | %s | %.3f | %.3f | %s | %d in %d of %d runs | %s |" % (
             what, "`%s`" % spec[0] if spec else "", pm["raw"][2], pm["insert"][2],
             "%.2f" % spec[1] if spec else "", sum(cols), hit, len(ms), clear))
-        touching += [(spec[0] if spec else "none", m["scenario"]["seed"])
-                     for m, c in zip(ms, cols) if c > 0]
+        touching += sorted((spec[0] if spec else "none", m["scenario"]["seed"])
+                           for m, c in zip(ms, cols) if c > 0)
     return touching
 
 

@@ -23,7 +23,8 @@ def fake(seed, collisions):
             "robot": {"collisions": collisions}, "exploration": {"min_clearance_m": 0.1}}
 
 
-# Made up: seed 2 of the first fault's second level touched twice, seed 1 of the baseline once.
+# Made up: seeds 10 and 9 of the first fault's second level touched, twice and once (runs
+# come sorted by name, so seed 10 before 9), seed 1 of the baseline once.
 first = sim_report.FAULTS[0]
 
 
@@ -31,16 +32,17 @@ def group(prefix):
     if prefix == "cell-50":
         return [fake(1, 1), fake(2, 0)]
     if prefix == "fault-%s-2" % first[0]:
-        return [fake(1, 0), fake(2, 2)]
+        return [fake(1, 0), fake(10, 2), fake(9, 1)]
     return [fake(1, 0), fake(2, 0)]
 
 
 text = io.StringIO()
 with contextlib.redirect_stdout(text):
     touching = sim_report.fault_table(group, 2, 600)
-check(touching == [("none", 1), (" ".join(first[2][1][0]), 2)],
-      "the touching runs, in the table's order: %s" % touching)
-check("| 2 in 1 of 2 runs |" in text.getvalue(), "the table counts the collisions of a level")
+spec = " ".join(first[2][1][0])
+check(touching == [("none", 1), (spec, 9), (spec, 10)],
+      "the touching runs, in the table's order and by seed: %s" % touching)
+check("| 3 in 2 of 3 runs |" in text.getvalue(), "the table counts the collisions of a level")
 
 out = sim.out("faults")
 p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "sim_report.py"),
