@@ -71,8 +71,12 @@ static uint64_t clock_that_starts_the_hog(void)
         struct sched_param sp = {.sched_priority = 10};
         pthread_attr_setschedparam(&a, &sp);
         if (pthread_create(&hog_thread, &a, hog, NULL) == 0) {
-            while (!atomic_load(&hog_started)) {
-                /* Holding the lock until the hog has the CPU. */
+            /* Holding the lock until the hog has had the CPU: sleeping, not spinning. A tick
+             * that comes first boosts this thread above the hog (priority inheritance), and
+             * a spin at that priority would keep the hog from ever starting on the one CPU. */
+            uint64_t end = wait_real_ns() + 1000u * MS;
+            while (!atomic_load(&hog_started) && wait_real_ns() < end) {
+                wait_ms(1);
             }
         }
         pthread_attr_destroy(&a);
