@@ -213,11 +213,9 @@ def report(args):
 
     if args.faults_only:
         touching = fault_table(group, len(seeds), dur)
-        runs = len(seeds) * (1 + sum(len(levels) for _, _, levels in FAULTS))
-        print("\n%d of %d runs touch%s" % (len(touching), runs, ":" if touching else "."))
-        for spec, seed in touching:
-            errors = "".join("--error %s " % e for e in spec.split()) if spec != "none" else ""
-            print("- `%s--seed %d`" % (errors, seed))
+        print("\n%d of %d runs touch%s" % (len(touching), len(res), ":" if touching else "."))
+        for line in repeat_lines(touching):
+            print(line)
         return
 
     def post_tables(title, prefix):
@@ -336,8 +334,14 @@ def report(args):
         figure(args, res, group, base)
 
 
+def repeat_lines(touching):
+    """Each touching run as a Markdown item of the host_sim arguments that repeat it."""
+    return ["- `%s--seed %d`" % ("".join("--error %s " % e for e in errors), seed)
+            for errors, seed in touching]
+
+
 def fault_table(group, nseeds, dur):
-    """The faults' table; returns the touching runs, (fault level, seed) each."""
+    """The faults' table; returns the touching runs, (--error values, seed) each."""
     print("### Faults (default room, %d s, %d seeds; each level on top of the default errors)\n"
           % (dur, nseeds))
     print("| fault | `--error` | F1 raw | F1 final | floor | collisions | smallest clearance |")
@@ -352,7 +356,7 @@ def fault_table(group, nseeds, dur):
         print("| %s | %s | %.3f | %.3f | %s | %d in %d of %d runs | %s |" % (
             what, "`%s`" % spec[0] if spec else "", pm["raw"][2], pm["insert"][2],
             "%.2f" % spec[1] if spec else "", sum(cols), hit, len(ms), clear))
-        touching += sorted((spec[0] if spec else "none", m["scenario"]["seed"])
+        touching += sorted((tuple(spec[0].split()) if spec else (), m["scenario"]["seed"])
                            for m, c in zip(ms, cols) if c > 0)
     return touching
 

@@ -39,10 +39,14 @@ def group(prefix):
 text = io.StringIO()
 with contextlib.redirect_stdout(text):
     touching = sim_report.fault_table(group, 2, 600)
-spec = " ".join(first[2][1][0])
-check(touching == [("none", 1), (spec, 9), (spec, 10)],
+spec = tuple(first[2][1][0])
+check(touching == [((), 1), (spec, 9), (spec, 10)],
       "the touching runs, in the table's order and by seed: %s" % touching)
 check("| 3 in 2 of 3 runs |" in text.getvalue(), "the table counts the collisions of a level")
+lines = sim_report.repeat_lines(touching)
+errors = "--error " + " --error ".join(spec)
+want = ["- `--seed 1`", "- `%s --seed 9`" % errors, "- `%s --seed 10`" % errors]
+check(lines == want, "each listed as the arguments that repeat it: %s" % lines)
 
 out = sim.out("faults")
 p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "sim_report.py"),
