@@ -15,12 +15,14 @@ free cells; the wall coverage of each shipped room; and, when the building maps 
 beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
 every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
-alone, and each run that touched a wall as the arguments that repeat it.
+alone, each run that touched a wall as the arguments that repeat it, and (with ten seeds
+or more) each level's means, spread and the floor FAULTS' rule gives.
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -45,11 +47,12 @@ BUILDING_S = 1800
 # levels: (name, what, levels); a level is (--error arguments, the F1 floor of the raw map:
 # the mean over seeds 1-10 of the default room in 600 s must keep it). A floor is the lower
 # of the means over seeds 1-10 and 1-100 of the build that set it, less 0.1, rounded down to
-# 0.05 (and at least 0.03, so that each can fail): a fault may cost map quality, gradually,
-# but no level may lose the map more than this. A ten-seed mean's standard error is 0.07 at
-# most (an encoder stopping, whose runs spread most, σ 0.22; ghost echoes at level 3 0.05),
-# so a change that costs a level nothing fails it a few times in a hundred at worst, where
-# two seeds failed it by which runs the change happened to move.
+# 0.05 (and at least 0.03, so that each can fail; floor_by_rule(), which --faults-only
+# --seeds 100 prints beside each floor): a fault may cost map quality, gradually, but no
+# level may lose the map more than this. A ten-seed mean's standard error is 0.07 at most
+# (an encoder stopping, whose runs spread most, σ 0.22; ghost echoes at level 3 0.05), so a
+# change that costs a level nothing fails it a few times in a hundred at worst, where two
+# seeds failed it by which runs the change happened to move.
 FAULTS = (
     ("noise", "wheel noise (1σ of a tick's travel)",
      ((["noise=0.02"], 0.70), (["noise=0.05"], 0.45), (["noise=0.1"], 0.20))),
@@ -220,6 +223,8 @@ def report(args):
         print("\n%d of %d runs touch%s" % (len(touching), len(res), ":" if touching else "."))
         for line in repeat_lines(touching):
             print(line)
+        if len(seeds) >= 10:
+            floor_table(group)
         return
 
     def post_tables(title, prefix):
@@ -363,6 +368,35 @@ def fault_table(group, nseeds, dur):
         touching += sorted((tuple(spec[0].split()) if spec else (), m["scenario"]["seed"])
                            for m, c in zip(ms, cols) if c > 0)
     return touching
+
+
+def floor_means(f1s_by_seed):
+    """One level's mean raw F1 over seeds 1-10 and over all its seeds, from (seed, F1)."""
+    first = [f for s, f in f1s_by_seed if s <= 10]
+    every = [f for _, f in f1s_by_seed]
+    return sum(first) / len(first), sum(every) / len(every)
+
+
+def floor_by_rule(f1s_by_seed):
+    """FAULTS' floor rule over one level's raw F1 by seed: the lower of the means over seeds
+    1-10 and all, less 0.1, rounded down to 0.05, at least 0.03."""
+    low = min(floor_means(f1s_by_seed))
+    return max(0.03, math.floor(round((low - 0.1) / 0.05, 9)) * 0.05)
+
+
+def floor_table(group):
+    """Per fault level: the means over seeds 1-10 and all, the spread, and the floor the rule
+    gives against the floor set (the rule needs seeds 1-10 at least)."""
+    print("\n| fault level | F1 seeds 1-10 | F1 all seeds | σ | floor by the rule | floor |")
+    print("|---|---|---|---|---|---|")
+    for what, spec, ms in fault_rows(group, group("cell-50")):
+        if not spec:
+            continue
+        f1s = [(m["scenario"]["seed"], m["maps"]["odometry"]["raw"]["f1"]) for m in ms]
+        mean_first, mean_all = floor_means(f1s)
+        sd = math.sqrt(sum((f - mean_all) ** 2 for _, f in f1s) / len(f1s))
+        print("| %s | %.3f | %.3f | %.3f | %.2f | %.2f |" % (
+            what, mean_first, mean_all, sd, floor_by_rule(f1s), spec[1]))
 
 
 def figure(args, res, group, base):

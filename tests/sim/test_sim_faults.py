@@ -4,9 +4,9 @@
 seeds 1-10: the firmware keeps running to the end without a crash (the sanitizer build
 checks that too), the robot keeps moving, the raw map's mean F1 stays above the level's
 stated floor, and the body touches something in at most one of the fault's 30 runs (the
-smallest clearance is reported). Ten seeds, not two: a level's runs spread widely (ghost
-echoes at level 3 from 0.2 to 0.6), so a floor judged on two seeds fails or passes by
-which runs a change happens to move.
+smallest clearance is reported). Ten seeds, not two: a level's runs spread widely (σ up
+to 0.22 over seeds 1-100, tools/sim_report.py --faults-only --seeds 100), so a floor
+judged on two seeds fails or passes by which runs a change happens to move.
 
 Touching runs are rare but not gone: 14 of the 3 600 runs over seeds 1-100 touch
 (tools/sim_report.py --faults-only --seeds 100), one in 260, and any change to the path

@@ -48,6 +48,15 @@ errors = "--error " + " --error ".join(spec)
 want = ["- `--seed 1`", "- `%s --seed 9`" % errors, "- `%s --seed 10`" % errors]
 check(lines == want, "each listed as the arguments that repeat it: %s" % lines)
 
+# The floor rule: the lower of the means over seeds 1-10 and all, less 0.1, down to 0.05.
+by_seed = [(s, 0.9 if s <= 10 else 0.7) for s in range(1, 21)]  # means 0.9 and 0.8
+check(abs(sim_report.floor_by_rule(by_seed) - 0.70) < 1e-9,
+      "floor by the rule: %.2f" % sim_report.floor_by_rule(by_seed))
+check(abs(sim_report.floor_by_rule([(s, 0.1) for s in range(1, 11)]) - 0.03) < 1e-9,
+      "and at least 0.03")
+check(abs(sim_report.floor_by_rule([(s, 0.449) for s in range(1, 11)]) - 0.30) < 1e-9,
+      "rounded down")
+
 out = sim.out("faults")
 p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "sim_report.py"),
                     "--host-sim", sim.bin, "--faults-only", "--quick", "--seeds", "1",
