@@ -86,7 +86,7 @@ void slam_config_paper(slam_config_t *cfg)
 #define CFG_Q30_HALF (FIX_Q30_ONE / 2)
 #define CFG_Q30_ONE_AND_HALF (FIX_Q30_ONE + FIX_Q30_ONE / 2)
 
-/* How a field is stored. */
+/* How a field is stored (two bits). */
 enum { CFG_U8, CFG_U16, CFG_U32, CFG_I32 };
 
 /* What a field must hold besides its range: each names the fields it is compared with. */
@@ -100,87 +100,88 @@ enum {
     RULE_TOP_SPEED,     /* no faster than top_speed_mm_s */
     RULE_ABOVE_CLEARANCE /* follow_um > clearance_um */
 };
+_Static_assert(RULE_ABOVE_CLEARANCE < 64, "a rule fits the six bits above a field's storage");
 
-/* A field's valid range; a signed field's bounds are int32_t values stored as uint32_t. */
-typedef struct {
-    const char *name;
-    uint32_t lo;
-    uint32_t hi;
-    uint8_t offset;
-    uint8_t type;
-    uint8_t rule;
-} cfg_range_t;
+/* Every field's valid range and rule, in the order of the fields (and of the telemetry
+ * keys): the first that fails is named. X(field, type, lo, hi, rule); a signed field's
+ * bounds are int32_t values. */
+#define CFG_FIELDS(X) \
+    X(wheel_diameter_left_um, U32, 10000, 300000, NONE)                             \
+    X(wheel_diameter_right_um, U32, 10000, 300000, NONE)                            \
+    X(wheel_base_um, U32, 50000, 1000000, NONE)                                     \
+    X(encoder_counts_per_rev, U32, 16, 65535, NONE)                                 \
+    X(cal_left, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE)                      \
+    X(cal_right, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE)                     \
+    X(cal_base, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE)                      \
+    X(start_x_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE)               \
+    X(start_y_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE)               \
+    X(start_heading_mdeg, I32, -360000, 360000, NONE)                               \
+    /* A·L and B·L stay below 1 km, so every grid coordinate fits in int32_t µm. */ \
+    X(cell_um, U32, 5000, 1000000, CELL)                                            \
+    X(start_cell_a, U16, 0, SLAM_GRID_A - 1u, NONE)                                 \
+    X(start_cell_b, U16, 0, SLAM_GRID_B - 1u, NONE)                                 \
+    X(om_max, U8, 1, UINT8_MAX, NONE)                                               \
+    X(tm_max, U8, 1, UINT8_MAX, NONE)                                               \
+    X(om_mode, U8, 0, OM_MODES - 1, NONE)                                           \
+    X(om_hit, U8, 1, GRID_EVIDENCE_MAX, NONE)                                       \
+    X(om_miss, U8, 1, GRID_EVIDENCE_MAX, NONE)                                      \
+    X(confidence_radius_um, U32, 1, 10000000, ABOVE_MIN)                            \
+    X(range_min_um, U32, 0, 1000000, NONE)                                          \
+    X(sound_speed_mm_per_s, U32, 300000, 400000, NONE)                              \
+    X(mount_x_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE)               \
+    X(mount_y_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE)               \
+    X(mount_yaw_mdeg, I32, -180000, 180000, NONE)                                   \
+    X(sweep_first_mdeg, I32, 0, 180000, NONE)                                       \
+    X(sweep_last_mdeg, I32, 0, 180000, NONE)                                        \
+    X(sweep_stops, U8, 1, SLAM_SWEEP_STOPS_MAX, STOPS)                              \
+    X(settle_ticks, U8, 1, UINT8_MAX, NONE)                                         \
+    X(echo_timeout_ticks, U8, 1, UINT8_MAX, NONE)                                   \
+    X(servo_pulse_0deg_us, U16, 400, 2600, NONE)                                    \
+    X(servo_pulse_180deg_us, U16, 400, 2600, PULSES)                                \
+    X(post_threshold, U8, 0, UINT8_MAX, THRESHOLD)                                  \
+    X(post_template_k, U8, 0, 8, NONE)                                              \
+    X(post_insert, U8, 0, 1, NONE)                                                  \
+    X(top_speed_mm_s, U16, 50, 5000, NONE)                                          \
+    X(accel_mm_s2, U16, 10, 50000, NONE)                                            \
+    X(motion_kp_q8, U16, 0, 2048, NONE)                                             \
+    X(motion_ki_q8, U16, 0, 2048, NONE)                                             \
+    X(explore_mode, U8, 0, EXPLORE_MODES - 1, NONE)                                 \
+    X(cruise_mm_s, U16, 1, UINT16_MAX, TOP_SPEED)                                   \
+    X(turn_mm_s, U16, 1, UINT16_MAX, TOP_SPEED)                                     \
+    X(avoid_um, U32, 50000, 4000000, NONE)                                          \
+    X(clearance_um, U32, 10000, 2000000, NONE)                                      \
+    X(square_side_um, U32, 100000, 100000000, NONE)                                 \
+    X(explore_seed, U32, 1, UINT32_MAX, NONE)                                       \
+    X(localize, U8, 0, 1, NONE)                                                     \
+    X(ping_interval_ticks, U8, 1, UINT8_MAX, NONE)                                  \
+    X(follow_um, U32, 50000, 2000000, ABOVE_CLEARANCE)                              \
+    X(umbmark_runs, U8, 1, 50, NONE)                                                \
+    X(umbmark_pause_s, U16, 1, 3600, NONE)
 
 _Static_assert(sizeof(slam_config_t) <= 255u, "field offsets are bytes");
 
 #define CFG_GRID_SIDE (SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B)
-#define R(field, type, lo, hi, rule)                                                          \
-    {#field, (uint32_t)(lo), (uint32_t)(hi), (uint8_t)offsetof(slam_config_t, field), CFG_##type, \
-     RULE_##rule}
+/* The table as parallel arrays, a field's name after the other's NUL, and its storage and
+ * rule in one byte: no padding and no pointers in flash. */
+#define CFG_LO(field, type, lo, hi, rule) (uint32_t)(lo),
+#define CFG_HI(field, type, lo, hi, rule) (uint32_t)(hi),
+#define CFG_OFFSET(field, type, lo, hi, rule) (uint8_t)offsetof(slam_config_t, field),
+#define CFG_KIND(field, type, lo, hi, rule) (uint8_t)(CFG_##type | RULE_##rule << 2),
+#define CFG_NAME(field, type, lo, hi, rule) #field "\0"
+static const uint32_t cfg_lo[] = {CFG_FIELDS(CFG_LO)};
+static const uint32_t cfg_hi[] = {CFG_FIELDS(CFG_HI)};
+static const uint8_t cfg_offset[] = {CFG_FIELDS(CFG_OFFSET)};
+static const uint8_t cfg_kind[] = {CFG_FIELDS(CFG_KIND)};
+static const char cfg_names[] = CFG_FIELDS(CFG_NAME);
 
-/* In the order of the fields (and of the telemetry keys): the first that fails is named. */
-static const cfg_range_t cfg_ranges[] = {
-    R(wheel_diameter_left_um, U32, 10000, 300000, NONE),
-    R(wheel_diameter_right_um, U32, 10000, 300000, NONE),
-    R(wheel_base_um, U32, 50000, 1000000, NONE),
-    R(encoder_counts_per_rev, U32, 16, 65535, NONE),
-    R(cal_left, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
-    R(cal_right, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
-    R(cal_base, I32, CFG_Q30_HALF, CFG_Q30_ONE_AND_HALF, NONE),
-    R(start_x_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE),
-    R(start_y_um, I32, -CFG_WORLD_LIMIT_UM, CFG_WORLD_LIMIT_UM, NONE),
-    R(start_heading_mdeg, I32, -360000, 360000, NONE),
-    /* A·L and B·L stay below 1 km, so every grid coordinate fits in int32_t µm. */
-    R(cell_um, U32, 5000, 1000000, CELL),
-    R(start_cell_a, U16, 0, SLAM_GRID_A - 1u, NONE),
-    R(start_cell_b, U16, 0, SLAM_GRID_B - 1u, NONE),
-    R(om_max, U8, 1, UINT8_MAX, NONE),
-    R(tm_max, U8, 1, UINT8_MAX, NONE),
-    R(om_mode, U8, 0, OM_MODES - 1, NONE),
-    R(om_hit, U8, 1, GRID_EVIDENCE_MAX, NONE),
-    R(om_miss, U8, 1, GRID_EVIDENCE_MAX, NONE),
-    R(confidence_radius_um, U32, 1, 10000000, ABOVE_MIN),
-    R(range_min_um, U32, 0, 1000000, NONE),
-    R(sound_speed_mm_per_s, U32, 300000, 400000, NONE),
-    R(mount_x_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE),
-    R(mount_y_um, I32, -CFG_MOUNT_LIMIT_UM, CFG_MOUNT_LIMIT_UM, NONE),
-    R(mount_yaw_mdeg, I32, -180000, 180000, NONE),
-    R(sweep_first_mdeg, I32, 0, 180000, NONE),
-    R(sweep_last_mdeg, I32, 0, 180000, NONE),
-    R(sweep_stops, U8, 1, SLAM_SWEEP_STOPS_MAX, STOPS),
-    R(settle_ticks, U8, 1, UINT8_MAX, NONE),
-    R(echo_timeout_ticks, U8, 1, UINT8_MAX, NONE),
-    R(servo_pulse_0deg_us, U16, 400, 2600, NONE),
-    R(servo_pulse_180deg_us, U16, 400, 2600, PULSES),
-    R(post_threshold, U8, 0, UINT8_MAX, THRESHOLD),
-    R(post_template_k, U8, 0, 8, NONE),
-    R(post_insert, U8, 0, 1, NONE),
-    R(top_speed_mm_s, U16, 50, 5000, NONE),
-    R(accel_mm_s2, U16, 10, 50000, NONE),
-    R(motion_kp_q8, U16, 0, 2048, NONE),
-    R(motion_ki_q8, U16, 0, 2048, NONE),
-    R(explore_mode, U8, 0, EXPLORE_MODES - 1, NONE),
-    R(cruise_mm_s, U16, 1, UINT16_MAX, TOP_SPEED),
-    R(turn_mm_s, U16, 1, UINT16_MAX, TOP_SPEED),
-    R(avoid_um, U32, 50000, 4000000, NONE),
-    R(clearance_um, U32, 10000, 2000000, NONE),
-    R(square_side_um, U32, 100000, 100000000, NONE),
-    R(explore_seed, U32, 1, UINT32_MAX, NONE),
-    R(localize, U8, 0, 1, NONE),
-    R(ping_interval_ticks, U8, 1, UINT8_MAX, NONE),
-    R(follow_um, U32, 50000, 2000000, ABOVE_CLEARANCE),
-    R(umbmark_runs, U8, 1, 50, NONE),
-    R(umbmark_pause_s, U16, 1, 3600, NONE),
-};
-#undef R
-
-static uint32_t field_value(const slam_config_t *c, const cfg_range_t *r)
+static uint32_t field_value(const slam_config_t *c, size_t i)
 {
-    const uint8_t *field = (const uint8_t *)c + r->offset;
-    if (r->type == CFG_U8) {
+    const uint8_t *field = (const uint8_t *)c + cfg_offset[i];
+    unsigned type = cfg_kind[i] & 3u;
+    if (type == CFG_U8) {
         return *field;
     }
-    if (r->type == CFG_U16) {
+    if (type == CFG_U16) {
         uint16_t v;
         memcpy(&v, field, sizeof v);
         return v;
@@ -214,14 +215,17 @@ static bool rule_holds(const slam_config_t *c, unsigned rule, uint32_t v)
 
 static const char *first_bad_field(const slam_config_t *c)
 {
-    for (size_t i = 0; i < sizeof cfg_ranges / sizeof cfg_ranges[0]; i++) {
-        const cfg_range_t *r = &cfg_ranges[i];
-        uint32_t v = field_value(c, r);
-        bool in_range = r->type == CFG_I32
-                            ? (int32_t)v >= (int32_t)r->lo && (int32_t)v <= (int32_t)r->hi
-                            : v >= r->lo && v <= r->hi;
-        if (!in_range || !rule_holds(c, r->rule, v)) {
-            return r->name;
+    const char *name = cfg_names;
+    for (size_t i = 0; i < sizeof cfg_lo / sizeof cfg_lo[0]; i++) {
+        uint32_t v = field_value(c, i);
+        bool in_range = (cfg_kind[i] & 3u) == CFG_I32
+                            ? (int32_t)v >= (int32_t)cfg_lo[i] && (int32_t)v <= (int32_t)cfg_hi[i]
+                            : v >= cfg_lo[i] && v <= cfg_hi[i];
+        if (!in_range || !rule_holds(c, cfg_kind[i] >> 2, v)) {
+            return name;
+        }
+        while (*name++ != '\0') {
+            /* past this name and its NUL */
         }
     }
     return NULL;

@@ -5,7 +5,7 @@
 /* π in Q29, for the wheel circumference; the rounding error is 4e-11 relative. */
 #define ODOM_PI_Q29 1686629713u
 
-void odom_init(odom_t *o, const slam_config_t *cfg, uint16_t left, uint16_t right)
+SLAM_START_UP void odom_init(odom_t *o, const slam_config_t *cfg, uint16_t left, uint16_t right)
 {
     const uint32_t diameter[2] = {cfg->wheel_diameter_left_um, cfg->wheel_diameter_right_um};
     const q1_30_t cal[2] = {cfg->cal_left, cfg->cal_right};
@@ -94,7 +94,7 @@ odom_pose_t odom_pose(const odom_t *o)
     return p;
 }
 
-void odom_umbmark_factors(q1_30_t e_d, q1_30_t *c_left, q1_30_t *c_right)
+SLAM_START_UP void odom_umbmark_factors(q1_30_t e_d, q1_30_t *c_left, q1_30_t *c_right)
 {
     /* c_L = 2/(E_d + 1) and c_R = 2·E_d/(E_d + 1), both in Q30. */
     uint64_t sum = (uint64_t)e_d + FIX_Q30_ONE;

@@ -7,7 +7,7 @@
 
 #define ROBOT_POSE_EVERY 10u /* ticks between POSE telemetry events */
 
-int robot_init(robot_t *r, const slam_config_t *cfg)
+SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
 {
     if (slam_config_check(cfg, NULL) != SLAM_OK) {
         return SLAM_EINVAL;

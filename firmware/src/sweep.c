@@ -4,7 +4,7 @@
 
 #include <string.h>
 
-void sweep_init(sweep_t *s, const slam_config_t *cfg)
+SLAM_START_UP void sweep_init(sweep_t *s, const slam_config_t *cfg)
 {
     memset(s, 0, sizeof *s);
     s->stops = cfg->sweep_stops;

@@ -23,14 +23,14 @@ static bool ping_out;
 static uint32_t ping_seq;   /* echo_seq when the ping went out */
 static uint32_t ping_at_us; /* hal_time_us() when it went out */
 
-static void timer_1mhz(stm32_tim_t *tim, uint32_t base)
+STM32_START_UP static void timer_1mhz(stm32_tim_t *tim, uint32_t base)
 {
     (void)stm32_periph_enable(base);
     tim->CR1 = 0u;
     tim->PSC = stm32_timer_clock_hz(base) / 1000000u - 1u;
 }
 
-void stm32_sonar_init(void)
+STM32_START_UP void stm32_sonar_init(void)
 {
     /* Servo: PWM mode 1 at 50 Hz, 1 µs a count; no pulse until the firmware asks. */
     stm32_tim_t *servo = STM32_TIM(BOARD_SERVO_TIM);

@@ -19,6 +19,10 @@
 #include "stm32f4_irq.h"
 #include "stm32f4_regs.h"
 
+/** A function that runs at start-up (or on the way down), never in a tick: built for size and
+ *  away from the tick's code (GCC's cold). The core's SLAM_START_UP says the same. */
+#define STM32_START_UP __attribute__((cold))
+
 /* ---- clocks (clock.c) ---------------------------------------------------------------- */
 
 typedef enum {

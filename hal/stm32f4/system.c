@@ -4,7 +4,7 @@
 #include "hal/hal.h"
 #include "stm32f4_port.h"
 
-int hal_init(void)
+STM32_START_UP int hal_init(void)
 {
     static const stm32_pin_t pins[] = BOARD_PINS;
     stm32_clock_init();

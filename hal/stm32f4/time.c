@@ -4,7 +4,7 @@
 #include "hal/hal.h"
 #include "stm32f4_port.h"
 
-void stm32_time_init(void)
+STM32_START_UP void stm32_time_init(void)
 {
     stm32_tim_t *tim = STM32_TIM(BOARD_TIME_TIM);
     (void)stm32_periph_enable(BOARD_TIME_TIM);

@@ -27,7 +27,7 @@ static const motor_t motors[2] = {
 static uint32_t motor_period; /* timer counts in one PWM period: full duty */
 static uint32_t motor_dir[2];  /* the BSRR word the direction pins were last given */
 
-static void encoder_setup(uint32_t base, bool invert)
+STM32_START_UP static void encoder_setup(uint32_t base, bool invert)
 {
     stm32_tim_t *tim = STM32_TIM(base);
     (void)stm32_periph_enable(base);
@@ -44,7 +44,7 @@ static void encoder_setup(uint32_t base, bool invert)
     tim->CR1 = STM32_TIM_CR1_CEN;
 }
 
-void stm32_wheels_init(void)
+STM32_START_UP void stm32_wheels_init(void)
 {
     encoder_setup(BOARD_ENC_LEFT_TIM, BOARD_ENC_LEFT_INVERT);
     encoder_setup(BOARD_ENC_RIGHT_TIM, BOARD_ENC_RIGHT_INVERT);
@@ -106,7 +106,7 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     *ccr = (uint32_t)d * motor_period / HAL_DUTY_MAX; /* from the next period */
 }
 
-void stm32_safe_outputs(void)
+STM32_START_UP void stm32_safe_outputs(void)
 {
     stm32_tim_t *tim = STM32_TIM(BOARD_MOTOR_TIM);
     tim->CCR[BOARD_MOTOR_LEFT_CH - 1u] = 0u;

@@ -19,6 +19,10 @@
 
 #include "slam/fixed.h"
 
+/** Marks a function that runs at start-up or once in a long while, never in a tick: the
+ *  compiler builds it for size and away from the tick's code (GCC's and Clang's cold). */
+#define SLAM_START_UP __attribute__((cold))
+
 /** The control period: Algorithm C.1 and robot_tick() run once per period. */
 #define SLAM_TICK_US 10000u
 
