@@ -232,11 +232,13 @@ static void om_at(double x_m, double y_m, uint8_t om)
  * wall converging from the blind left side, it may have mapped before): two occupied
  * cells 0.15 m ahead stop the robot; a lone one does not (a ghost echo) unless it was hit
  * twice on balance (the end of a thin screen, seen end-on, echoes no more), nor do cells
- * beyond the map's reach. */
+ * beyond the map's reach. An obstacle that localization holds back from OM counts as they
+ * do. */
 static void test_map_corridor(void **state)
 {
     (void)state;
-    /* Cells hit once (a ghost, perhaps) or twice on balance (no ghost). */
+    /* Cells hit once (a ghost, perhaps) or twice on balance (no ghost); or none, and a hit
+     * at (x1, y1) that localization holds back from OM tells it (explore_step()'s held). */
     static const struct {
         double x1, y1, x2, y2;
         unsigned hits;
@@ -248,6 +250,9 @@ static void test_map_corridor(void **state)
         {0.15, 0.0, 0.15, 0.0, 2, true},  /* one cell, but seen twice */
         {0.60, 0.0, 0.60, 0.05, 2, false}, /* beyond 0.25 m */
         {0.15, 0.2, 0.15, 0.25, 2, false}, /* beside the corridor */
+        {0.15, 0.0, 0.15, 0.0, 0, true},   /* held back: the robot keeps clear of it */
+        {0.15, 0.2, 0.15, 0.2, 0, false},  /* held back, beside the corridor */
+        {0.60, 0.0, 0.60, 0.0, 0, false},  /* held back, beyond 0.25 m */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         setup_mode(EXPLORE_RANDOM);
@@ -258,6 +263,8 @@ static void test_map_corridor(void **state)
         uint8_t om = (uint8_t)(GRID_EVIDENCE_ZERO + cases[c].hits * grid.hit);
         om_at(cases[c].x1, cases[c].y1, om);
         om_at(cases[c].x2, cases[c].y2, om);
+        world_held[0] = cases[c].hits == 0u ? (int32_t)(cases[c].x1 * 1e6) : LOC_AHEAD_NONE;
+        world_held[1] = (int32_t)(cases[c].y1 * 1e6);
         for (int t = 0; t < 10; t++) {
             tick(0, -2.0);
             px = 0.0; /* stand at the origin for the test */

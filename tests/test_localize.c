@@ -388,21 +388,24 @@ static void test_a_match_does_not_see_the_halves(void **state)
 /* The far face of a thin wall: the map holds the wall's west face (x 1.00-1.05 m) as seen
  * from the room west of it; the robot, east of the wall, hears its east face at x 1.10 m.
  * Those hits lie a wall's thickness from the mapped face, with the wall's inside between,
- * never seen: no match uses them. Had the beams cleared the cells between (the face is
- * where the map says, and the pose is off), they would pull the pose onto it. */
+ * never seen: no match uses them, nor when one beam has passed the cells between (a wall
+ * the beam grazed). Had the beams cleared them (the face is where the map says, and the pose
+ * is off), they would pull the pose onto it. */
 static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
 {
     (void)state;
-    for (int seen = 0; seen <= 1; seen++) {
+    for (int passes = 0; passes <= 2; passes++) {
+        bool seen = passes == 2;
         grid_init(&grid, &cfg);
         mapper_init(&mapper, &cfg);
         loc_init(&loc, &cfg);
         paint_line(1.025, -1.5, 1.025, 1.5);
-        if (seen) {
+        if (passes > 0) {
             for (double y = -1.5; y <= 1.5; y += 0.025) {
                 grid_cell_t c;
                 assert_int_equal(grid_cell_of(&grid, 1075000, (int32_t)lround(y * 1e6), &c), SLAM_OK);
-                grid.om[grid_index(c)] = 1u; /* known free: beams passed through */
+                /* Beams passed through: one, or many (known free). */
+                grid.om[grid_index(c)] = seen ? 1u : GRID_EVIDENCE_ZERO - cfg.om_miss;
             }
         }
         /* Facing west from x = 1.8 m, the beam starts 50 mm ahead: 648 mm ends at 1.102 m. */
@@ -474,6 +477,57 @@ static void test_shadowed_hit_is_not_mapped(void **state)
     }
 }
 
+/* Two readings straight ahead of the robot facing +x, from (0, 0) and then (0, y2) mm (the
+ * beam starts 50 mm ahead of the axle: a range of 200 mm is a hit 250 mm ahead), OM at the
+ * second hit's cell set to om2 first unless it is 0: what is published for exploration. */
+static int32_t ahead_of_two(int32_t y2_mm, uint32_t range2_mm, uint8_t om2)
+{
+    grid_init(&grid, &cfg);
+    mapper_init(&mapper, &cfg);
+    loc_init(&loc, &cfg);
+    grid_cell_t c;
+    assert_int_equal(grid_cell_of(&grid, 50000 + (int32_t)range2_mm * 1000, y2_mm * 1000, &c),
+                     SLAM_OK);
+    if (om2 != 0u) {
+        grid.om[grid_index(c)] = om2;
+    }
+    for (int i = 0; i < 2; i++) {
+        loc_reading_t rd = {.ping = {0, i == 0 ? 0 : y2_mm * 1000, 0u},
+                            .range_um = i == 0 ? 200000u : range2_mm * 1000u,
+                            .servo = fix_bam_from_mdeg(90000), .echo = true};
+        assert_true(loc_post(&loc, &rd));
+        loc_idle(&loc, &mapper, &grid);
+        if (i == 0) {
+            assert_int_equal(loc.pub_ahead[0], LOC_AHEAD_NONE); /* one cell: a ghost, maybe */
+        }
+    }
+    return loc.pub_ahead[0];
+}
+
+/* Exploration is told of the held-back hits, which OM does not hold yet, as of its map's
+ * corridor: the nearest hit ahead in a second cell, within LOC_AHEAD_REACH_UM of the axle
+ * and clearance_um to either side, none in a cell OM holds free by more than one beam's
+ * pass. The tick adopts it with the correction. */
+static void test_the_obstacle_ahead_among_held_hits(void **state)
+{
+    (void)state;
+    /* Held-back points are kept to 1.024 mm (loc_point_t). */
+    assert_in_range(ahead_of_two(60, 230, 0u), 279000, 281000); /* 280 mm, a cell to the left */
+    assert_in_range(loc.pub_ahead[1], 59000, 61000);
+    assert_int_equal(loc.tick_ahead[0], LOC_AHEAD_NONE);
+    loc_reading_t next = {.ping = {0, 0, 0u}, .echo = false};
+    assert_true(loc_post(&loc, &next));
+    assert_int_equal(loc.tick_ahead[0], loc.pub_ahead[0]);
+    assert_int_equal(loc.tick_ahead[1], loc.pub_ahead[1]);
+    assert_int_equal(ahead_of_two(10, 210, 0u), LOC_AHEAD_NONE);  /* the first hit's cell */
+    assert_int_equal(ahead_of_two(60, 230, 1u), LOC_AHEAD_NONE);  /* known free */
+    assert_in_range(ahead_of_two(60, 230, GRID_EVIDENCE_ZERO - 1u), 279000, 281000); /* a pass */
+    assert_int_equal(ahead_of_two(60, 320, 0u), LOC_AHEAD_NONE);  /* 370 mm ahead */
+    assert_int_equal(ahead_of_two(300, 230, 0u), LOC_AHEAD_NONE); /* the first 300 mm aside */
+    cfg.localize = 0u;
+    assert_int_equal(ahead_of_two(60, 230, 0u), LOC_AHEAD_NONE); /* nothing held back */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -489,6 +543,7 @@ int main(void)
         cmocka_unit_test_setup(test_half_a_hit_enters_early, setup),
         cmocka_unit_test_setup(test_a_match_does_not_see_the_halves, setup),
         cmocka_unit_test_setup(test_the_far_face_of_a_thin_wall_is_not_matched, setup),
+        cmocka_unit_test_setup(test_the_obstacle_ahead_among_held_hits, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

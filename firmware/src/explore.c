@@ -399,7 +399,7 @@ static void back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s
 /* The background job of a tick without a reading, one at a time so that no tick carries
  * two: a reading's point into the memory, the walls mode's look at a trail step, or a
  * slice of the pass over the memory and the map. */
-static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const int32_t held[2])
 {
     if (e->pending != 0u) {
         explore_remember(e, pose);
@@ -414,11 +414,11 @@ static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     case EXPLORE_LOOK:
     case EXPLORE_FOLLOW:
     case EXPLORE_PASS:
-        explore_scan_slice(e, pose, g);
+        explore_scan_slice(e, pose, g, held);
         break;
     case EXPLORE_FORWARD:
         if (e->mode != EXPLORE_SQUARE) {
-            explore_scan_slice(e, pose, g);
+            explore_scan_slice(e, pose, g, held);
         }
         break;
     default:
@@ -427,7 +427,8 @@ static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 }
 
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, bool stalled, int32_t target_mm_s[2])
+                  const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
+                  int32_t target_mm_s[2])
 {
     e->now++;
     e->ticks++;
@@ -452,7 +453,7 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
         target_mm_s[ODOM_RIGHT] = e->target_mm_s[ODOM_RIGHT];
         return;
     }
-    job(e, pose, g);
+    job(e, pose, g, held);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
     if (e->now - e->heard > EXPLORE_DEAF_TICKS && e->deaf_stood < EXPLORE_DEAF_STAND_TICKS &&
         (e->state == EXPLORE_FORWARD || e->state == EXPLORE_FOLLOW || e->state == EXPLORE_PASS) &&

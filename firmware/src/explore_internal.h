@@ -44,8 +44,10 @@ void explore_decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 /* The point of the last reading, noted in its tick, into the memory (in the next tick). */
 void explore_remember(explore_t *e, const odom_pose_t *pose);
 
-/* One slice of the pass over the memory and the map's corridor. */
-void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g);
+/* One slice of the pass over the memory and the map's corridor (with the held-back
+ * obstacle ahead, explore_step()'s held). */
+void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g,
+                        const int32_t held[2]);
 
 /* Begin a pass over the obstacle memory from a pose, facing the heading of cosine c and
  * sine s. */

@@ -2,6 +2,7 @@
 /* The exploration's obstacle memory and the pass over it and the map's corridor that
  * tells what is ahead and on the right, a slice a tick. */
 #include "explore_internal.h"
+#include "slam/localize.h"
 
 #define EXPLORE_RIGHT_BEHIND_UM 100000    /* walls: the right side from 0.1 m behind the axle */
 #define EXPLORE_RIGHT_AHEAD_UM 400000     /* to 0.4 m ahead */
@@ -75,12 +76,28 @@ bool explore_scan_points(explore_t *e)
     return e->scan_next >= EXPLORE_POINTS;
 }
 
+/* How far ahead of the axle, at the pass's pose, the held-back obstacle lies when it is in
+ * the corridor (INT32_MAX when not): it counts as the map's occupied cells do. */
+static int32_t held_ahead_um(const explore_t *e, const int32_t held[2])
+{
+    if (held[0] == LOC_AHEAD_NONE) {
+        return INT32_MAX;
+    }
+    int32_t dx = (int32_t)((uint32_t)held[0] - (uint32_t)e->scan_x_um);
+    int32_t dy = (int32_t)((uint32_t)held[1] - (uint32_t)e->scan_y_um);
+    int32_t ahead = (int32_t)(((int64_t)dx * e->scan_cos + (int64_t)dy * e->scan_sin) >> 30);
+    int32_t side = (int32_t)(((int64_t)dy * e->scan_cos - (int64_t)dx * e->scan_sin) >> 30);
+    int32_t clear = e->clearance_um;
+    return ahead > 0 && side > -clear && side < clear ? ahead : INT32_MAX;
+}
+
 /*
  * One slice of the pass over the memory and the corridor on the map that runs while the
  * robot looks and drives: its beginning, the memory points, the map's corridor, and (in
  * walls mode) a step of the rolling scan of the frontier, a slice a tick.
  */
-void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g,
+                        const int32_t held[2])
 {
     switch (e->scan_phase) {
     case 0: {
@@ -100,7 +117,8 @@ void explore_scan_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     case 2:
         if (explore_map_cells(e, g)) {
             e->scan = e->scan_work;
-            e->map_um = e->map_work_um;
+            int32_t h = held_ahead_um(e, held);
+            e->map_um = h < e->map_work_um ? h : e->map_work_um;
             e->scan_at = e->scan_begun;
             e->scan_ox_um = e->scan_x_um;
             e->scan_oy_um = e->scan_y_um;

@@ -72,6 +72,9 @@ void loc_init(loc_t *l, const slam_config_t *cfg)
     l->pub.c = FIX_Q30_ONE;
     l->tick_corr.c = FIX_Q30_ONE;
     l->placed.c = FIX_Q30_ONE;
+    l->clear_um = (int32_t)cfg->clearance_um;
+    l->pub_ahead[0] = LOC_AHEAD_NONE;
+    l->tick_ahead[0] = LOC_AHEAD_NONE;
     lkf_init(&l->cov);
 }
 
@@ -107,6 +110,8 @@ bool loc_post(loc_t *l, const loc_reading_t *rd)
     uint32_t gen = l->pub_gen;
     if ((gen & 1u) == 0u && l->pub_seq == l->posted) {
         l->tick_corr = l->pub;
+        l->tick_ahead[0] = l->pub_ahead[0];
+        l->tick_ahead[1] = l->pub_ahead[1];
     } else {
         count(&l->late);
     }
@@ -175,6 +180,19 @@ static void propagate(loc_t *l, const odom_pose_t *odom)
     }
 }
 /* ---- walls in OM ------------------------------------------------------------------------- */
+
+/* Whether OM holds the cell of (x, y) free by more than one beam's pass: a wall that one
+ * beam grazed past is not yet free. Off the grid counts as free (nothing is mapped there). */
+static bool known_free(const grid_t *g, int32_t x, int32_t y)
+{
+    grid_cell_t k;
+    if (grid_cell_of(g, x, y, &k) != SLAM_OK) {
+        return true;
+    }
+    uint32_t i = grid_index(k);
+    return g->mode == OM_MODE_EVIDENCE ? (uint32_t)g->om[i] + g->miss < GRID_EVIDENCE_ZERO
+                                       : grid_state(g, i) == GRID_FREE;
+}
 
 static bool occupied(const grid_t *g, int32_t a, int32_t b)
 {
@@ -315,8 +333,8 @@ static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_
 /* Whether hit q, associated with wall cell w (normal n, Q12; h the hit's offset along it),
  * lies on a face of that wall never seen from the robot's side: the wall cell lies more than
  * a cell beyond the hit as the robot at c sees it, and the cell next to it on the hit's side
- * is not known free. The far face of a thin wall, first seen through a door, is then not
- * matched to the face mapped from the other room, a wall's thickness away. */
+ * is not known free (known_free()). The far face of a thin wall, first seen through a door,
+ * is then not matched to the face mapped from the other room, a wall's thickness away. */
 static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
                         int32_t wx, int32_t wy, const int32_t n[2], int64_t h)
 {
@@ -332,10 +350,8 @@ static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int
         return false;
     }
     int32_t side = h < 0 ? -cell : cell;
-    grid_cell_t k;
-    return grid_cell_of(g, wx + (int32_t)(((int64_t)n[0] * side) >> LKF_J_SHIFT),
-                        wy + (int32_t)(((int64_t)n[1] * side) >> LKF_J_SHIFT), &k) == SLAM_OK &&
-           grid_state(g, grid_index(k)) != GRID_FREE;
+    return !known_free(g, wx + (int32_t)(((int64_t)n[0] * side) >> LKF_J_SHIFT),
+                       wy + (int32_t)(((int64_t)n[1] * side) >> LKF_J_SHIFT));
 }
 
 /* One pass: every held-back hit, linearised at lin, updates (d, p) from the prior. */
@@ -511,17 +527,76 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
     }
 }
 
+/* The obstacle ahead of the robot at ping among the hits OM does not hold yet (the file
+ * overview says which), into pt: exploration keeps clear of it as of a wall on the map. */
+static void obstacle_ahead(const loc_t *l, const grid_t *g, const odom_pose_t *ping,
+                           int32_t pt[2])
+{
+    odom_pose_t at = loc_apply(&l->corr, ping);
+    q1_30_t c = fix_cos(at.heading);
+    q1_30_t s = fix_sin(at.heading);
+    /* The nearest hit (its cell k1) and the nearest in any other cell, ahead of the axle. */
+    int32_t near[2] = {INT32_MAX, INT32_MAX};
+    int32_t near_pt[2][2] = {{LOC_AHEAD_NONE, 0}, {LOC_AHEAD_NONE, 0}};
+    uint32_t k1 = UINT32_MAX;
+    unsigned first = l->win_count > LOC_WINDOW ? l->win_count - LOC_WINDOW : 0u;
+    for (unsigned i = first; i < l->win_count; i++) {
+        if (!held_mapped(l, i)) {
+            continue;
+        }
+        int32_t x;
+        int32_t y;
+        grid_cell_t k;
+        held_under(l, g, &l->corr, i, &x, &y);
+        if (known_free(g, x, y) || grid_cell_of(g, x, y, &k) != SLAM_OK) {
+            continue;
+        }
+        /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
+         * their products with Q30 values fit 64 bits. */
+        int32_t dx = (int32_t)((uint32_t)x - (uint32_t)at.x_um);
+        int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
+        int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
+        int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        uint32_t cell = grid_index(k);
+        if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -l->clear_um ||
+            side >= l->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
+            continue;
+        }
+        if (ahead < near[0]) {
+            if (cell != k1) {
+                near[1] = near[0];
+                near_pt[1][0] = near_pt[0][0];
+                near_pt[1][1] = near_pt[0][1];
+            }
+            k1 = cell;
+            near[0] = ahead;
+            near_pt[0][0] = x;
+            near_pt[0][1] = y;
+        } else {
+            near[1] = ahead;
+            near_pt[1][0] = x;
+            near_pt[1][1] = y;
+        }
+    }
+    pt[0] = near_pt[1][0];
+    pt[1] = near_pt[1][1];
+}
+
 void loc_idle(loc_t *l, mapper_t *m, grid_t *g)
 {
     while (l->tail != l->head) {
         loc_reading_t rd = l->queue[l->tail];
         drain_one(l, m, g, &rd);
+        int32_t ahead[2];
+        obstacle_ahead(l, g, &rd.ping, ahead);
         l->tail = (uint8_t)((l->tail + 1u) % LOC_QUEUE);
         l->drained++;
         /* Published under a generation count: odd while written, so a tick that comes in
          * between (on an MCU, the interrupt) leaves it alone. */
         l->pub_gen++;
         l->pub = l->corr;
+        l->pub_ahead[0] = ahead[0];
+        l->pub_ahead[1] = ahead[1];
         l->pub_seq = l->drained;
         l->pub_gen++;
     }

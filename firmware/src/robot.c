@@ -136,8 +136,8 @@ void robot_tick(robot_t *r)
     } else {
         bool stalled = motion_stalled(&r->motion);
         r->explore.one_wheel = stalled && motion_one_wheel(&r->motion);
-        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, stalled,
-                     target_mm_s);
+        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick_ahead,
+                     stalled, target_mm_s);
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "slam/explore.h"
+#include "slam/localize.h"
 
 #define EW_PI 3.14159265358979323846
 #define EW_WALLS 16
@@ -21,6 +22,8 @@ static grid_t grid;
 static bool stalled; /* what motion_stalled() says in the next tick */
 static double px, py, pth;
 static int32_t target[2];
+/* The held-back obstacle ahead that exploration is told of (none unless a test sets it). */
+static int32_t world_held[2] = {LOC_AHEAD_NONE, 0};
 static double walls[EW_WALLS][4]; /* x1, y1, x2, y2 in µm */
 static unsigned nwalls;
 static unsigned world_ticks; /* ticks run by world_tick() */
@@ -66,6 +69,7 @@ static void setup_mode(uint8_t mode)
     grid_init(&grid, &cfg);
     px = py = pth = 0.0;
     target[0] = target[1] = 0;
+    world_held[0] = LOC_AHEAD_NONE;
     stalled = false;
     nwalls = 0u;
     world_ticks = 0u;
@@ -89,7 +93,7 @@ static void tick(int stop, double range_mm)
         mapper.ping_pose = p;
     }
     mapper_tick(&mapper, &grid, &p, &sw);
-    explore_step(&ex, &p, &sw, &mapper, &grid, stalled, target);
+    explore_step(&ex, &p, &sw, &mapper, &grid, world_held, stalled, target);
     move();
 }
 

@@ -257,11 +257,15 @@ void explore_init(explore_t *e, const slam_config_t *cfg);
  * @param sw      what the sweep did this tick (a completed reading feeds the memory)
  * @param m       the mapper, for the point of the last reading
  * @param g       the maps (read through grid_state() and TM, a few cells a tick)
+ * @param held    the nearest obstacle ahead among the sonar's hits that g does not hold yet
+ *                (held back by localization: loc_t's tick_ahead), or x = LOC_AHEAD_NONE;
+ *                it counts as an occupied cell of g
  * @param stalled the wheels have stalled (motion_stalled())
  * @param target_mm_s  out: target speed of each wheel (ODOM_LEFT, ODOM_RIGHT), mm/s
  */
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, bool stalled, int32_t target_mm_s[2]);
+                  const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
+                  int32_t target_mm_s[2]);
 
 /**
  * Whether a remembered obstacle lies in the corridor ahead of a pose, closer than

@@ -49,7 +49,11 @@
  *   counts with LOC_EVERY / LOC_WINDOW of its weight. A match that would move more than
  *   LOC_MAX_STEP_MDEG or LOC_MAX_STEP_UM, or finds fewer than LOC_MIN_POINTS walls, is
  *   refused and changes nothing;
- * - after each reading it publishes T for the tick.
+ * - after each reading it publishes T for the tick, and with it the obstacle ahead that
+ *   exploration cannot see in OM yet: of the newest LOC_WINDOW held-back hits (none of
+ *   them in OM), those within LOC_AHEAD_REACH_UM ahead of the robot at the ping and
+ *   clearance_um to either side, in cells OM does not hold free, the nearest in the second
+ *   cell (a lone cell is a ghost, as for exploration's corridor on the map).
  *
  * The tick adopts, when it completes a reading, the correction published after the reading
  * before: every backend then uses the same correction for the same reading, whenever its
@@ -99,6 +103,8 @@
 #ifndef LOC_MAX_STEP_UM
 #define LOC_MAX_STEP_UM 150000   /**< and so is a larger shift */
 #endif
+#define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
+#define LOC_AHEAD_NONE INT32_MIN  /**< no held-back hit ahead (loc_t's ahead points) */
 
 /** The correction from the odometry frame to the map's. */
 typedef struct {
@@ -150,6 +156,11 @@ typedef struct {
     volatile uint32_t pub_seq;        /**< pub holds the correction after this many readings */
     volatile uint32_t pub_gen;        /**< odd while pub is being written */
     loc_corr_t tick_corr;
+    /* The nearest held-back hit ahead of the robot that OM does not hold yet, in the map
+     * frame ({LOC_AHEAD_NONE, ...} when none): published with pub, adopted with it. */
+    volatile int32_t pub_ahead[2];
+    int32_t tick_ahead[2];
+    int32_t clear_um;                 /**< half the corridor ahead (clearance_um) */
     loc_corr_t placed;                /**< where the held-back hits' early halves lie */
     /* The window of held-back hits, a ring. */
     loc_point_t win[LOC_HOLD];
