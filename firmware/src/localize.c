@@ -1,9 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* Pose correction: held-back hits matched against OM by an iterated sequential Kalman update. */
+/* Pose correction, the background loop's side: held-back hits matched against OM by an
+ * iterated sequential Kalman update (loc_tick.c holds the tick's side). */
 #include "slam/localize.h"
 
-#include <string.h>
+#include <stddef.h>
 
+#include "loc_internal.h"
 #include "loc_kf.h"
 #include "slam/error.h"
 #include "slam/sonar.h"
@@ -28,12 +30,6 @@
  * they are not matched. */
 #define LOC_LEVER_MAX 32768
 
-/* How far from the grid's origin a held-back hit reaches, either way: a grid's length and
- * more beyond any side. */
-#define LOC_REACH_CELLS 512u
-_Static_assert(SLAM_GRID_A <= LOC_REACH_CELLS / 2u && SLAM_GRID_B <= LOC_REACH_CELLS / 2u,
-               "a held-back hit reaches a grid's length beyond the grid");
-
 /* A 5×5 block says where a wall runs. */
 #ifndef LOC_NORMAL_HALF
 #define LOC_NORMAL_HALF 2
@@ -46,36 +42,9 @@ _Static_assert(SLAM_GRID_A <= LOC_REACH_CELLS / 2u && SLAM_GRID_B <= LOC_REACH_C
                                  a few cells thick still count; corners and blobs do not */
 #endif
 
-static void count(uint32_t *c)
-{
-    if (*c != UINT32_MAX) {
-        (*c)++;
-    }
-}
-
 static loc_corr_t corr_of(int32_t tx_um, int32_t ty_um, bam32_t th)
 {
     return (loc_corr_t){tx_um, ty_um, th, fix_cos(th), fix_sin(th)};
-}
-
-void loc_init(loc_t *l, const slam_config_t *cfg)
-{
-    memset(l, 0, sizeof *l);
-    l->on = cfg->localize != 0u;
-    l->deferred = l->on || cfg->om_mode == OM_MODE_EVIDENCE;
-    /* LOC_REACH_CELLS within 2^15 units, the same for every grid size (the host's grid and
-     * the MCU's then hold a point alike): 1 mm for 50 mm cells. Cells of 5 mm to 1 m make
-     * the reach 2^16 µm or more and keep it within 32 bits. */
-    l->point_shift = (uint8_t)(17 - __builtin_clz(LOC_REACH_CELLS * cfg->cell_um));
-    /* No correction: cos 0 is one, the rest is zero. */
-    l->corr.c = FIX_Q30_ONE;
-    l->pub.c = FIX_Q30_ONE;
-    l->tick_corr.c = FIX_Q30_ONE;
-    l->placed.c = FIX_Q30_ONE;
-    l->clear_um = (int32_t)cfg->clearance_um;
-    l->pub_ahead[0] = LOC_AHEAD_NONE;
-    l->tick_ahead[0] = LOC_AHEAD_NONE;
-    lkf_init(&l->cov);
 }
 
 /* A point through a correction. Positions stay far inside ±2^31 µm (slam_config_check
@@ -92,31 +61,6 @@ odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)
     apply_xy(c, odom->x_um, odom->y_um, &p.x_um, &p.y_um);
     p.heading = odom->heading + c->th;
     return p;
-}
-
-bool loc_post(loc_t *l, const loc_reading_t *rd)
-{
-    bool queued = false;
-    uint8_t next = (uint8_t)((l->head + 1u) % LOC_QUEUE);
-    if (next != l->tail) {
-        l->queue[l->head] = *rd;
-        l->head = next;
-        queued = true;
-    } else {
-        count(&l->dropped);
-    }
-    /* The correction after the reading before this one, which every backend has by now
-     * unless its background loop fell behind (or is writing it right now). */
-    uint32_t gen = l->pub_gen;
-    if ((gen & 1u) == 0u && l->pub_seq == l->posted) {
-        l->tick_corr = l->pub;
-        l->tick_ahead[0] = l->pub_ahead[0];
-        l->tick_ahead[1] = l->pub_ahead[1];
-    } else {
-        count(&l->late);
-    }
-    l->posted++;
-    return queued;
 }
 
 /* ---- the filter --------------------------------------------------------------------------- */
@@ -401,7 +345,7 @@ static int32_t clamp_kappa(int64_t v)
 
 static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
 {
-    count(&l->tried);
+    loc_count(&l->tried);
     odom_pose_t now = loc_apply(&l->corr, odom_now);
     lkf_state_t lin = {{0}};
     lkf_state_t d = {{0}};
@@ -418,10 +362,10 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
     int64_t max_th = (int64_t)LOC_MAX_STEP_MDEG * 17453 / 1000; /* µrad */
     if (used < LOC_MIN_POINTS || step2 > (int64_t)LOC_MAX_STEP_UM * LOC_MAX_STEP_UM ||
         d.v[LKF_T] > max_th || d.v[LKF_T] < -max_th) {
-        count(&l->refused);
+        loc_count(&l->refused);
         return;
     }
-    count(&l->applied);
+    loc_count(&l->applied);
     /* About the robot: turn by dθ, then shift by (dx, dy); the drift estimates move on. */
     correct_about(l, now.x_um, now.y_um, bam_of_urad(d.v[LKF_T]), d.v[LKF_X], d.v[LKF_Y]);
     l->kappa_prad_per_mm = clamp_kappa(l->kappa_prad_per_mm + d.v[LKF_KD]);
@@ -498,7 +442,7 @@ static void drain_one(loc_t *l, mapper_t *m, grid_t *g, const loc_reading_t *rd)
     sonar_obstacle(&m->sonar, &rd->ping, rd->servo, rd->range_um, &x, &y);
     loc_point_t pt;
     if (!to_point(l, g, x, y, &pt)) {
-        count(&m->outside); /* a grid's length off the grid: nothing to match or map */
+        loc_count(&m->outside); /* a grid's length off the grid: nothing to match or map */
         return;
     }
     if (l->win_count == LOC_HOLD) {
