@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* Pose correction: its state, and the tick's side of it: each reading handed to the
- * background loop (localize.c drains them), and the correction taken back. */
+ * background loop (localize.c drains them), and the correction taken back. loc_apply(),
+ * which the tick calls too, stays in localize.c with the matching that shares its
+ * arithmetic (inlined there: flash). */
 #include "slam/localize.h"
 
 #include <string.h>
