@@ -85,6 +85,7 @@ int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m,
     r->wall_time_to[0] = r->wall_time_to[1] = r->wall_time_to[2] = -1.0;
     r->min_clearance = HUGE_VAL;
     r->clear_at = -1.0;
+    r->touch_t = -1.0;
     return 0;
 }
 
@@ -186,4 +187,34 @@ void clearance_tick(run_t *r, double x, double y)
     if (gap < r->min_clearance) {
         r->min_clearance = gap;
     }
+}
+
+/*
+ * The first touch, and where the obstacle lay: the nearest obstacle along 360 rays from the
+ * body's centre, a degree apart (what is touched lies within the body's radius). Once a run.
+ */
+void touch_tick(run_t *r, bool contact, double x, double y, double th, double t,
+                double pos_err, double th_err)
+{
+    if (!contact || r->touch_t >= 0.0) {
+        return;
+    }
+    double reach = r->body_m + CLEARANCE_CAP_M;
+    double best = HUGE_VAL;
+    double bearing = 0.0;
+    for (int k = 0; k < 360; k++) {
+        double b = (k - 180) * PI / 180.0;
+        double d = room_ray(r->room, x, y, th + b, reach, NULL);
+        if (d < best) {
+            best = d;
+            bearing = b;
+        }
+    }
+    r->touch_t = t;
+    r->touch_x = x;
+    r->touch_y = y;
+    r->touch_th = th;
+    r->touch_bearing = bearing;
+    r->touch_pos_err = pos_err;
+    r->touch_th_err = th_err;
 }

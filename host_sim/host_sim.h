@@ -260,6 +260,9 @@ typedef struct {
     /* The smallest gap between the body and an obstacle, and where it was last asked. */
     double min_clearance, clear_x, clear_y, clear_at;
     double max_pos_err, max_th_err, final_pos_err, final_th_err, path_m;
+    /* The first touch: when (s, < 0: none), the true pose, the bearing of the obstacle
+     * from the heading (rad, left positive) and the pose estimate's errors (m, rad). */
+    double touch_t, touch_x, touch_y, touch_th, touch_bearing, touch_pos_err, touch_th_err;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
     FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
@@ -281,6 +284,11 @@ void walls_ping(run_t *r, double sx, double sy, double bearing, double t);
 
 /** Track the smallest gap between the body at (x, y) and any obstacle. */
 void clearance_tick(run_t *r, double x, double y);
+
+/** Note the run's first touch, when the world reports contact at (x, y, th) at time t with
+ *  the pose estimate off by pos_err m and th_err rad: where the obstacle lay. */
+void touch_tick(run_t *r, bool contact, double x, double y, double th, double t,
+                double pos_err, double th_err);
 
 typedef struct {
     score_t raw, threshold, templ, insert;

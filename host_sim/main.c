@@ -142,6 +142,7 @@ static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
     }
     sim_truth_t after = sim_truth(sim);
     clearance_tick(r, after.x, after.y);
+    touch_tick(r, after.contact, after.x, after.y, after.th, t, ep, eth);
     if (((tick + 1u) % COVERAGE_EVERY == 0u || last) && r->nseries < 4096u) {
         r->series[r->nseries][0] = t;
         r->series[r->nseries][1] = r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;

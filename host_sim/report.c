@@ -207,7 +207,16 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     for (size_t i = 0; i < r->nseries; i++) {
         fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][2]);
     }
-    fprintf(f, "],\n    \"min_clearance_m\": %.4f\n  },\n", r->min_clearance);
+    fprintf(f, "],\n    \"min_clearance_m\": %.4f,\n", r->min_clearance);
+    if (r->touch_t < 0.0) {
+        fprintf(f, "    \"first_touch\": null\n  },\n");
+    } else {
+        fprintf(f, "    \"first_touch\": {\"t_s\": %.2f, \"x_m\": %.4f, \"y_m\": %.4f, "
+                   "\"heading_deg\": %.2f, \"bearing_deg\": %.0f, \"position_error_m\": %.4f, "
+                   "\"heading_error_deg\": %.2f}\n  },\n",
+                r->touch_t, r->touch_x, r->touch_y, r->touch_th * 180.0 / PI,
+                r->touch_bearing * 180.0 / PI, r->touch_pos_err, r->touch_th_err * 180.0 / PI);
+    }
 
     const sweep_t *sw = &robot->sweep;
     const mapper_t *m = &robot->mapper;

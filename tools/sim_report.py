@@ -15,8 +15,9 @@ free cells; the wall coverage of each shipped room; and, when the building maps 
 beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
 every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
-alone, each run that touched a wall as the arguments that repeat it, and (with ten seeds
-or more) each level's means, spread and the floor FAULTS' rule gives.
+alone, each run that touched a wall as the arguments that repeat it with when and where
+it first touched, and (with ten seeds or more) each level's means, spread and the floor
+FAULTS' rule gives.
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
@@ -343,14 +344,25 @@ def report(args):
         figure(args, res, group, base)
 
 
+def touch_words(t):
+    """A run's first touch (metrics.json's exploration.first_touch) in words."""
+    b = t["bearing_deg"]
+    side = "ahead" if b == 0 else "%.0f° %s" % (abs(b), "left" if b > 0 else "right")
+    return "at %.0f s, the obstacle %s, the pose %.2f m and %.1f° off" % (
+        t["t_s"], side, t["position_error_m"], t["heading_error_deg"])
+
+
 def repeat_lines(touching):
-    """Each touching run as a Markdown item of the host_sim arguments that repeat it."""
-    return ["- `%s--seed %d`" % ("".join("--error %s " % e for e in errors), seed)
-            for errors, seed in touching]
+    """Each touching run as a Markdown item of the host_sim arguments that repeat it, and
+    where and how it first touched when metrics.json says."""
+    return ["- `%s--seed %d`%s" % ("".join("--error %s " % e for e in errors), seed,
+                                   ": " + touch_words(t) if t else "")
+            for errors, seed, t in touching]
 
 
 def fault_table(group, nseeds, dur):
-    """The faults' table; returns the touching runs, (--error values, seed) each."""
+    """The faults' table; returns the touching runs, (--error values, seed, first touch or
+    None) each."""
     print("### Faults (default room, %d s, %d seeds; each level on top of the default errors)\n"
           % (dur, nseeds))
     print("| fault | `--error` | F1 raw | F1 final | floor | collisions | smallest clearance |")
@@ -365,8 +377,9 @@ def fault_table(group, nseeds, dur):
         print("| %s | %s | %.3f | %.3f | %s | %d in %d of %d runs | %s |" % (
             what, "`%s`" % spec[0] if spec else "", pm["raw"][2], pm["insert"][2],
             "%.2f" % spec[1] if spec else "", sum(cols), hit, len(ms), clear))
-        touching += sorted((tuple(spec[0].split()) if spec else (), m["scenario"]["seed"])
-                           for m, c in zip(ms, cols) if c > 0)
+        errors = tuple(spec[0].split()) if spec else ()
+        touching += sorted(((errors, m["scenario"]["seed"], m["exploration"].get("first_touch"))
+                            for m, c in zip(ms, cols) if c > 0), key=lambda k: k[:2])
     return touching
 
 

@@ -64,4 +64,23 @@ mc = sim.metrics(crop)
 check(mc["scenario"]["crop"] is not None and mc["exploration"]["time_to_50_s"] is not None,
       "a cropped map that reaches 50 %% coverage validates (crop %s, 50 %% at %s s)"
       % (mc["scenario"]["crop"], mc["exploration"]["time_to_50_s"]))
+
+# A touch: the square, an odometry experiment that heeds nothing, 4 m a side in the 5 m x
+# 4 m room, reaches the east wall head-on, 12 s in, its pose still right.
+check(m["robot"]["collisions"] == 0 and m["exploration"]["first_touch"] is None,
+      "a run that touches nothing has no first touch")
+touch = sim.out("touch")
+sim.run("--duration", 60, "--explore", "square", "--set", "square_side_um=4000000",
+        "--out", touch)
+ft = sim.metrics(touch)["exploration"]["first_touch"]
+check(ft is not None and sim.metrics(touch)["robot"]["collisions"] >= 1,
+      "a run that touches says when and where: %s" % ft)
+if ft is not None:
+    check(5.0 < ft["t_s"] < 30.0 and abs(ft["bearing_deg"]) <= 10.0 and ft["x_m"] > 4.7
+          and ft["position_error_m"] < 0.05,
+          "the square's first touch: %.1f s, the wall %+.0f deg from the heading, at x %.2f m, "
+          "the pose %.3f m off" % (ft["t_s"], ft["bearing_deg"], ft["x_m"],
+                                   ft["position_error_m"]))
+    refused(lambda d: d["exploration"].__setitem__("first_touch", {"t_s": 1.0}),
+            "a first touch without its pose")
 sim.done()
