@@ -161,8 +161,8 @@ _Static_assert(RULE_ABOVE_CLEARANCE < 64, "a rule fits the six bits above a fiel
 _Static_assert(sizeof(slam_config_t) <= 255u, "field offsets are bytes");
 
 #define CFG_GRID_SIDE (SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B)
-/* The table as parallel arrays, a field's name after the other's NUL, and its storage and
- * rule in one byte: no padding and no pointers in flash. */
+/* The table as parallel arrays: the names one after another, each ended by its NUL, and a
+ * field's storage and rule in one byte (no padding and no pointers in flash). */
 #define CFG_LO(field, type, lo, hi, rule) (uint32_t)(lo),
 #define CFG_HI(field, type, lo, hi, rule) (uint32_t)(hi),
 #define CFG_OFFSET(field, type, lo, hi, rule) (uint8_t)offsetof(slam_config_t, field),
