@@ -126,14 +126,16 @@ static void propagate(loc_t *l, const odom_pose_t *odom)
 /* ---- walls in OM ------------------------------------------------------------------------- */
 
 /* Whether OM holds the cell of (x, y) free by more than one beam's pass: a wall that one
- * beam grazed past is not yet free. Off the grid counts as free (nothing is mapped there). */
-static bool known_free(const grid_t *g, int32_t x, int32_t y)
+ * beam grazed past is not yet free. Off the grid counts as free: nothing is mapped there.
+ * On the grid, *cell is the cell's index. */
+static bool known_free(const grid_t *g, int32_t x, int32_t y, uint32_t *cell)
 {
     grid_cell_t k;
     if (grid_cell_of(g, x, y, &k) != SLAM_OK) {
         return true;
     }
     uint32_t i = grid_index(k);
+    *cell = i;
     return g->mode == OM_MODE_EVIDENCE ? (uint32_t)g->om[i] + g->miss < GRID_EVIDENCE_ZERO
                                        : grid_state(g, i) == GRID_FREE;
 }
@@ -277,8 +279,9 @@ static bool to_point(const loc_t *l, const grid_t *g, int32_t x, int32_t y, loc_
 /* Whether hit q, associated with wall cell w (normal n, Q12; h the hit's offset along it),
  * lies on a face of that wall never seen from the robot's side: the wall cell lies more than
  * a cell beyond the hit as the robot at c sees it, and the cell next to it on the hit's side
- * is not known free (known_free()). The far face of a thin wall, first seen through a door,
- * is then not matched to the face mapped from the other room, a wall's thickness away. */
+ * is not known free, as known_free() tells. The far face of a thin wall, first seen through
+ * a door, is then not matched to the face mapped from the other room, a wall's thickness
+ * away. */
 static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
                         int32_t wx, int32_t wy, const int32_t n[2], int64_t h)
 {
@@ -294,8 +297,9 @@ static bool unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int
         return false;
     }
     int32_t side = h < 0 ? -cell : cell;
+    uint32_t k;
     return !known_free(g, wx + (int32_t)(((int64_t)n[0] * side) >> LKF_J_SHIFT),
-                       wy + (int32_t)(((int64_t)n[1] * side) >> LKF_J_SHIFT));
+                       wy + (int32_t)(((int64_t)n[1] * side) >> LKF_J_SHIFT), &k);
 }
 
 /* One pass: every held-back hit, linearised at lin, updates (d, p) from the prior. */
@@ -490,9 +494,9 @@ static void obstacle_ahead(const loc_t *l, const grid_t *g, const odom_pose_t *p
         }
         int32_t x;
         int32_t y;
-        grid_cell_t k;
+        uint32_t cell;
         held_under(l, g, &l->corr, i, &x, &y);
-        if (known_free(g, x, y) || grid_cell_of(g, x, y, &k) != SLAM_OK) {
+        if (known_free(g, x, y, &cell)) {
             continue;
         }
         /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
@@ -501,7 +505,6 @@ static void obstacle_ahead(const loc_t *l, const grid_t *g, const odom_pose_t *p
         int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
         int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
         int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
-        uint32_t cell = grid_index(k);
         if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -l->clear_um ||
             side >= l->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
             continue;
