@@ -94,7 +94,7 @@ odom_pose_t odom_pose(const odom_t *o)
     return p;
 }
 
-SLAM_START_UP void odom_umbmark_factors(q1_30_t e_d, q1_30_t *c_left, q1_30_t *c_right)
+void odom_umbmark_factors(q1_30_t e_d, q1_30_t *c_left, q1_30_t *c_right)
 {
     /* c_L = 2/(E_d + 1) and c_R = 2·E_d/(E_d + 1), both in Q30. */
     uint64_t sum = (uint64_t)e_d + FIX_Q30_ONE;
