@@ -65,6 +65,11 @@ def open_port(path, baud):
 class Source:
     """Frames from a device or a file; counts what could not be read as frames."""
 
+    # Set by Ctrl-C or SIGTERM (stop()): a source that waits for more bytes ends. The
+    # KeyboardInterrupt stop() raises can be lost, when it lands in code that swallows
+    # exceptions (a finalizer inside matplotlib, say); this cannot.
+    stopping = False
+
     def __init__(self, path, baud=115200, follow=False):
         try:
             mode = os.stat(path).st_mode
@@ -96,7 +101,7 @@ class Source:
             except OSError as e:
                 raise Fatal("reading %s: %s" % (self.path, e), 1)
             if not data:
-                if self.device or self.follow:
+                if (self.device or self.follow) and not Source.stopping:
                     time.sleep(0.05)
                     yield None
                     continue
@@ -470,6 +475,7 @@ def main(argv=None):
 
 
 def stop(signum, frame):
+    Source.stopping = True
     raise KeyboardInterrupt
 
 

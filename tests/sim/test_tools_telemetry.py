@@ -119,6 +119,21 @@ out, err = proc.communicate(timeout=120)
 check(running and os.path.exists(png) and "Traceback" not in err and "wrote " + png in out,
       "view --follow --png writes the picture while it follows, and on Ctrl-C a last time")
 
+# A Ctrl-C whose KeyboardInterrupt is lost (raised inside code that swallows exceptions)
+# still ends a followed source: it stops waiting once the signal has come.
+import telemetry  # noqa: E402
+src = telemetry.Source(log, follow=True)
+telemetry.Source.stopping = True
+waits = 0
+for fr in src:
+    waits += fr is None
+    if waits > 20:  # a second of waiting for bytes that will not come
+        break
+telemetry.Source.stopping = False
+check(waits == 0 and src.frames > 0,
+      "a followed file, once stopping, is read to its end and no further (%d frames, %d "
+      "waits)" % (src.frames, waits))
+
 # frame and send: a command as bytes, and a robot answering on a serial line.
 p = run_tool("frame", "set", "cruise_mm_s", "150")
 check(p.returncode == 0 and bytes.fromhex(p.stdout.strip()) == slamlink.command(["set", "cruise_mm_s", "150"]),
