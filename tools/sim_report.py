@@ -3,7 +3,7 @@
 """Reproduces the simulator's figures: the paper's claims, measured over several seeds.
 
 usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
-                           [--maps DIR] [--faults-only]
+                           [--maps DIR] [--faults-only] [--host-arg ARG]...
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
@@ -17,7 +17,8 @@ every fault the simulator can inject at three levels (FAULTS), with the F1 floor
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
 alone, each run that touched a wall as the arguments that repeat it with when and where
 it first touched, and (with ten seeds or more) each level's means, spread and the floor
-FAULTS' rule gives.
+FAULTS' rule gives. --host-arg adds an argument to every run (a configuration to weigh:
+--host-arg=--set --host-arg=sweep_stops=7).
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
@@ -214,6 +215,7 @@ def report(args):
             jobs["building-%s-%d" % (name, s)] = a
     if args.faults_only:
         jobs = {n: a for n, a in jobs.items() if n.startswith(("fault-", "cell-50-"))}
+    jobs = {n: a + args.host_arg for n, a in jobs.items()}
     res = run_all(args.host_sim, base, jobs, args.jobs)
 
     def group(prefix):
@@ -222,7 +224,7 @@ def report(args):
     if args.faults_only:
         touching = fault_table(group, len(seeds), dur)
         print("\n%d of %d runs touch%s" % (len(touching), len(res), ":" if touching else "."))
-        for line in repeat_lines(touching):
+        for line in repeat_lines(touching, args.host_arg):
             print(line)
         if len(seeds) >= 10:
             floor_table(group)
@@ -352,11 +354,12 @@ def touch_words(t):
         t["t_s"], side, t["position_error_m"], t["heading_error_deg"])
 
 
-def repeat_lines(touching):
+def repeat_lines(touching, extra=()):
     """Each touching run as a Markdown item of the host_sim arguments that repeat it, and
     where and how it first touched when metrics.json says."""
-    return ["- `%s--seed %d`%s" % ("".join("--error %s " % e for e in errors), seed,
-                                   ": " + touch_words(t) if t else "")
+    more = "".join(" " + a for a in extra)
+    return ["- `%s--seed %d%s`%s" % ("".join("--error %s " % e for e in errors), seed, more,
+                                     ": " + touch_words(t) if t else "")
             for errors, seed, t in touching]
 
 
@@ -487,6 +490,9 @@ def main():
                     help="only the faults' table, and the runs that touch (many seeds in minutes)")
     ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
                     help="the building maps (default: ../shared/maps beside the repository)")
+    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
+                    help="one more host_sim argument for every run (repeatable), for example "
+                    "--host-arg=--set --host-arg=sweep_stops=7")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
         print("sim_report: %s not found: build it first (make sim)" % args.host_sim,

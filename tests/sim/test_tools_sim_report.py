@@ -55,6 +55,9 @@ want = ["- `--seed 1`", "- `%s --seed 9`" % errors,
         % errors]
 check(lines == want, "each listed as the arguments that repeat it, with where it first "
       "touched when the run says: %s" % lines)
+extra = sim_report.repeat_lines(touching[:1], ["--set", "sweep_stops=7"])
+check(extra == ["- `--seed 1 --set sweep_stops=7`"],
+      "--host-arg's arguments are part of what repeats a run: %s" % extra)
 
 # The floor rule: the lower of the means over seeds 1-10 and all, less 0.1, down to 0.05.
 by_seed = [(s, 0.9 if s <= 10 else 0.7) for s in range(1, 21)]  # means 0.9 and 0.8
