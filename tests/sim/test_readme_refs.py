@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Every file, make target and host_sim option the READMEs name exists.
+"""Every file, make target and host_sim option the READMEs (and the other Markdown pages
+beside them) name exists.
 
 usage: test_readme_refs.py HOST_SIM SRC_DIR
 
-Reads every README.md of the source tree and checks, in links, inline code and code blocks:
+Reads every Markdown file of the source tree and checks, in links, inline code and code blocks:
 - a relative link's target is a file or folder of the repository;
 - a path that starts with one of the repository's folders (firmware/, hal/, tools/ ...)
   is there; a bare source file name (board_generic_f405.h, hal_template.c) is somewhere;
@@ -27,7 +28,7 @@ def readmes(src):
     for root, dirs, files in os.walk(src):
         dirs[:] = sorted(d for d in dirs if d not in SKIP_DIRS and not d.startswith("build"))
         for f in sorted(files):
-            if f == "README.md":
+            if f.endswith(".md"):
                 yield os.path.join(root, f)
 
 
@@ -152,7 +153,7 @@ def main():
                "nothing" % (len(files), c.checked))
     for e in c.errors:
         print("FAIL", e)
-    print("%d READMEs, %d references checked, %d wrong" % (len(files), c.checked, len(c.errors)))
+    print("%d Markdown pages, %d references checked, %d wrong" % (len(files), c.checked, len(c.errors)))
     sys.exit(1 if c.errors else 0)
 
 
