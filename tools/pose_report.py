@@ -31,7 +31,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_report import SRC, ROOMS, mean, run_all  # noqa: E402
+from sim_report import SRC, ROOMS, add_host_arg, mean, run_all  # noqa: E402
 
 MODES = (("off", "0"), ("on", "1"))
 LONG = (3600, 36000)  # s: the issue's 1-hour and 10-hour runs
@@ -89,6 +89,17 @@ def summary(ms):
             "refused": mean(x["refused"] for x in loc), "n": len(ms)}
 
 
+def gap_spread(ms):
+    """The gap (raw F1 from the true poses less from the own pose) of each run: its σ per
+    run and the standard error of its mean over the runs."""
+    g = [m["maps"]["perfect_odometry"]["raw"]["f1"] - m["maps"]["odometry"]["raw"]["f1"]
+         for m in ms]
+    if len(g) < 2:
+        return float("nan"), float("nan")
+    sd = statistics.stdev(g)
+    return sd, sd / math.sqrt(len(g))
+
+
 def paired_difference(on, off):
     """Mean of the per-seed differences of raw F1 (own pose), on minus off, and its standard
     error: the runs of one seed share the room and the start, so they are paired. Within about
@@ -134,7 +145,9 @@ def report(args):
         ms = [m for room in rooms() for m in group("%s-%s" % (room, mode))]
         alls[mode] = summary(ms)
         print(row("**all %d rooms**" % len(rooms()), mode, alls[mode]))
-    print()
+    sd, se = gap_spread([m for room in rooms() for m in group(room + "-on")])
+    print("\nThe gap with the correction, every room: σ %.3f per run, standard error %.3f over "
+          "the runs.\n" % (sd, se))
 
     print("### Long runs (default room, seeds 1–%d)\n" % args.long_seeds)
     print("| run | correction | F1 raw (own pose) median | heading error median (°) "
@@ -251,9 +264,7 @@ def main():
     ap.add_argument("--no-long", action="store_true", help="leave out the 1-hour and 10-hour runs")
     ap.add_argument("--long-seeds", type=int, default=LONG_SEEDS, metavar="N",
                     help="seeds 1..N of the 1-hour and 10-hour runs (default %d)" % LONG_SEEDS)
-    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
-                    help="one more host_sim argument for every run (repeatable), for example "
-                    "--host-arg=--error --host-arg=eb=1.0")
+    add_host_arg(ap, "--host-arg=--error --host-arg=eb=1.0")
     ap.add_argument("--perfect-odometry", action="store_true",
                     help="odometry without any error in every run: the gap that is left is "
                     "the matcher's own")

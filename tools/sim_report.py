@@ -478,6 +478,14 @@ def figure(args, res, group, base):
     print("\n(figure: %s)" % args.figure)
 
 
+def add_host_arg(ap, example):
+    """--host-arg, as sim_report and pose_report take it: one more host_sim argument for
+    every run."""
+    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
+                    help="one more host_sim argument for every run (repeatable), for example "
+                    + example)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
@@ -490,9 +498,7 @@ def main():
                     help="only the faults' table, and the runs that touch (many seeds in minutes)")
     ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
                     help="the building maps (default: ../shared/maps beside the repository)")
-    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
-                    help="one more host_sim argument for every run (repeatable), for example "
-                    "--host-arg=--set --host-arg=sweep_stops=7")
+    add_host_arg(ap, "--host-arg=--set --host-arg=sweep_stops=7")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
         print("sim_report: %s not found: build it first (make sim)" % args.host_sim,

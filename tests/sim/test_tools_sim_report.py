@@ -5,6 +5,7 @@ wall listed as the arguments that repeat it; the listing against made-up runs, a
 report (one seed, two-minute runs) against its own table."""
 import contextlib
 import io
+import json
 import os
 import re
 import subprocess
@@ -68,9 +69,12 @@ check(abs(sim_report.floor_by_rule([(s, 0.1) for s in range(1, 11)]) - 0.03) < 1
 check(abs(sim_report.floor_by_rule([(s, 0.449) for s in range(1, 11)]) - 0.30) < 1e-9,
       "rounded down")
 
+# The default sweep given again through --host-arg: every run gets it, the figures are the
+# build's own.
 out = sim.out("faults")
 p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "sim_report.py"),
                     "--host-sim", sim.bin, "--faults-only", "--quick", "--seeds", "1",
+                    "--host-arg=--set", "--host-arg=sweep_stops=6",
                     "--out", out], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 check(p.returncode == 0, "sim_report --faults-only runs (%s)" % p.stderr.strip()[-200:])
 check("### Post-processing" not in p.stdout and "### Faults" in p.stdout,
@@ -83,6 +87,11 @@ runs = sum(int(hit) for _, hit in rows)
 m = re.search(r"^(\d+) of (\d+) runs touch", p.stdout, re.M)
 check(m is not None and int(m.group(1)) == runs and int(m.group(2)) == 1 + levels,
       "the count line agrees with the table (%s)" % (m.group(0) if m else "missing"))
-listed = re.findall(r"^- `(?:--error \S+ )*--seed \d+`$", p.stdout, re.M)
-check(len(listed) == runs, "each touching run listed once (%d)" % len(listed))
+listed = re.findall(r"^- `(?:--error \S+ )*--seed \d+ --set sweep_stops=6`", p.stdout, re.M)
+check(len(listed) == runs, "each touching run listed once, with --host-arg's arguments (%d)"
+      % len(listed))
+given = [json.load(open(os.path.join(out, d, "args.json")))["args"][-2:]
+         for d in sorted(os.listdir(out)) if os.path.exists(os.path.join(out, d, "args.json"))]
+check(len(given) == 1 + levels and all(a == ["--set", "sweep_stops=6"] for a in given),
+      "--host-arg reaches every run (%d runs)" % len(given))
 sim.done()
