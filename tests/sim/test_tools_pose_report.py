@@ -32,11 +32,24 @@ check(abs(se - math.sqrt(0.01 / 3)) < 1e-12,
 check(math.isnan(pose_report.paired_difference([run(1, 0.5)], [run(1, 0.4)])[1]),
       "one seed: no standard error claimed")
 
+# The gap's spread: gaps 0.1, 0.3, 0.2 have σ 0.1 and a standard error of 0.1 / sqrt(3).
+def gap_run(true_f1, own_f1):
+    return {"maps": {"perfect_odometry": {"raw": {"f1": true_f1}},
+                     "odometry": {"raw": {"f1": own_f1}}}}
+
+
+sd, se = pose_report.gap_spread([gap_run(0.9, 0.8), gap_run(0.9, 0.6), gap_run(0.7, 0.5)])
+check(abs(sd - 0.1) < 1e-12 and abs(se - 0.1 / math.sqrt(3)) < 1e-12,
+      "the gap's σ %.6f = 0.1 and standard error %.6f = 0.1 / sqrt(3)" % (sd, se))
+
 out = sim.out("report")
 p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "pose_report.py"),
                     "--host-sim", sim.bin, "--quick", "--seeds", "2", "--out", out],
                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 check(p.returncode == 0, "pose_report --quick --seeds 2 runs (%s)" % p.stderr.strip()[-200:])
+check(re.search(r"^The gap with the correction, every room: σ \d\.\d{3} per run, standard "
+                r"error \d\.\d{3} over the runs\.$", p.stdout, re.M) is not None,
+      "the report prints the gap's spread")
 table = p.stdout.split("### What the correction changes, room by room", 1)
 check(len(table) == 2, "the report prints the room-by-room table")
 rows = re.findall(r"^\| (\w+) \| ([+-]\d\.\d{3}) \| (\d\.\d{3}|nan) \|$", table[1], re.M)
