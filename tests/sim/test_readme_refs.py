@@ -24,7 +24,7 @@ SOURCE_EXT = (".c", ".h", ".py", ".sh", ".ld", ".cmake", ".cpp", ".room", ".conf
 SKIP_DIRS = {".git", "build", "out", "__pycache__"}
 
 
-def readmes(src):
+def pages(src):
     for root, dirs, files in os.walk(src):
         dirs[:] = sorted(d for d in dirs if d not in SKIP_DIRS and not d.startswith("build"))
         for f in sorted(files):
@@ -145,11 +145,11 @@ def main():
         sys.exit(__doc__)
     host_sim, src = sys.argv[1], sys.argv[2]
     c = Checker(host_sim, src)
-    files = list(readmes(src))
+    files = list(pages(src))
     for f in files:
         c.readme(f)
     if len(files) < 6 or c.checked < 100:
-        c.fail("README files", "only %d READMEs and %d references found: the checker reads "
+        c.fail("Markdown pages", "only %d pages and %d references found: the checker reads "
                "nothing" % (len(files), c.checked))
     for e in c.errors:
         print("FAIL", e)
