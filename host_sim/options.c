@@ -13,7 +13,9 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-const char *const explore_names[EXPLORE_MODES] = {"off", "random", "tm", "square", "walls", "umbmark"};
+#define EXPLORE_NAME(id, value, name, summary) [id] = #name,
+const char *const explore_names[EXPLORE_MODES] = {SLAM_EXPLORE_MODES(EXPLORE_NAME)};
+#undef EXPLORE_NAME
 
 /* murmur3's 32-bit finaliser: a bijection that scatters nearby values. */
 static uint32_t mix32(uint32_t x)

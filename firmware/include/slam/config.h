@@ -17,6 +17,7 @@
 
 #include <stdint.h>
 
+#include "slam/explore_modes.h"
 #include "slam/fixed.h"
 
 /** Marks a function that runs at start-up or once in a long while, never in a tick: the
@@ -36,14 +37,11 @@ typedef enum {
     OM_MODES
 } om_mode_t;
 
-/** How the robot explores (explore.h). */
+/** How the robot explores (explore.h): the rows of explore_modes.h. */
 typedef enum {
-    EXPLORE_OFF = 0,    /**< stand still; the map still updates */
-    EXPLORE_RANDOM = 1, /**< the paper's random exploration with obstacle avoidance */
-    EXPLORE_TM = 2,     /**< head for the least-visited cells of TM */
-    EXPLORE_SQUARE = 3, /**< drive a square, counter-clockwise (odometry tests) */
-    EXPLORE_WALLS = 4,  /**< follow what is met on the right; leave for the least visited way */
-    EXPLORE_UMBMARK = 5, /**< the UMBmark test that calibrates odometry (umbmark.h) */
+#define SLAM_EXPLORE_MODE_ENUM(id, value, name, summary) id = value,
+    SLAM_EXPLORE_MODES(SLAM_EXPLORE_MODE_ENUM)
+#undef SLAM_EXPLORE_MODE_ENUM
     EXPLORE_MODES
 } explore_mode_t;
 
