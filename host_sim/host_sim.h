@@ -172,7 +172,7 @@ typedef struct {
     size_t nerrors;
     const char *config;
     const char *calibration; /* --calibration FILE|none; NULL: the shipped one for the
-                                default robot (main.c resolves it: NULL when none applies) */
+                                default robot (scenario.c resolves it: NULL when none applies) */
     const char *sets[HOST_SIM_MAX_SETS];
     size_t nsets;
     const char *trace;
@@ -236,7 +236,7 @@ static inline double bam_rad(bam32_t b)
     return (double)b * (2.0 * HOST_SIM_PI / 4294967296.0);
 }
 
-/* ---- what a run measures (main.c) and reports (report.c) -------------------------------- */
+/* ---- what a run measures (observe.c, coverage.c) and reports (report.c) ------------------ */
 
 /* Everything measured while the robot runs. */
 typedef struct {

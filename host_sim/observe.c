@@ -121,7 +121,8 @@ static void track_coverage(run_t *r, const robot_t *robot, double t)
 static void series_point(run_t *r, double t)
 {
     r->series[r->nseries][0] = t;
-    r->series[r->nseries][1] = r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;
+    r->series[r->nseries][1] =
+        r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;
     r->series[r->nseries][2] = r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0;
     r->nseries++;
 }
