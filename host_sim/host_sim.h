@@ -172,7 +172,7 @@ typedef struct {
     size_t nerrors;
     const char *config;
     const char *calibration; /* --calibration FILE|none; NULL: the shipped one for the
-                                default robot (main.c resolves it: NULL when none applies) */
+                                default robot (scenario.c resolves it: NULL when none applies) */
     const char *sets[HOST_SIM_MAX_SETS];
     size_t nsets;
     const char *trace;
@@ -236,7 +236,7 @@ static inline double bam_rad(bam32_t b)
     return (double)b * (2.0 * HOST_SIM_PI / 4294967296.0);
 }
 
-/* ---- what a run measures (main.c) and reports (report.c) -------------------------------- */
+/* ---- what a run measures (observe.c, coverage.c) and reports (report.c) ------------------ */
 
 /* Everything measured while the robot runs. */
 typedef struct {
@@ -383,6 +383,61 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
 
 /** A row as the robot's tick posted its reading: micrometres, binary angles. */
 loc_reading_t replay_reading(const replay_row_t *row);
+
+/* ---- the scenario (scenario.c) ---------------------------------------------------------- */
+
+/** What a run is: the input, each part checked, and the world built from it. */
+typedef struct {
+    room_t room;           /* the room, its start pose set to the one chosen */
+    double sx, sy, sth;    /* the start pose, m and rad */
+    sim_errors_t errors;   /* the robot's error levels */
+    slam_config_t cfg;     /* the firmware's configuration */
+    commands_t commands;   /* --commands, if given */
+    sim_params_t params;   /* the robot as built (from cfg) */
+    sim_t *sim;            /* the world */
+} scenario_t;
+
+/**
+ * Load and check everything a run needs before anything is written: the room, the start
+ * pose (--start, the room's, or one found), the error levels and the calibration that
+ * goes with them (o->calibration resolved), the configuration (o->cell_mm and o->explore
+ * set from it), the commands, the world. What was loaded stays in @p sc on failure too.
+ * @return 0, or EXIT_USAGE with a message
+ */
+int scenario_load(options_t *o, scenario_t *sc);
+
+/** Free what scenario_load() made (the world first: detach it from the HAL before). */
+void scenario_free(scenario_t *sc);
+
+/* ---- what a run measures as it goes (observe.c) ----------------------------------------- */
+
+/** The firmware of a run, and its twin fed the same readings at the true poses. */
+typedef struct {
+    robot_t robot;          /* the firmware's state, as a robot program owns it */
+    grid_t ideal_grid;      /* the same readings mapped from the true poses */
+    mapper_t ideal_mapper;
+} firmware_t;
+
+/** The logs written as the robot runs. */
+typedef struct {
+    FILE *readings, *trajectory, *trace, *telemetry;
+} run_logs_t;
+
+/**
+ * Ready the measurements of a run: the geometry, the truth, the reachable cells and the
+ * walls of run_t (its maps allocated and zero), the coverage marks, the start.
+ * @param start_cell  out: the grid index of the start cell
+ * @return 0, or -1 (out of memory) with a message
+ */
+int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t *start_cell);
+
+/**
+ * After each tick (@p last: the run's last): odometry error against the truth of the
+ * period's start (@p before), coverage, clearance and touch, the trajectory and the
+ * reading of the tick if any (logged, and mapped into the twin from the true pose).
+ */
+void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t *before,
+                  const sim_params_t *p, const run_logs_t *logs, uint64_t tick, bool last);
 
 /* ---- the UMBmark experimenter (experimenter.c) ------------------------------------------ */
 

@@ -19,204 +19,12 @@
 #include "host_sim.h"
 #include "slam/error.h"
 
-static const double PI = HOST_SIM_PI;
-#define TRAJECTORY_EVERY 10u     /* trajectory.csv: one row per 0.1 s */
-#define COVERAGE_EVERY 1000u     /* the coverage series: one point per 10 s */
-
-/* The robot as built matches the firmware's nominal configuration; the error levels make
- * the real one differ. */
-static void build_params(const slam_config_t *cfg, sim_params_t *p)
-{
-    sim_params_default(p);
-    p->wheel_diameter_m = cfg->wheel_diameter_left_um * 1e-6;
-    p->wheel_base_m = cfg->wheel_base_um * 1e-6;
-    p->counts_per_rev = cfg->encoder_counts_per_rev;
-    p->top_speed_mps = cfg->top_speed_mm_s * 1e-3;
-    p->sonar_x_m = cfg->mount_x_um * 1e-6;
-    p->sonar_y_m = cfg->mount_y_um * 1e-6;
-    p->servo_pulse_0_us = cfg->servo_pulse_0deg_us;
-    p->servo_pulse_180_us = cfg->servo_pulse_180deg_us;
-}
-
-/* ---- the run -------------------------------------------------------------------------- */
-
-static robot_t robot;        /* the firmware's state, as a robot program owns it */
-static grid_t ideal_grid;    /* the same readings mapped from the true poses */
-static mapper_t ideal_mapper;
+static firmware_t fw; /* the firmware's state, as a robot program owns it, and its twin */
 
 static void tick_callback(void *ctx)
 {
     robot_tick(ctx);
 }
-
-
-static const double coverage_marks[3] = {0.5, 0.8, 0.9};
-
-/* Free cells whose centre the robot's centre can reach from the start (4-connected,
- * clear of obstacles by the body radius): the cells exploration could visit. */
-static void reachable_cells(const room_t *room, const sim_params_t *p, run_t *r, uint32_t start)
-{
-    const map_geom_t *g = &r->geom;
-    size_t n = (size_t)g->a * g->b;
-    uint32_t *queue = malloc(n * sizeof *queue);
-    if (queue == NULL) {
-        return;
-    }
-    size_t head = 0;
-    size_t tail = 0;
-    r->reachable[start] = 1u;
-    queue[tail++] = start;
-    while (head < tail) {
-        uint32_t c = queue[head++];
-        uint32_t x = c % g->a;
-        uint32_t y = c / g->a;
-        const int32_t dx[4] = {1, -1, 0, 0};
-        const int32_t dy[4] = {0, 0, 1, -1};
-        for (int k = 0; k < 4; k++) {
-            int64_t nx = (int64_t)x + dx[k];
-            int64_t ny = (int64_t)y + dy[k];
-            if (nx < 0 || ny < 0 || nx >= g->a || ny >= g->b) {
-                continue;
-            }
-            uint32_t nc = (uint32_t)ny * g->a + (uint32_t)nx;
-            if (r->reachable[nc] || r->truth[nc]) {
-                continue;
-            }
-            double wx = g->origin_x + ((double)nx + 0.5) * g->cell_m;
-            double wy = g->origin_y + ((double)ny + 0.5) * g->cell_m;
-            if (!room_disc_free(room, wx, wy, p->body_radius_m)) {
-                continue;
-            }
-            r->reachable[nc] = 1u;
-            queue[tail++] = nc;
-        }
-    }
-    r->reachable_cells = (uint32_t)tail;
-    free(queue);
-}
-
-static double wrap_pi(double a)
-{
-    return remainder(a, 2.0 * PI);
-}
-
-/* After each tick: odometry error, coverage, and the reading of the tick if any. */
-static void observe_tick(run_t *r, const sim_t *sim, const sim_truth_t *before,
-                         const sim_params_t *p, FILE *readings, FILE *trajectory, uint64_t tick,
-                         bool last)
-{
-    /* The firmware read its encoders at the start of the period: compare its pose with
-     * the truth of that instant, not with the world already advanced by the period. */
-    const sim_truth_t tr = *before;
-    double t = (double)tick * TICK_S;
-    double ox = robot.pose.x_um * 1e-6;
-    double oy = robot.pose.y_um * 1e-6;
-    double oth = bam_rad(robot.pose.heading);
-    double ep = hypot(ox - tr.x, oy - tr.y);
-    double eth = fabs(wrap_pi(oth - tr.th));
-    r->max_pos_err = ep > r->max_pos_err ? ep : r->max_pos_err;
-    r->max_th_err = eth > r->max_th_err ? eth : r->max_th_err;
-    r->final_pos_err = ep;
-    r->final_th_err = eth;
-    r->path_m += hypot(tr.x - r->last_x, tr.y - r->last_y);
-    r->last_x = tr.x;
-    r->last_y = tr.y;
-
-    /* The perfect-odometry maps' TM, at the true pose. */
-    (void)grid_tm_visit(&ideal_grid, to_um(tr.x), to_um(tr.y));
-
-    /* Coverage: TM > 0 on a reachable cell. */
-    grid_cell_t c;
-    if (grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &c) == SLAM_OK) {
-        uint32_t i = grid_index(c);
-        if (!r->seen[i]) {
-            r->seen[i] = 1u;
-            r->visited_cells += r->reachable[i];
-            for (int k = 0; k < 3; k++) {
-                if (r->time_to[k] < 0.0 &&
-                    r->visited_cells >= coverage_marks[k] * r->reachable_cells) {
-                    r->time_to[k] = t;
-                }
-            }
-        }
-    }
-    sim_truth_t after = sim_truth(sim);
-    clearance_tick(r, after.x, after.y);
-    touch_tick(r, after.contact, after.x, after.y, after.th, t, ep, eth);
-    if (((tick + 1u) % COVERAGE_EVERY == 0u || last) && r->nseries < 4096u) {
-        r->series[r->nseries][0] = t;
-        r->series[r->nseries][1] = r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;
-        r->series[r->nseries][2] = r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0;
-        r->nseries++;
-    }
-
-    if (tick % TRAJECTORY_EVERY == 0u || last) {
-        char line[192];
-        char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
-        e = fmt_fixed(e, ox, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, oy, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, wrap_pi(oth), CSV_HEADING_DECIMALS, ',');
-        e = fmt_fixed(e, tr.x, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, tr.y, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, wrap_pi(tr.th), CSV_HEADING_DECIMALS, '\n');
-        fwrite(line, 1, (size_t)(e - line), trajectory);
-    }
-
-    const sweep_out_t *sw = &robot.last;
-    if (!sw->reading_ready) {
-        return;
-    }
-    /* The reading of this tick, with the pose of its ping: odometry and truth. */
-    sim_ping_t ping = sim_last_ping(sim);
-    const odom_pose_t *op = &robot.mapper.ping_pose;
-    double sx = ping.x + p->sonar_x_m * cos(ping.th) - p->sonar_y_m * sin(ping.th);
-    double sy = ping.y + p->sonar_x_m * sin(ping.th) + p->sonar_y_m * cos(ping.th);
-    /* Cells within rc of a sonar position are observable; a new disc only once the
-     * sonar has moved by a cell (the disc's edge is then within a cell of exact). */
-    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m) {
-        mark_disc(&r->geom, r->observable, sx, sy, robot.cfg.confidence_radius_um * 1e-6);
-        r->marked_x = sx;
-        r->marked_y = sy;
-    }
-    walls_ping(r, sx, sy, ping.bearing, t);
-    char line[256];
-    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
-    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
-    uint32_t d = 0u;
-    odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
-    if (sw->reading.echo) {
-        d = sonar_range_um(&robot.mapper.sonar, sw->reading.echo_us);
-        e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        (void)mapper_reading(&ideal_mapper, &ideal_grid, &truth_pose, sw->reading.servo, d);
-    } else {
-        *e++ = ',';
-        mapper_timeout(&ideal_mapper, &ideal_grid, &truth_pose);
-    }
-    const char *status = reading_status(&robot.mapper.sonar, sw->reading.echo, d);
-    size_t n = strlen(status);
-    memcpy(e, status, n);
-    e += n;
-    *e++ = ',';
-    e = fmt_fixed(e, op->x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
-    e = fmt_fixed(e, op->y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
-    e = fmt_fixed(e, wrap_pi(bam_rad(op->heading)), CSV_HEADING_DECIMALS, ',');
-    e = fmt_fixed(e, ping.x, CSV_LENGTH_DECIMALS, ',');
-    e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
-    e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
-    fwrite(line, 1, (size_t)(e - line), readings);
-    if (r->estimates != NULL) {
-        /* Where the robot believed the ping was (odometry and the correction of the tick),
-         * for a mapper outside this program to map from the firmware's estimate. */
-        odom_pose_t est = robot.loc.deferred ? loc_apply(&robot.loc.tick_corr, op) : *op;
-        e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
-        e = fmt_fixed(e, est.x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, '\n');
-        fwrite(line, 1, (size_t)(e - line), r->estimates);
-    }
-}
-
-/* ---- main ----------------------------------------------------------------------------- */
 
 static double wall_now(void)
 {
@@ -225,53 +33,97 @@ static double wall_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-/* The start pose must lie inside the room: rays in eight directions all meet a wall. */
-static int check_enclosed(const options_t *o, const room_t *room, double sx, double sy)
-{
-    double dir_deg = 0.0;
-    if (room_encloses(room, sx, sy, &dir_deg)) {
-        return 0;
-    }
-    char who[1100];
-    if (o->has_start) {
-        snprintf(who, sizeof who, "--start %g %g", sx, sy);
-    } else if (room->start_line != 0u) {
-        snprintf(who, sizeof who, "%s:%u: start pose (%g, %g)", o->room, room->start_line, sx, sy);
-    } else {
-        snprintf(who, sizeof who, "%s: start pose (%g, %g)", o->room, sx, sy);
-    }
-    fprintf(stderr, "host_sim: %s is outside the room: a ray toward %.0f deg meets no wall\n",
-            who, dir_deg);
-    return -1;
-}
+/* ---- what a run holds ------------------------------------------------------------------- */
+
+/* The buffers of the run's end. */
+typedef struct {
+    uint8_t *post;       /* OM post-processed, from the robot's poses */
+    uint8_t *ideal_post; /* the same from the true poses */
+    uint8_t *work;       /* a map being swept or exported */
+    uint8_t *scratch;    /* two grid rows for the post-processing */
+    post_sweep_t *ps;    /* the post-processing sweep's scores */
+} end_bufs_t;
 
 /* What a run holds; freed in one place whatever happened. */
 typedef struct {
-    room_t room;
-    sim_t *sim;
-    FILE *readings, *trajectory, *trace, *telemetry;
-    run_t *r;
-    uint8_t *bufs, *scratch;
-    post_sweep_t *ps;
-    commands_t commands;
+    scenario_t sc;
+    run_logs_t logs;
+    run_t *r;            /* with its maps, each allocated */
+    end_bufs_t end;
     experimenter_t tape;
+    uint32_t start_cell; /* the grid index of the start cell */
 } held_t;
+
+/* What the loop did. */
+typedef struct {
+    uint64_t ticks;      /* ticks run */
+    double wall_s;       /* wall-clock time they took */
+    int tape_rc;         /* the experimenter's last answer */
+} outcome_t;
+
+/* Every buffer of the run, each its own zeroed allocation: 0, or 1 with a message. */
+static int alloc_buffers(held_t *h)
+{
+    const size_t ncells = (size_t)SLAM_GRID_CELLS;
+    end_bufs_t *e = &h->end;
+    run_t *r = h->r = calloc(1, sizeof *h->r);
+    if (r != NULL) {
+        r->truth = calloc(ncells, 1u);
+        r->observable = calloc(ncells, 1u);
+        r->reachable = calloc(ncells, 1u);
+        r->seen = calloc(ncells, 1u);
+        r->wall = calloc(ncells, 1u);
+        r->wall_seen = calloc(ncells, 1u);
+    }
+    e->post = calloc(ncells, 1u);
+    e->ideal_post = calloc(ncells, 1u);
+    e->work = calloc(ncells, 1u);
+    e->scratch = calloc(2u, SLAM_GRID_A);
+    e->ps = calloc(1, sizeof *e->ps);
+    if (r == NULL || r->truth == NULL || r->observable == NULL || r->reachable == NULL ||
+        r->seen == NULL || r->wall == NULL || r->wall_seen == NULL || e->post == NULL ||
+        e->ideal_post == NULL || e->work == NULL || e->scratch == NULL || e->ps == NULL) {
+        fprintf(stderr, "host_sim: out of memory\n");
+        return 1;
+    }
+    return 0;
+}
+
+static void free_buffers(held_t *h)
+{
+    if (h->r != NULL) {
+        free(h->r->truth);
+        free(h->r->observable);
+        free(h->r->reachable);
+        free(h->r->seen);
+        free(h->r->wall);
+        free(h->r->wall_seen);
+        free(h->r);
+        h->r = NULL;
+    }
+    free(h->end.post);
+    free(h->end.ideal_post);
+    free(h->end.work);
+    free(h->end.scratch);
+    free(h->end.ps);
+}
 
 static void release(held_t *h)
 {
+    run_logs_t *l = &h->logs;
     hal_host_uart_sink(NULL);
-    if (h->trace != NULL) {
+    if (l->trace != NULL) {
         hal_host_trace(NULL);
-        fclose(h->trace);
+        fclose(l->trace);
     }
-    if (h->telemetry != NULL) {
-        fclose(h->telemetry);
+    if (l->telemetry != NULL) {
+        fclose(l->telemetry);
     }
-    if (h->readings != NULL) {
-        fclose(h->readings);
+    if (l->readings != NULL) {
+        fclose(l->readings);
     }
-    if (h->trajectory != NULL) {
-        fclose(h->trajectory);
+    if (l->trajectory != NULL) {
+        fclose(l->trajectory);
     }
     if (h->tape.csv != NULL) {
         fclose(h->tape.csv);
@@ -280,14 +132,11 @@ static void release(held_t *h)
     if (h->r != NULL && h->r->estimates != NULL) {
         fclose(h->r->estimates);
     }
-    free(h->ps);
-    free(h->scratch);
-    free(h->bufs);
-    free(h->r);
-    sim_destroy(h->sim);
-    room_free(&h->room);
-    commands_free(&h->commands);
+    free_buffers(h);
+    scenario_free(&h->sc);
 }
+
+/* ---- the run ------------------------------------------------------------------------------ */
 
 /* A write error in a file being written as the robot runs: say which, once. */
 static bool write_failed(FILE *f, const char *name)
@@ -299,102 +148,11 @@ static bool write_failed(FILE *f, const char *name)
     return false;
 }
 
-/* Checks the input, then the outputs, then runs: 0, EXIT_USAGE or 1. */
-static int run(options_t *o, held_t *h)
+/* The outputs written as the robot runs, headers first: config.txt (whole at once),
+ * readings.csv, trajectory.csv, --trace, --telemetry, scoring_estimate.csv. 0, or 1. */
+static int open_logs(const options_t *o, held_t *h)
 {
-    /* Everything that can be wrong with the input is checked before anything is written. */
-    char err[1024];
-    if (room_load(&h->room, o->room, o->has_crop ? &o->crop : NULL, err, sizeof err) != 0) {
-        fprintf(stderr, "host_sim: %s\n", err);
-        return EXIT_USAGE;
-    }
-    room_t *room = &h->room;
-    sim_params_t params;
-    sim_params_default(&params);
-    double sx = room->start_x;
-    double sy = room->start_y;
-    double sth = room->start_th;
-    if (o->has_start) {
-        sx = o->start_x;
-        sy = o->start_y;
-        sth = o->start_deg * PI / 180.0;
-        if (!room_disc_free(room, sx, sy, params.body_radius_m)) {
-            fprintf(stderr, "host_sim: --start %g %g is inside or against an obstacle\n", sx, sy);
-            return EXIT_USAGE;
-        }
-    } else if (!room->has_start &&
-               room_find_start(room, params.body_radius_m + 0.05, &sx, &sy, &sth) != 0) {
-        fprintf(stderr, "host_sim: %s: no free start pose; give one with --start\n", o->room);
-        return EXIT_USAGE;
-    }
-    if (check_enclosed(o, room, sx, sy) != 0) {
-        return EXIT_USAGE;
-    }
-    sim_errors_t errors;
-    if (o->ideal) {
-        sim_errors_ideal(&errors);
-    } else {
-        sim_errors_default(&errors);
-    }
-    for (size_t i = 0; i < o->nerrors; i++) {
-        if (apply_error(&errors, o->errors[i]) != 0) {
-            return EXIT_USAGE;
-        }
-    }
-    /* The shipped calibration belongs to the default robot: not to an ideal one, nor to
-     * one with other wheels. */
-    sim_errors_t defaults;
-    sim_errors_default(&defaults);
-    if (o->calibration == NULL) {
-        bool default_robot = !o->ideal && errors.wheel_ratio_ed == defaults.wheel_ratio_ed &&
-                             errors.wheel_base_eb == defaults.wheel_base_eb;
-        o->calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
-    } else if (strcmp(o->calibration, "none") == 0) {
-        o->calibration = NULL;
-    }
-    slam_config_t cfg;
-    if (build_config(o, room, sx, sy, sth, &cfg) != 0) {
-        return EXIT_USAGE;
-    }
-    /* One source of truth: what the report says is what the firmware runs with. */
-    o->cell_mm = cfg.cell_um / 1000.0;
-    o->explore = cfg.explore_mode;
-    if (o->commands != NULL) {
-        int rc = commands_load(o->commands, &h->commands);
-        if (rc != 0) {
-            return rc;
-        }
-    }
-    build_params(&cfg, &params);
-    /* The world starts the robot at the room's start pose: the one chosen above. */
-    room->start_x = sx;
-    room->start_y = sy;
-    room->start_th = sth;
-    const char *bad_param = NULL;
-    if (sim_params_check(&params, &errors, &bad_param) != 0) {
-        fprintf(stderr, "host_sim: the simulated robot refuses %s\n", bad_param);
-        return EXIT_USAGE;
-    }
-    h->sim = sim_create(room, &params, &errors, o->seed);
-    if (h->sim == NULL) {
-        fprintf(stderr, "host_sim: the robot does not fit at the start pose (%g, %g)\n", sx, sy);
-        return EXIT_USAGE;
-    }
-    if (check_outputs(o) != 0) {
-        return EXIT_USAGE;
-    }
-
-    /* From here on only a failure while running can go wrong: exit 1, and every file of
-     * --out that was there before stays as it was. */
-    size_t ncells = (size_t)SLAM_GRID_CELLS;
-    h->r = calloc(1, sizeof *h->r);
-    h->bufs = calloc(9u, ncells);
-    h->scratch = calloc(2u, SLAM_GRID_A);
-    h->ps = calloc(1, sizeof *h->ps);
-    if (h->r == NULL || h->bufs == NULL || h->scratch == NULL || h->ps == NULL) {
-        fprintf(stderr, "host_sim: out of memory\n");
-        return 1;
-    }
+    run_logs_t *l = &h->logs;
     if (make_dirs(o->out) != 0) {
         return 1;
     }
@@ -403,223 +161,295 @@ static int run(options_t *o, held_t *h)
         return 1;
     }
     fprintf(cfgf, "# firmware configuration of this run (host_sim --replay reads it)\n");
-    cfgtext_write(cfgf, &cfg);
+    cfgtext_write(cfgf, &h->sc.cfg);
     if (close_out(cfgf, o->out, "config.txt") != 0) {
         return 1;
     }
-    h->readings = open_out(o->out, "readings.csv");
-    h->trajectory = open_out(o->out, "trajectory.csv");
-    if (h->readings == NULL || h->trajectory == NULL) {
+    l->readings = open_out(o->out, "readings.csv");
+    l->trajectory = open_out(o->out, "trajectory.csv");
+    if (l->readings == NULL || l->trajectory == NULL) {
         return 1;
     }
-    if (o->trace != NULL && (h->trace = open_out(NULL, o->trace)) == NULL) {
+    if (o->trace != NULL && (l->trace = open_out(NULL, o->trace)) == NULL) {
         return 1;
     }
     if (o->telemetry != NULL) {
         /* Written as it goes, in place: a viewer may be following the file. */
-        h->telemetry = fopen(o->telemetry, "wb");
-        if (h->telemetry == NULL) {
+        l->telemetry = fopen(o->telemetry, "wb");
+        if (l->telemetry == NULL) {
             fprintf(stderr, "host_sim: cannot write %s: %s\n", o->telemetry, strerror(errno));
             return 1;
         }
     }
-    FILE *readings = h->readings;
-    FILE *trajectory = h->trajectory;
-    run_t *r = h->r;
-    fprintf(readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
-    fprintf(trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
+    fprintf(l->readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
+    fprintf(l->trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
     if (o->scoring) {
-        r->estimates = open_out(o->out, "scoring_estimate.csv");
-        if (r->estimates == NULL) {
+        h->r->estimates = open_out(o->out, "scoring_estimate.csv");
+        if (h->r->estimates == NULL) {
             return 1;
         }
-        fprintf(r->estimates, "%s\n", CSV_ESTIMATE_HEADER);
+        fprintf(h->r->estimates, "%s\n", CSV_ESTIMATE_HEADER);
     }
+    return 0;
+}
 
-    sim_t *sim = h->sim;
-    hal_host_attach(sim);
+/* Power the robot up in the world: the HAL on it, the firmware and its twin started, the
+ * trace and the telemetry recording from the first tick. 0, or 1 with a message. */
+static int start_firmware(const options_t *o, held_t *h)
+{
+    const slam_config_t *cfg = &h->sc.cfg;
+    hal_host_attach(h->sc.sim);
     if (o->storage != NULL) {
         /* Room for a record of this grid: the robot now saves its maps every
          * save_period_s, and stands still while a save begins, as a real one does. */
         hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
     }
-    if (hal_init() != HAL_OK || robot_init(&robot, &cfg) != SLAM_OK ||
-        hal_tick_start(tick_callback, &robot) != HAL_OK) {
+    if (hal_init() != HAL_OK || robot_init(&fw.robot, cfg) != SLAM_OK ||
+        hal_tick_start(tick_callback, &fw.robot) != HAL_OK) {
         fprintf(stderr, "host_sim: the firmware did not start\n");
         return 1;
     }
-    grid_init(&ideal_grid, &cfg);
-    mapper_init(&ideal_mapper, &cfg);
-    if (h->trace != NULL) {
-        trace_write_header(h->trace, &cfg);
-        hal_host_trace(h->trace);
+    grid_init(&fw.ideal_grid, cfg);
+    mapper_init(&fw.ideal_mapper, cfg);
+    if (h->logs.trace != NULL) {
+        trace_write_header(h->logs.trace, cfg);
+        hal_host_trace(h->logs.trace);
     }
-    if (h->telemetry != NULL) {
-        setvbuf(h->telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
-        hal_host_uart_sink(h->telemetry);
+    if (h->logs.telemetry != NULL) {
+        setvbuf(h->logs.telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
+        hal_host_uart_sink(h->logs.telemetry);
     }
+    return 0;
+}
 
-    uint8_t *bufs = h->bufs;
-    r->geom = map_geom_of(&robot.grid);
-    r->truth = bufs;
-    r->observable = bufs + ncells;
-    r->reachable = bufs + 2u * ncells;
-    r->seen = bufs + 3u * ncells;
-    uint8_t *post = bufs + 4u * ncells;
-    uint8_t *ideal_post = bufs + 5u * ncells;
-    uint8_t *work = bufs + 6u * ncells;
-    r->wall = bufs + 7u * ncells;
-    r->wall_seen = bufs + 8u * ncells;
-    room_rasterize(room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
-                   r->geom.b, r->truth);
-    grid_cell_t start;
-    (void)grid_cell_of(&robot.grid, cfg.start_x_um, cfg.start_y_um, &start);
-    reachable_cells(room, &params, r, grid_index(start));
-    if (walls_init(r, room, &params, cfg.confidence_radius_um * 1e-6, grid_index(start)) != 0) {
-        fprintf(stderr, "host_sim: out of memory\n");
-        return 1;
+/* --realtime: sleep until the wall clock catches up with tick k. */
+static void keep_pace(const options_t *o, uint64_t k, double t0)
+{
+    double ahead = (double)(k + 1u) * TICK_S / o->realtime_factor - (wall_now() - t0);
+    if (ahead > 0.0) {
+        struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
+        nanosleep(&ts, NULL);
     }
-    r->time_to[0] = r->time_to[1] = r->time_to[2] = -1.0;
-    r->last_x = sx;
-    r->last_y = sy;
-    r->marked_x = r->marked_y = HUGE_VAL;
+}
 
+static void show_progress(const options_t *o, uint64_t k, uint64_t ticks, double t0)
+{
+    double done = (double)(k + 1u) / (double)ticks;
+    int bar = (int)(done * 30.0);
+    double w = wall_now() - t0;
+    fprintf(stderr, "\r  simulating %7.1f s / %.0f s [%-30.*s] %3.0f%%  %6.0fx real time ",
+            (double)(k + 1u) * TICK_S, o->duration_s, bar, "##############################",
+            done * 100.0, w > 0 ? (double)(k + 1u) * TICK_S / w : 0.0);
+}
+
+/* The run itself: each period the world and the firmware's tick, the commands due, the
+ * background loop, the experimenter, the measurements. 0, or 1 when a log fails. */
+static int drive(const options_t *o, held_t *h, outcome_t *out)
+{
+    const scenario_t *sc = &h->sc;
+    sim_t *sim = sc->sim;
+    run_t *r = h->r;
+    const run_logs_t *l = &h->logs;
     uint64_t ticks = (uint64_t)llround(o->duration_s / TICK_S);
     /* UMBmark says how far it is itself, a line a run. */
     bool progress = !o->quiet && isatty(STDERR_FILENO) && o->explore != EXPLORE_UMBMARK;
     experimenter_t *tape = &h->tape;
-    experimenter_init(tape, o->out, o->seed, sx, sy, sth, o->quiet);
+    experimenter_init(tape, o->out, o->seed, sc->sx, sc->sy, sc->sth, o->quiet);
     int tape_rc = 0;
     double t0 = wall_now();
     for (uint64_t k = 0; k < ticks; k++) {
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
-        commands_feed(&h->commands, k);
-        robot_idle(&robot); /* the robot's background loop runs between ticks */
+        commands_feed(&h->sc.commands, k);
+        robot_idle(&fw.robot); /* the robot's background loop runs between ticks */
         /* UMBmark: a run measured and the robot carried back; the run ends after the last. */
-        tape_rc = experimenter_tick(tape, sim, &robot);
+        tape_rc = experimenter_tick(tape, sim, &fw.robot);
         if (tape_rc == 2 || tape_rc < 0) {
             ticks = k + 1u;
         }
-        observe_tick(r, sim, &before, &params, readings, trajectory, k, k + 1u == ticks);
+        observe_tick(r, &fw, sim, &before, &sc->params, l, k, k + 1u == ticks);
         if (tape_rc > 0) {
-            r->last_x = sx; /* carried, not driven: no path */
-            r->last_y = sy;
+            r->last_x = sc->sx; /* carried, not driven: no path */
+            r->last_y = sc->sy;
         }
         if (k % 1024u == 0u &&
-            (write_failed(h->telemetry, o->telemetry) || write_failed(h->trace, o->trace) ||
-             write_failed(readings, "readings.csv") || write_failed(trajectory, "trajectory.csv"))) {
+            (write_failed(l->telemetry, o->telemetry) || write_failed(l->trace, o->trace) ||
+             write_failed(l->readings, "readings.csv") ||
+             write_failed(l->trajectory, "trajectory.csv"))) {
             return 1;
         }
         if (o->realtime) {
-            double ahead = (double)(k + 1u) * TICK_S / o->realtime_factor - (wall_now() - t0);
-            if (ahead > 0.0) {
-                struct timespec ts = {(time_t)ahead, (long)((ahead - floor(ahead)) * 1e9)};
-                nanosleep(&ts, NULL);
-            }
+            keep_pace(o, k, t0);
         }
         if (progress && (k % 4096u == 0u || k + 1u == ticks)) {
-            double done = (double)(k + 1u) / (double)ticks;
-            int bar = (int)(done * 30.0);
-            double w = wall_now() - t0;
-            fprintf(stderr, "\r  simulating %7.1f s / %.0f s [%-30.*s] %3.0f%%  %6.0fx real time ",
-                    (double)(k + 1u) * TICK_S, o->duration_s, bar,
-                    "##############################", done * 100.0,
-                    w > 0 ? (double)(k + 1u) * TICK_S / w : 0.0);
+            show_progress(o, k, ticks, t0);
         }
     }
-    double wall_s = wall_now() - t0;
+    out->wall_s = wall_now() - t0;
     if (progress) {
         fprintf(stderr, "\n");
     }
+    out->ticks = ticks;
+    out->tape_rc = tape_rc;
+    return 0;
+}
+
+/* Close what was written as the robot ran (the trace gets its end line). 0, or 1 when a
+ * file failed or the experimenter did. */
+static int close_logs(const options_t *o, held_t *h, int tape_rc)
+{
+    run_logs_t *l = &h->logs;
     int bad = 0;
-    if (h->telemetry != NULL) {
+    if (l->telemetry != NULL) {
         hal_host_uart_sink(NULL);
-        bad |= write_failed(h->telemetry, o->telemetry) ? -1 : 0;
-        if (fclose(h->telemetry) != 0 && bad == 0) {
+        bad |= write_failed(l->telemetry, o->telemetry) ? -1 : 0;
+        if (fclose(l->telemetry) != 0 && bad == 0) {
             fprintf(stderr, "host_sim: writing %s failed: %s\n", o->telemetry, strerror(errno));
             bad = -1;
         }
-        h->telemetry = NULL;
+        l->telemetry = NULL;
     }
-    if (h->trace != NULL) {
+    if (l->trace != NULL) {
         hal_host_trace(NULL); /* writes the end line */
-        bad |= close_out(h->trace, NULL, o->trace);
-        h->trace = NULL;
+        bad |= close_out(l->trace, NULL, o->trace);
+        l->trace = NULL;
     }
-    bad |= close_out(readings, o->out, "readings.csv");
-    bad |= close_out(trajectory, o->out, "trajectory.csv");
-    h->readings = h->trajectory = NULL;
-    if (r->estimates != NULL) {
-        bad |= close_out(r->estimates, o->out, "scoring_estimate.csv");
-        r->estimates = NULL;
+    bad |= close_out(l->readings, o->out, "readings.csv");
+    bad |= close_out(l->trajectory, o->out, "trajectory.csv");
+    l->readings = l->trajectory = NULL;
+    if (h->r->estimates != NULL) {
+        bad |= close_out(h->r->estimates, o->out, "scoring_estimate.csv");
+        h->r->estimates = NULL;
     }
-    bad |= experimenter_close(tape) | (tape_rc < 0 ? -1 : 0);
-    if (bad != 0) {
-        return 1;
-    }
+    bad |= experimenter_close(&h->tape) | (tape_rc < 0 ? -1 : 0);
+    return bad != 0 ? 1 : 0;
+}
 
-    /* The hits still held back for matching belong in the map too (a replay does the same). */
-    loc_flush(&robot.loc, &robot.mapper, &robot.grid);
+/* ---- the end ------------------------------------------------------------------------------ */
 
-    chain_scores_t odo;
-    chain_scores_t ideal;
-    score_chain(r, robot.grid.om, &cfg, post, h->scratch, &odo);
-    score_chain(r, ideal_grid.om, &cfg, ideal_post, h->scratch, &ideal);
-    post_sweep_t *ps = h->ps;
-    sweep_post(r, robot.grid.om, &cfg, work, h->scratch, ps);
-
-    /* Every map in the one trinary meaning (hal_common/mapexport.h); TM as counts. */
+/* Every map in the one trinary meaning (hal_common/mapexport.h); TM as counts; the truth,
+ * and with --scoring the scorer's masks. A failed write ORs -1 into *bad; false when out
+ * of memory (with a message). */
+static bool export_maps(const options_t *o, held_t *h, int *bad)
+{
+    const run_t *r = h->r;
+    const robot_t *robot = &fw.robot;
+    const slam_config_t *cfg = &h->sc.cfg;
+    uint8_t *work = h->end.work;
     const uint32_t A = r->geom.a;
     const uint32_t B = r->geom.b;
-    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, NULL, A, B, work);
-    bad |= write_map(o->out, "om", &r->geom, work, true);
-    mapx_trinary(cfg.om_mode, robot.grid.om, robot.grid.tm, post, A, B, work);
-    bad |= write_map(o->out, "om_post", &r->geom, work, true);
-    mapx_trinary(cfg.om_mode, ideal_grid.om, ideal_grid.tm, NULL, A, B, work);
-    bad |= write_map(o->out, "om_ideal", &r->geom, work, true);
-    mapx_counts(robot.grid.tm, cfg.tm_max, A, B, work);
-    bad |= write_map(o->out, "tm", &r->geom, work, false);
-    if (truth_image(&r->geom, r->truth, grid_index(start), work) != 0) {
+    mapx_trinary(cfg->om_mode, robot->grid.om, robot->grid.tm, NULL, A, B, work);
+    *bad |= write_map(o->out, "om", &r->geom, work, true);
+    mapx_trinary(cfg->om_mode, robot->grid.om, robot->grid.tm, h->end.post, A, B, work);
+    *bad |= write_map(o->out, "om_post", &r->geom, work, true);
+    mapx_trinary(cfg->om_mode, fw.ideal_grid.om, fw.ideal_grid.tm, NULL, A, B, work);
+    *bad |= write_map(o->out, "om_ideal", &r->geom, work, true);
+    mapx_counts(robot->grid.tm, cfg->tm_max, A, B, work);
+    *bad |= write_map(o->out, "tm", &r->geom, work, false);
+    if (truth_image(&r->geom, r->truth, h->start_cell, work) != 0) {
         fprintf(stderr, "host_sim: out of memory\n");
-        return 1;
+        return false;
     }
-    bad |= write_map(o->out, "truth", &r->geom, work, true);
+    *bad |= write_map(o->out, "truth", &r->geom, work, true);
     if (o->scoring) {
         /* What score_map() counts against, for a scorer outside this program
          * (tools/compare.py): black where a mask is set, the orientation of om.pgm. */
         mapx_counts(r->truth, 1u, A, B, work);
-        bad |= write_map(o->out, "scoring_truth", &r->geom, work, false);
+        *bad |= write_map(o->out, "scoring_truth", &r->geom, work, false);
         mapx_counts(r->observable, 1u, A, B, work);
-        bad |= write_map(o->out, "scoring_observable", &r->geom, work, false);
+        *bad |= write_map(o->out, "scoring_observable", &r->geom, work, false);
     }
-    bad |= write_metrics(o, room, r, &cfg, &errors, sim, &robot, &odo, &ideal, ps);
-    if (o->storage != NULL) {
-        bad |= write_storage(o->storage);
-    }
+    return true;
+}
+
+/* timing.json, kept apart so every other output is byte-identical for a seed. 0, -1 when
+ * its write failed, 1 when it cannot be opened. */
+static int write_timing(const options_t *o, const outcome_t *out)
+{
     FILE *tf = open_out(o->out, "timing.json");
     if (tf == NULL) {
         return 1;
     }
+    double wall_s = out->wall_s;
     fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
                 "\"real_time_factor\": %.0f}\n",
-            wall_s, (unsigned long long)ticks, wall_s > 0 ? (double)ticks / wall_s : 0.0,
-            wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
-    bad |= close_out(tf, o->out, "timing.json");
+            wall_s, (unsigned long long)out->ticks,
+            wall_s > 0 ? (double)out->ticks / wall_s : 0.0,
+            wall_s > 0 ? (double)out->ticks * TICK_S / wall_s : 0.0);
+    return close_out(tf, o->out, "timing.json");
+}
+
+/* The end of a run: the held-back hits mapped, the maps scored and exported, the metrics,
+ * the storage slots and the timing written, then all committed at once; the summary, the
+ * figure. 0, or 1. */
+static int finish(const options_t *o, held_t *h, const outcome_t *out)
+{
+    const scenario_t *sc = &h->sc;
+    run_t *r = h->r;
+    end_bufs_t *e = &h->end;
+    /* The hits still held back for matching belong in the map too (a replay does the same). */
+    loc_flush(&fw.robot.loc, &fw.robot.mapper, &fw.robot.grid);
+
+    chain_scores_t odo;
+    chain_scores_t ideal;
+    score_chain(r, fw.robot.grid.om, &sc->cfg, e->post, e->scratch, &odo);
+    score_chain(r, fw.ideal_grid.om, &sc->cfg, e->ideal_post, e->scratch, &ideal);
+    sweep_post(r, fw.robot.grid.om, &sc->cfg, e->work, e->scratch, e->ps);
+
+    int bad = 0;
+    if (!export_maps(o, h, &bad)) {
+        return 1;
+    }
+    bad |= write_metrics(o, &sc->room, r, &sc->cfg, &sc->errors, sc->sim, &fw.robot, &odo,
+                         &ideal, e->ps);
+    if (o->storage != NULL) {
+        bad |= write_storage(o->storage);
+    }
+    int timing = write_timing(o, out);
+    if (timing > 0) {
+        return 1;
+    }
+    bad |= timing;
     if (bad != 0 || outputs_commit() != 0) {
         return 1;
     }
     if (!o->quiet) {
-        print_summary(o, r, &odo, &ideal, ps, wall_s, ticks, sim, &robot);
+        print_summary(o, r, &odo, &ideal, e->ps, out->wall_s, out->ticks, sc->sim, &fw.robot);
     }
     if (o->plot) {
         plot_figure(o->out, o->quiet);
     }
-    if (h->commands.dropped != 0u) {
+    if (sc->commands.dropped != 0u) {
         fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
-                o->commands, h->commands.dropped);
+                o->commands, sc->commands.dropped);
     }
     return 0;
+}
+
+/* ---- main ----------------------------------------------------------------------------- */
+
+/* Checks the input, then the outputs, then runs: 0, EXIT_USAGE or 1. */
+static int run(options_t *o, held_t *h)
+{
+    /* Everything that can be wrong with the input is checked before anything is written. */
+    int rc = scenario_load(o, &h->sc);
+    if (rc != 0) {
+        return rc;
+    }
+    if (check_outputs(o) != 0) {
+        return EXIT_USAGE;
+    }
+    /* From here on only a failure while running can go wrong: exit 1, and every file of
+     * --out that was there before stays as it was. */
+    if (alloc_buffers(h) != 0 || open_logs(o, h) != 0 || start_firmware(o, h) != 0 ||
+        observe_init(h->r, &h->sc, &fw.robot, &h->start_cell) != 0) {
+        return 1;
+    }
+    outcome_t out;
+    if (drive(o, h, &out) != 0 || close_logs(o, h, out.tape_rc) != 0) {
+        return 1;
+    }
+    return finish(o, h, &out);
 }
 
 int main(int argc, char **argv)

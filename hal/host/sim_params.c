@@ -1,0 +1,125 @@
+/* SPDX-License-Identifier: MIT */
+/* The simulated robot's parameters and error levels: the defaults, the ideal robot, the checks. */
+#include <math.h>
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "host/sim.h"
+
+void sim_params_default(sim_params_t *p)
+{
+    *p = (sim_params_t){
+        .wheel_diameter_m = 0.065,
+        .wheel_base_m = 0.130,
+        .counts_per_rev = 700.0,
+        .top_speed_mps = 0.3,
+        .motor_tau_s = 0.08,
+        .body_radius_m = 0.09,
+        .sonar_x_m = 0.05,
+        .sonar_y_m = 0.0,
+        .servo_s_per_60deg = 0.1,
+        .servo_pulse_0_us = 500.0,
+        .servo_pulse_180_us = 2500.0,
+        .sonar_cone_deg = 15.0,
+        .sonar_min_m = 0.02,
+        .sonar_max_m = 4.0,
+        .sonar_timeout_us = 38000.0,
+        .sound_mps = 343.0,
+        .sonar_ring_us = 60000.0,
+    };
+}
+
+/* The systematic errors are an uncalibrated hobby robot's (hal/host/README.md says from
+ * what); the firmware's shipped calibration, host_sim/calibration/, is UMBmark's of them. */
+void sim_errors_default(sim_errors_t *e)
+{
+    *e = (sim_errors_t){
+        .wheel_ratio_ed = 1.005,
+        .wheel_base_eb = 1.03,
+        .slip_per_mps2 = 0.3,
+        .slip_free_mps2 = 0.5,
+        .wheel_noise = 0.01,
+        .sonar_noise_m = 0.01,
+        .sonar_dropout = 0.03,
+        .sonar_ghost = 0.01,
+        .grazing_deg = 45.0,
+        .echo_stuck_per_s = 0.0,
+        .servo_lag = 0.0,
+        .servo_stall_per_s = 0.0,
+        .tick_miss = 0.0,
+        .encoder_stop_per_s = 0.0,
+    };
+}
+
+void sim_errors_ideal(sim_errors_t *e)
+{
+    *e = (sim_errors_t){
+        .wheel_ratio_ed = 1.0,
+        .wheel_base_eb = 1.0,
+        .slip_per_mps2 = 0.0,
+        .slip_free_mps2 = 0.5,
+        .wheel_noise = 0.0,
+        .sonar_noise_m = 0.0,
+        .sonar_dropout = 0.0,
+        .sonar_ghost = 0.0,
+        .grazing_deg = 0.0,
+    };
+}
+
+static bool in(double v, double lo, double hi)
+{
+    return isfinite(v) && v >= lo && v <= hi;
+}
+
+int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **field)
+{
+    const struct {
+        bool ok;
+        const char *name;
+    } checks[] = {
+        {in(p->wheel_diameter_m, 1e-3, 10.0), "p.wheel_diameter_m"},
+        {in(p->wheel_base_m, 1e-3, 10.0), "p.wheel_base_m"},
+        {in(p->counts_per_rev, 1.0, 1e6), "p.counts_per_rev"},
+        {in(p->top_speed_mps, 1e-3, 10.0), "p.top_speed_mps"},
+        {in(p->motor_tau_s, 1e-4, 10.0), "p.motor_tau_s"},
+        {in(p->body_radius_m, 1e-3, 10.0), "p.body_radius_m"},
+        {in(p->sonar_x_m, -10.0, 10.0), "p.sonar_x_m"},
+        {in(p->sonar_y_m, -10.0, 10.0), "p.sonar_y_m"},
+        {in(p->servo_s_per_60deg, 1e-4, 100.0), "p.servo_s_per_60deg"},
+        {in(p->servo_pulse_0_us, 0.0, 1e5), "p.servo_pulse_0_us"},
+        {in(p->servo_pulse_180_us, 0.0, 1e5) && p->servo_pulse_180_us != p->servo_pulse_0_us,
+         "p.servo_pulse_180_us"},
+        {in(p->sonar_cone_deg, 0.0, 89.0), "p.sonar_cone_deg"},
+        {in(p->sonar_min_m, 0.0, 100.0), "p.sonar_min_m"},
+        {in(p->sonar_max_m, p->sonar_min_m + 1e-6, 100.0), "p.sonar_max_m"},
+        {in(p->sound_mps, 1.0, 1e5), "p.sound_mps"},
+        /* The farthest echo must come back before the timeout. */
+        {in(p->sonar_timeout_us, 1.0, 1e7) && isfinite(p->sound_mps) && p->sound_mps > 0.0 &&
+             2.0 * p->sonar_max_m / p->sound_mps * 1e6 < p->sonar_timeout_us,
+         "p.sonar_timeout_us"},
+        {in(p->sonar_ring_us, 0.0, 1e7), "p.sonar_ring_us"},
+        {in(e->wheel_ratio_ed, 0.5, 2.0), "e.wheel_ratio_ed"},
+        {in(e->wheel_base_eb, 0.5, 2.0), "e.wheel_base_eb"},
+        {in(e->slip_per_mps2, 0.0, 1.0), "e.slip_per_mps2"},
+        {in(e->slip_free_mps2, 0.0, 100.0), "e.slip_free_mps2"},
+        {in(e->wheel_noise, 0.0, 0.5), "e.wheel_noise"},
+        {in(e->sonar_noise_m, 0.0, 10.0), "e.sonar_noise_m"},
+        {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
+        {in(e->sonar_ghost, 0.0, 1.0), "e.sonar_ghost"},
+        {in(e->grazing_deg, 0.0, 90.0), "e.grazing_deg"},
+        {in(e->echo_stuck_per_s, 0.0, 10.0), "e.echo_stuck_per_s"},
+        {in(e->servo_lag, 0.0, 0.95), "e.servo_lag"},
+        {in(e->servo_stall_per_s, 0.0, 10.0), "e.servo_stall_per_s"},
+        {in(e->tick_miss, 0.0, 0.9), "e.tick_miss"},
+        {in(e->encoder_stop_per_s, 0.0, 10.0), "e.encoder_stop_per_s"},
+    };
+    for (size_t i = 0; i < sizeof checks / sizeof checks[0]; i++) {
+        if (!checks[i].ok) {
+            if (field != NULL) {
+                *field = checks[i].name;
+            }
+            return -1;
+        }
+    }
+    return 0;
+}

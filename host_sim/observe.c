@@ -1,0 +1,233 @@
+/* SPDX-License-Identifier: MIT */
+/* What host_sim measures as the robot runs: its setup, then after every tick the pose
+ * errors, the coverage, the trajectory and the reading of the tick. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "host_sim.h"
+#include "slam/error.h"
+
+static const double PI = HOST_SIM_PI;
+#define TRAJECTORY_EVERY 10u     /* trajectory.csv: one row per 0.1 s */
+#define COVERAGE_EVERY 1000u     /* the coverage series: one point per 10 s */
+
+static const double coverage_marks[3] = {0.5, 0.8, 0.9};
+
+/* Free cells whose centre the robot's centre can reach from the start (4-connected,
+ * clear of obstacles by the body radius): the cells exploration could visit. */
+static void reachable_cells(const room_t *room, const sim_params_t *p, run_t *r, uint32_t start)
+{
+    const map_geom_t *g = &r->geom;
+    size_t n = (size_t)g->a * g->b;
+    uint32_t *queue = malloc(n * sizeof *queue);
+    if (queue == NULL) {
+        return;
+    }
+    size_t head = 0;
+    size_t tail = 0;
+    r->reachable[start] = 1u;
+    queue[tail++] = start;
+    while (head < tail) {
+        uint32_t c = queue[head++];
+        uint32_t x = c % g->a;
+        uint32_t y = c / g->a;
+        const int32_t dx[4] = {1, -1, 0, 0};
+        const int32_t dy[4] = {0, 0, 1, -1};
+        for (int k = 0; k < 4; k++) {
+            int64_t nx = (int64_t)x + dx[k];
+            int64_t ny = (int64_t)y + dy[k];
+            if (nx < 0 || ny < 0 || nx >= g->a || ny >= g->b) {
+                continue;
+            }
+            uint32_t nc = (uint32_t)ny * g->a + (uint32_t)nx;
+            if (r->reachable[nc] || r->truth[nc]) {
+                continue;
+            }
+            double wx = g->origin_x + ((double)nx + 0.5) * g->cell_m;
+            double wy = g->origin_y + ((double)ny + 0.5) * g->cell_m;
+            if (!room_disc_free(room, wx, wy, p->body_radius_m)) {
+                continue;
+            }
+            r->reachable[nc] = 1u;
+            queue[tail++] = nc;
+        }
+    }
+    r->reachable_cells = (uint32_t)tail;
+    free(queue);
+}
+
+int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t *start_cell)
+{
+    const room_t *room = &sc->room;
+    r->geom = map_geom_of(&robot->grid);
+    room_rasterize(room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
+                   r->geom.b, r->truth);
+    grid_cell_t start;
+    (void)grid_cell_of(&robot->grid, sc->cfg.start_x_um, sc->cfg.start_y_um, &start);
+    *start_cell = grid_index(start);
+    reachable_cells(room, &sc->params, r, *start_cell);
+    if (walls_init(r, room, &sc->params, sc->cfg.confidence_radius_um * 1e-6, *start_cell) != 0) {
+        fprintf(stderr, "host_sim: out of memory\n");
+        return -1;
+    }
+    r->time_to[0] = r->time_to[1] = r->time_to[2] = -1.0;
+    r->last_x = sc->sx;
+    r->last_y = sc->sy;
+    r->marked_x = r->marked_y = HUGE_VAL;
+    return 0;
+}
+
+static double wrap_pi(double a)
+{
+    return remainder(a, 2.0 * PI);
+}
+
+/* The odometry's error against the truth @p tr, and the path driven. */
+static void track_errors(run_t *r, const sim_truth_t *tr, double ox, double oy, double oth,
+                         double *ep, double *eth)
+{
+    *ep = hypot(ox - tr->x, oy - tr->y);
+    *eth = fabs(wrap_pi(oth - tr->th));
+    r->max_pos_err = *ep > r->max_pos_err ? *ep : r->max_pos_err;
+    r->max_th_err = *eth > r->max_th_err ? *eth : r->max_th_err;
+    r->final_pos_err = *ep;
+    r->final_th_err = *eth;
+    r->path_m += hypot(tr->x - r->last_x, tr->y - r->last_y);
+    r->last_x = tr->x;
+    r->last_y = tr->y;
+}
+
+/* Coverage: TM > 0 on a reachable cell, and when each mark was reached. */
+static void track_coverage(run_t *r, const robot_t *robot, double t)
+{
+    grid_cell_t c;
+    if (grid_cell_of(&robot->grid, robot->pose.x_um, robot->pose.y_um, &c) == SLAM_OK) {
+        uint32_t i = grid_index(c);
+        if (!r->seen[i]) {
+            r->seen[i] = 1u;
+            r->visited_cells += r->reachable[i];
+            for (int k = 0; k < 3; k++) {
+                if (r->time_to[k] < 0.0 &&
+                    r->visited_cells >= coverage_marks[k] * r->reachable_cells) {
+                    r->time_to[k] = t;
+                }
+            }
+        }
+    }
+}
+
+/* One point of the coverage series. */
+static void series_point(run_t *r, double t)
+{
+    r->series[r->nseries][0] = t;
+    r->series[r->nseries][1] =
+        r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0;
+    r->series[r->nseries][2] = r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0;
+    r->nseries++;
+}
+
+/* One row of trajectory.csv: odometry and truth. */
+static void trajectory_row(FILE *trajectory, double t, double ox, double oy, double oth,
+                           const sim_truth_t *tr)
+{
+    char line[192];
+    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+    e = fmt_fixed(e, ox, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, oy, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(oth), CSV_HEADING_DECIMALS, ',');
+    e = fmt_fixed(e, tr->x, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, tr->y, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(tr->th), CSV_HEADING_DECIMALS, '\n');
+    fwrite(line, 1, (size_t)(e - line), trajectory);
+}
+
+/* The reading of this tick, with the pose of its ping: odometry and truth. It marks what
+ * became observable and the walls it covered, goes into the perfect-odometry maps, and is
+ * logged to readings.csv (and its estimated pose to scoring_estimate.csv). */
+static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const sim_params_t *p,
+                            FILE *readings, double t)
+{
+    const robot_t *robot = &fw->robot;
+    const sweep_out_t *sw = &robot->last;
+    sim_ping_t ping = sim_last_ping(sim);
+    const odom_pose_t *op = &robot->mapper.ping_pose;
+    double sx = ping.x + p->sonar_x_m * cos(ping.th) - p->sonar_y_m * sin(ping.th);
+    double sy = ping.y + p->sonar_x_m * sin(ping.th) + p->sonar_y_m * cos(ping.th);
+    /* Cells within rc of a sonar position are observable; a new disc only once the
+     * sonar has moved by a cell (the disc's edge is then within a cell of exact). */
+    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m) {
+        mark_disc(&r->geom, r->observable, sx, sy, robot->cfg.confidence_radius_um * 1e-6);
+        r->marked_x = sx;
+        r->marked_y = sy;
+    }
+    walls_ping(r, sx, sy, ping.bearing, t);
+    char line[256];
+    char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
+    uint32_t d = 0u;
+    odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
+    if (sw->reading.echo) {
+        d = sonar_range_um(&robot->mapper.sonar, sw->reading.echo_us);
+        e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
+        (void)mapper_reading(&fw->ideal_mapper, &fw->ideal_grid, &truth_pose, sw->reading.servo, d);
+    } else {
+        *e++ = ',';
+        mapper_timeout(&fw->ideal_mapper, &fw->ideal_grid, &truth_pose);
+    }
+    const char *status = reading_status(&robot->mapper.sonar, sw->reading.echo, d);
+    size_t n = strlen(status);
+    memcpy(e, status, n);
+    e += n;
+    *e++ = ',';
+    e = fmt_fixed(e, op->x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, op->y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(bam_rad(op->heading)), CSV_HEADING_DECIMALS, ',');
+    e = fmt_fixed(e, ping.x, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, ping.y, CSV_LENGTH_DECIMALS, ',');
+    e = fmt_fixed(e, wrap_pi(ping.th), CSV_HEADING_DECIMALS, '\n');
+    fwrite(line, 1, (size_t)(e - line), readings);
+    if (r->estimates != NULL) {
+        /* Where the robot believed the ping was (odometry and the correction of the tick),
+         * for a mapper outside this program to map from the firmware's estimate. */
+        odom_pose_t est = robot->loc.deferred ? loc_apply(&robot->loc.tick_corr, op) : *op;
+        e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
+        e = fmt_fixed(e, est.x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
+        e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, '\n');
+        fwrite(line, 1, (size_t)(e - line), r->estimates);
+    }
+}
+
+void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t *before,
+                  const sim_params_t *p, const run_logs_t *logs, uint64_t tick, bool last)
+{
+    /* The firmware read its encoders at the start of the period: compare its pose with
+     * the truth of that instant, not with the world already advanced by the period. */
+    const sim_truth_t tr = *before;
+    const robot_t *robot = &fw->robot;
+    double t = (double)tick * TICK_S;
+    double ox = robot->pose.x_um * 1e-6;
+    double oy = robot->pose.y_um * 1e-6;
+    double oth = bam_rad(robot->pose.heading);
+    double ep;
+    double eth;
+    track_errors(r, &tr, ox, oy, oth, &ep, &eth);
+
+    /* The perfect-odometry maps' TM, at the true pose. */
+    (void)grid_tm_visit(&fw->ideal_grid, to_um(tr.x), to_um(tr.y));
+
+    track_coverage(r, robot, t);
+    sim_truth_t after = sim_truth(sim);
+    clearance_tick(r, after.x, after.y);
+    touch_tick(r, after.contact, after.x, after.y, after.th, t, ep, eth);
+    if (((tick + 1u) % COVERAGE_EVERY == 0u || last) && r->nseries < 4096u) {
+        series_point(r, t);
+    }
+    if (tick % TRAJECTORY_EVERY == 0u || last) {
+        trajectory_row(logs->trajectory, t, ox, oy, oth, &tr);
+    }
+    if (robot->last.reading_ready) {
+        observe_reading(r, fw, sim, p, logs->readings, t);
+    }
+}

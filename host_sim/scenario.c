@@ -1,0 +1,166 @@
+/* SPDX-License-Identifier: MIT */
+/* host_sim's scenario: the room, the start pose, the robot's errors, the configuration and
+ * the world, every part checked before anything is written. */
+#include <string.h>
+
+#include "host_sim.h"
+
+static const double PI = HOST_SIM_PI;
+
+/* The start pose must lie inside the room: rays in eight directions all meet a wall. */
+static int check_enclosed(const options_t *o, const room_t *room, double sx, double sy)
+{
+    double dir_deg = 0.0;
+    if (room_encloses(room, sx, sy, &dir_deg)) {
+        return 0;
+    }
+    char who[1100];
+    if (o->has_start) {
+        snprintf(who, sizeof who, "--start %g %g", sx, sy);
+    } else if (room->start_line != 0u) {
+        snprintf(who, sizeof who, "%s:%u: start pose (%g, %g)", o->room, room->start_line, sx, sy);
+    } else {
+        snprintf(who, sizeof who, "%s: start pose (%g, %g)", o->room, sx, sy);
+    }
+    fprintf(stderr, "host_sim: %s is outside the room: a ray toward %.0f deg meets no wall\n",
+            who, dir_deg);
+    return -1;
+}
+
+/* The start pose: --start, else the room's, else a free place found in it; inside the room
+ * and clear of obstacles for the default body. 0, or EXIT_USAGE with a message. */
+static int choose_start(const options_t *o, scenario_t *sc)
+{
+    const room_t *room = &sc->room;
+    sim_params_t params;
+    sim_params_default(&params);
+    sc->sx = room->start_x;
+    sc->sy = room->start_y;
+    sc->sth = room->start_th;
+    if (o->has_start) {
+        sc->sx = o->start_x;
+        sc->sy = o->start_y;
+        sc->sth = o->start_deg * PI / 180.0;
+        if (!room_disc_free(room, sc->sx, sc->sy, params.body_radius_m)) {
+            fprintf(stderr, "host_sim: --start %g %g is inside or against an obstacle\n", sc->sx,
+                    sc->sy);
+            return EXIT_USAGE;
+        }
+    } else if (!room->has_start && room_find_start(room, params.body_radius_m + 0.05, &sc->sx,
+                                                   &sc->sy, &sc->sth) != 0) {
+        fprintf(stderr, "host_sim: %s: no free start pose; give one with --start\n", o->room);
+        return EXIT_USAGE;
+    }
+    if (check_enclosed(o, room, sc->sx, sc->sy) != 0) {
+        return EXIT_USAGE;
+    }
+    return 0;
+}
+
+/* The error levels (--ideal or the defaults, then each --error), and the calibration that
+ * goes with them. 0, or EXIT_USAGE with a message. */
+static int choose_errors(options_t *o, sim_errors_t *errors)
+{
+    if (o->ideal) {
+        sim_errors_ideal(errors);
+    } else {
+        sim_errors_default(errors);
+    }
+    for (size_t i = 0; i < o->nerrors; i++) {
+        if (apply_error(errors, o->errors[i]) != 0) {
+            return EXIT_USAGE;
+        }
+    }
+    /* The shipped calibration belongs to the default robot: not to an ideal one, nor to
+     * one with other wheels. */
+    sim_errors_t defaults;
+    sim_errors_default(&defaults);
+    if (o->calibration == NULL) {
+        bool default_robot = !o->ideal && errors->wheel_ratio_ed == defaults.wheel_ratio_ed &&
+                             errors->wheel_base_eb == defaults.wheel_base_eb;
+        o->calibration = default_robot ? SLAM_SOURCE_DIR HOST_SIM_CALIBRATION : NULL;
+    } else if (strcmp(o->calibration, "none") == 0) {
+        o->calibration = NULL;
+    }
+    return 0;
+}
+
+/* The firmware's configuration, and what the report says from it. 0, or EXIT_USAGE. */
+static int choose_config(options_t *o, scenario_t *sc)
+{
+    if (build_config(o, &sc->room, sc->sx, sc->sy, sc->sth, &sc->cfg) != 0) {
+        return EXIT_USAGE;
+    }
+    /* One source of truth: what the report says is what the firmware runs with. */
+    o->cell_mm = sc->cfg.cell_um / 1000.0;
+    o->explore = sc->cfg.explore_mode;
+    return 0;
+}
+
+/* The robot as built matches the firmware's nominal configuration; the error levels make
+ * the real one differ. */
+static void build_params(const slam_config_t *cfg, sim_params_t *p)
+{
+    sim_params_default(p);
+    p->wheel_diameter_m = cfg->wheel_diameter_left_um * 1e-6;
+    p->wheel_base_m = cfg->wheel_base_um * 1e-6;
+    p->counts_per_rev = cfg->encoder_counts_per_rev;
+    p->top_speed_mps = cfg->top_speed_mm_s * 1e-3;
+    p->sonar_x_m = cfg->mount_x_um * 1e-6;
+    p->sonar_y_m = cfg->mount_y_um * 1e-6;
+    p->servo_pulse_0_us = cfg->servo_pulse_0deg_us;
+    p->servo_pulse_180_us = cfg->servo_pulse_180deg_us;
+}
+
+/* The simulated robot in the room, at the start pose chosen. 0, or EXIT_USAGE. */
+static int build_world(const options_t *o, scenario_t *sc)
+{
+    build_params(&sc->cfg, &sc->params);
+    /* The world starts the robot at the room's start pose: the one chosen above. */
+    sc->room.start_x = sc->sx;
+    sc->room.start_y = sc->sy;
+    sc->room.start_th = sc->sth;
+    const char *bad_param = NULL;
+    if (sim_params_check(&sc->params, &sc->errors, &bad_param) != 0) {
+        fprintf(stderr, "host_sim: the simulated robot refuses %s\n", bad_param);
+        return EXIT_USAGE;
+    }
+    sc->sim = sim_create(&sc->room, &sc->params, &sc->errors, o->seed);
+    if (sc->sim == NULL) {
+        fprintf(stderr, "host_sim: the robot does not fit at the start pose (%g, %g)\n", sc->sx,
+                sc->sy);
+        return EXIT_USAGE;
+    }
+    return 0;
+}
+
+int scenario_load(options_t *o, scenario_t *sc)
+{
+    char err[1024];
+    if (room_load(&sc->room, o->room, o->has_crop ? &o->crop : NULL, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: %s\n", err);
+        return EXIT_USAGE;
+    }
+    int rc = choose_start(o, sc);
+    if (rc == 0) {
+        rc = choose_errors(o, &sc->errors);
+    }
+    if (rc == 0) {
+        rc = choose_config(o, sc);
+    }
+    if (rc == 0 && o->commands != NULL) {
+        rc = commands_load(o->commands, &sc->commands);
+    }
+    if (rc == 0) {
+        rc = build_world(o, sc);
+    }
+    return rc;
+}
+
+void scenario_free(scenario_t *sc)
+{
+    sim_destroy(sc->sim);
+    sc->sim = NULL;
+    room_free(&sc->room);
+    commands_free(&sc->commands);
+}
