@@ -394,9 +394,9 @@ def figure(path, scenes=FIGURE):
     for ax, (kind, seed) in zip(axes.flat, scenes):
         sc = make(kind, seed)
         room = roomfile.parse(room_text(sc))
-        roomfile.draw(room, ax, "%s %d: %s, %.1f m²" % (
-            kind, seed, sc.shape if kind == "room" else "%d rooms and a hall" % (len(sc.parts) - 1),
-            sc.area_m2()))
+        what = "%d rooms and a hall" % (len(sc.parts) - 1) if kind == "flat" else \
+            sc.shape + (", a partition" if sc.doors else "")
+        roomfile.draw(room, ax, "%s %d: %s, %.1f m²" % (kind, seed, what, sc.area_m2()))
     for ax in list(axes.flat)[len(scenes):]:
         ax.axis("off")
     fig.tight_layout()
