@@ -39,9 +39,8 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import roomgen  # noqa: E402
-from sim_report import BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg  # noqa: E402
+import roomgen
+from sim_report import BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg
 
 BANDS = ((0, 12, "under 12 m²"), (12, 25, "12–25 m²"), (25, 40, "25–40 m²"),
          (40, math.inf, "over 40 m²"))
@@ -293,29 +292,37 @@ def durations(text):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
-    ap.add_argument("--host-sim",
+    ap = argparse.ArgumentParser(prog="tools/corpus_report.py", usage=argparse.SUPPRESS,
+                                 description=__doc__.strip(),
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--host-sim", metavar="BIN",
                     default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2,
+    ap.add_argument("--jobs", type=int, metavar="N", default=os.cpu_count() or 2,
                     help="runs at a time (default: every core)")
     ap.add_argument("--out", default=os.path.join(SRC, "out", "corpus"), metavar="DIR")
     ap.add_argument("--json", metavar="FILE", help="(default DIR/corpus.json)")
     ap.add_argument("--keep", action="store_true", help="keep every run's readings, trajectory "
                     "and images")
-    ap.add_argument("--seeds", type=int, default=20, help="seeds of each shipped room (default 20)")
-    ap.add_argument("--rooms", type=int, default=100, help="generated rooms (default 100)")
+    ap.add_argument("--seeds", type=int, metavar="N", default=20,
+                    help="seeds of each shipped room (default 20)")
+    ap.add_argument("--rooms", type=int, metavar="N", default=100,
+                    help="generated rooms (default 100)")
     ap.add_argument("--room-durations", type=durations, default=[600, 1800], metavar="S,S",
                     help="the generated rooms' durations (default 600,1800 s)")
-    ap.add_argument("--flats", type=int, default=12, help="generated flats (default 12)")
-    ap.add_argument("--first-seed", type=int, default=1, help="of the generated rooms and flats")
-    ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
+    ap.add_argument("--flats", type=int, metavar="M", default=12,
+                    help="generated flats (default 12)")
+    ap.add_argument("--first-seed", type=int, metavar="S", default=1,
+                    help="of the generated rooms and flats (default 1)")
+    ap.add_argument("--maps", metavar="DIR",
+                    default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
                     help="the building maps (default: ../shared/maps beside the repository)")
     ap.add_argument("--quick", action="store_true",
                     help="a smoke test: 2 seeds, 6 rooms and 2 flats, runs of 1-2 min")
     add_host_arg(ap, "--host-arg=--set --host-arg=localize=0")
     args = ap.parse_args()
     if min(args.jobs, args.seeds) < 1 or min(args.rooms, args.flats, args.first_seed) < 0:
-        ap.error("--jobs and --seeds need at least 1, --rooms, --flats and --first-seed 0")
+        ap.error("--jobs and --seeds need at least 1; --rooms, --flats and --first-seed "
+                 "cannot be negative")
     if not os.path.exists(args.host_sim):
         print("corpus_report: %s not found: build it first (make sim)" % args.host_sim,
               file=sys.stderr)

@@ -10,13 +10,10 @@ GAP away from it (tables and screens always keep GAP), and nothing stands before
 place_start() then checks the whole on the 5 cm raster of tools/roomfile.py.
 Every number comes from one Draw, the seed's stream.
 """
-import os
 import random
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import roomfile  # noqa: E402
-from roomfile import CELL, START_CLEAR  # noqa: E402
+import roomfile
+from roomfile import CELL, START_CLEAR
 
 GAP = 600          # mm: furniture touches a wall or another piece, or keeps this far away
 DOOR_KEEP = 800    # mm in front of a door, on both sides, kept free of furniture

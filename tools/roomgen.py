@@ -36,10 +36,9 @@ import os
 import sys
 import textwrap
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import roomfile  # noqa: E402
-from furnish import DOOR_KEEP, Draw, Face, Region, Scene, furnish_all  # noqa: E402
-from roomfile import START_CLEAR  # noqa: E402
+import roomfile
+from furnish import DOOR_KEEP, Draw, Face, Region, Scene, furnish_all
+from roomfile import START_CLEAR
 
 WALL_T = 100       # mm: inner walls
 DOOR_MIN, DOOR_MAX = 700, 900    # mm: door openings
@@ -428,9 +427,9 @@ def seed_arg(text):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="tools/roomgen.py", description=__doc__.splitlines()[0],
-                                 epilog="Exit status: 0 done, 1 a file could not be written, "
-                                 "2 bad arguments.")
+    ap = argparse.ArgumentParser(prog="tools/roomgen.py", usage=argparse.SUPPRESS,
+                                 description=__doc__.strip(),
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = ap.add_subparsers(dest="what", metavar="{room,flat,corpus,figure}")
     sub.required = True
     for kind, what in (("room", "one room"), ("flat", "one flat")):
