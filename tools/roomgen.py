@@ -330,7 +330,8 @@ def room_text(sc):
              "'# door x y w h': the openings through inner walls." % (
                  START_CLEAR / 1000, roomfile.PASS / 1000, 2 * roomfile.PASS / 1000))
     lines = ["# SPDX-License-Identifier: MIT"]
-    lines += ["# " + t for t in textwrap.wrap(head, 88)]
+    lines += ["# " + t for t in textwrap.wrap(head, 88, break_long_words=False,
+                                              break_on_hyphens=False)]
     lines += ["# part %s %s %s %s %s" % (n, m(r[0]), m(r[1]), m(r[2] - r[0]), m(r[3] - r[1]))
               for n, r in sc.parts]
     lines += ["# door %s %s %s %s" % (m(r[0]), m(r[1]), m(r[2] - r[0]), m(r[3] - r[1]))

@@ -40,6 +40,10 @@ for kind, seed in (("room", 7), ("flat", 3)):
     body = [x for x in a.stdout.splitlines() if not x.startswith(b"#")]
     check(body != [x for x in other.splitlines() if not x.startswith(b"#")],
           "%s %d and %d differ" % (kind, seed, seed + 1))
+png = sim.out("room.png")
+p = roomgen("flat", 2, "--out", sim.out("flat_2.room"), "--png", png)
+with open(png, "rb") as f:
+    check(p.returncode == 0 and f.read(8) == b"\x89PNG\r\n\x1a\n", "--png draws a flat")
 for bad in (["room", "-1"], ["room", "x"], ["flat"], ["corpus", "--rooms", "2"], ["bogus"]):
     p = roomgen(*bad)
     check(p.returncode == 2 and b"error" in p.stderr, "roomgen %s: exit 2 with a message"
