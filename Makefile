@@ -15,10 +15,11 @@ FUZZ_SEED ?= 1000
 
 SIM_OUT ?= out/sim
 SIM_ARGS ?=
+CORPUS_ARGS ?=
 COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
 
-.PHONY: help sim calibrate test bench fuzz fuzz-core report compare trace deps deps-sim deps-firmware \
+.PHONY: help sim calibrate test bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
         deps-fuzz firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
@@ -34,6 +35,9 @@ help:
 	@echo "               Cortex-M4), sizes, stack depth, against the budgets"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
 	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
+	@echo "make corpus    the corpus report: shipped rooms x 20 seeds, 100 generated rooms"
+	@echo "               (10 and 30 min), 12 flats (1 h), the building maps; tools/corpus_report.py"
+	@echo "               (more: make corpus CORPUS_ARGS='--quick')"
 	@echo "make compare   the firmware's mapper beside OctoMap on the same logs: P/R/F1 and"
 	@echo "               instructions per reading (installs OctoMap; tools/compare.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
@@ -73,6 +77,13 @@ calibrate: deps-sim
 report: build-host
 	tools/sim_report.py
 	tools/pose_report.py
+
+# Every goal judged on distributions: the shipped rooms, generated rooms and flats
+# (tools/roomgen.py) and the building maps, every core at once; runs in out/corpus.
+corpus: deps-sim
+	cmake --preset host
+	cmake --build --preset host -j $(JOBS) --target host_sim
+	tools/corpus_report.py --jobs $(JOBS) $(CORPUS_ARGS)
 
 # OctoMap is needed here only: a project of its own (tools/octomap), never in make test.
 compare:
