@@ -25,6 +25,7 @@
 #include "slam/mapstore.h"
 #include "slam/motion.h"
 #include "slam/odometry.h"
+#include "slam/readings.h"
 #include "slam/sweep.h"
 #include "slam/telemetry.h"
 #include "slam/umbmark.h"
@@ -35,7 +36,8 @@ typedef struct {
     odom_t odom;           /**< pose tracking */
     sweep_t sweep;         /**< servo sweep */
     mapper_t mapper;       /**< Algorithm C.1 */
-    loc_t loc;             /**< pose correction; readings mapped by robot_idle() */
+    readq_t readq;         /**< completed readings, from the tick to robot_idle() */
+    loc_t loc;             /**< pose correction */
     explore_t explore;     /**< where to go */
     umbmark_t umbmark;     /**< the calibration test, instead of exploring (EXPLORE_UMBMARK) */
     motion_t motion;       /**< wheel speed control */
