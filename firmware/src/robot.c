@@ -95,8 +95,9 @@ void robot_tick(robot_t *r)
         (void)grid_tm_visit(&r->grid, r->pose.x_um, r->pose.y_um);
         if (r->last.reading_ready) {
             const sweep_reading_t *rd = &r->last.reading;
-            /* Exploration remembers the obstacle at once, where the robot believes it. */
-            odom_pose_t at = loc_tick_pose(&r->loc, &r->mapper.ping_pose);
+            /* Exploration remembers the obstacle at once, where the robot believes it (the
+             * tick's correction is none with localization off). */
+            odom_pose_t at = loc_apply(&r->loc.tick.corr, &r->mapper.ping_pose);
             mapper_note(&r->mapper, &at, rd);
             const readq_reading_t q = {
                 .ping = r->mapper.ping_pose,
@@ -104,8 +105,9 @@ void robot_tick(robot_t *r)
                 .servo = rd->servo,
                 .echo = rd->echo,
             };
-            /* The correction published for the reading before, if the loop is done with it. */
-            if (readq_post(&r->readq, &q) == READQ_CURRENT && r->loc.on) {
+            /* The correction published for the reading before, if the loop is done with it
+             * (none is ever published with localization off). */
+            if (readq_post(&r->readq, &q) == READQ_CURRENT) {
                 loc_adopt(&r->loc);
             }
         }

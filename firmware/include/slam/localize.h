@@ -205,8 +205,14 @@ static inline odom_pose_t loc_tick_pose(const loc_t *l, const odom_pose_t *odom)
 }
 
 /** Tick: adopt what the background loop published after the reading before the one just
- *  posted, once readq_post() has found that reading finished (READQ_CURRENT). ISR-safe, O(1). */
-void loc_adopt(loc_t *l);
+ *  posted, once readq_post() has found that reading finished (READQ_CURRENT). ISR-safe, O(1);
+ *  inline, since the tick has no instructions to spare for a call. */
+static inline void loc_adopt(loc_t *l)
+{
+    l->tick.corr = l->tick.pub;
+    l->tick.ahead[0] = l->tick.pub_ahead[0];
+    l->tick.ahead[1] = l->tick.pub_ahead[1];
+}
 
 /**
  * Background loop, with localization on: one reading, as the file overview says: its

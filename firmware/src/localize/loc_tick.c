@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Pose correction: its state, and the handover to the tick: what the background loop
- * publishes after each reading (localize.c maps them), adopted by the tick. */
+ * publishes after each reading (localize.c maps them), which the tick adopts
+ * (loc_adopt(), inline in slam/localize.h). */
 #include "loc_tick.h"
 
 #include <string.h>
@@ -26,11 +27,4 @@ void loc_tick_publish(loc_tick_t *t, const loc_corr_t *corr, const int32_t ahead
     t->pub = *corr;
     t->pub_ahead[0] = ahead[0];
     t->pub_ahead[1] = ahead[1];
-}
-
-void loc_adopt(loc_t *l)
-{
-    l->tick.corr = l->tick.pub;
-    l->tick.ahead[0] = l->tick.pub_ahead[0];
-    l->tick.ahead[1] = l->tick.pub_ahead[1];
 }
