@@ -66,9 +66,10 @@
  * The files (src/localize/) form layers, each calling only those before it: loc_filter.c
  * (the filter, the correction and the drift it learns), loc_walls.c (wall lines and
  * association in OM), loc_hold.c (the held-back hits, their early halves, entering OM, the
- * obstacle ahead), loc_match.c (a match of the window, its gates and refusals), then
- * localize.c (the background loop's side) and loc_tick.c (the state, the tick's side).
- * loc_t holds one sub-struct per file.
+ * obstacle ahead), loc_match.c (a match of the window, its gates and refusals), loc_tick.c
+ * (the state set up, and what is published for the tick; the tick's side, loc_adopt() and
+ * loc_tick_pose(), is inline below), localize.c (the background loop's entry). loc_t holds
+ * one sub-struct per file.
  *
  * Units: positions µm, angles binary (2^32 a turn) in poses and µrad in the covariance.
  */
@@ -215,7 +216,8 @@ static inline void loc_adopt(loc_t *l)
 }
 
 /**
- * Background loop, with localization on: one reading, as the file overview says: its
+ * Background loop, with localization on (off, robot_idle() maps the readings itself, as
+ * readq_map() does): one reading, as the file overview says: its
  * free-space evidence, its hit held back, held-back hits entering OM, a match every
  * LOC_EVERY hits, then the correction published. Never from the tick. The mapper counts the
  * reading as mapper_reading() does.
