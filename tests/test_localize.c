@@ -50,7 +50,7 @@ static int setup(void **state)
 static bool post(const readq_reading_t *rd)
 {
     readq_post_t out = readq_post(&queue, rd);
-    if (out == READQ_CURRENT && loc.on) {
+    if (out == READQ_CURRENT) {
         loc_adopt(&loc);
     }
     return out != READQ_DROPPED;

@@ -87,7 +87,8 @@ void robot_tick(robot_t *r);
 /**
  * Background work, from the main loop; never called from the tick: feeds the watchdog
  * while ticks progress, takes commands from the UART (telemetry.h: at most
- * ROBOT_RX_BYTES a call, each answered), sends telemetry, and saves the maps (every
+ * ROBOT_RX_BYTES a call, each answered), maps the readings the tick queued (readings.h;
+ * through the pose correction when it is on), sends telemetry, and saves the maps (every
  * save_period_s, and on request) a chunk per call. A command that changes the
  * configuration or the exploration mode waits until the tick has brought the robot to a
  * stand, then re-initialises what the configuration feeds (odometry gains, keeping the

@@ -10,9 +10,10 @@
  * leaves, or what a tyre's wear brings): the heading odometry gains per millimetre driven,
  * κd in prad/mm (10⁻¹² rad; unequal wheels, E_d), and per radian turned, κt in ppb (a
  * wrong wheel base, E_b). Their units are that fine so that their Kalman gains, tiny in
- * any coarser unit, keep their precision in Q20. Between matches the correction turns by κd·distance + κt·turn, so the pose
- * follows the drift it has learned; each match corrects dθ, and through their correlation
- * with it, κd and κt (Martinelli's simultaneous localization and odometry calibration).
+ * any coarser unit, keep their precision in Q20. Between matches the correction turns by
+ * κd·distance + κt·turn, so the pose follows the drift it has learned; each match corrects
+ * dθ, and through their correlation with it, κd and κt (Martinelli's simultaneous
+ * localization and odometry calibration).
  *
  * The covariance is a full symmetric 5×5 matrix of int64 in the state's units. A
  * measurement's Jacobian is in Q12 (a unit normal is 4096, the θ entry in µm per µrad) and
@@ -49,7 +50,8 @@ typedef struct {
     int64_t v[LKF_N];
 } lkf_state_t;
 
-/* lkf_cov_t, the filter's covariance, is in slam/localize.h: loc_t holds two. */
+/* lkf_cov_t, the filter's covariance, is in slam/localize.h: loc_filter_t holds the
+ * filter's, loc_match_t a match's while it runs. */
 
 /** floor(sqrt(v)). */
 uint32_t lkf_isqrt(uint64_t v);
