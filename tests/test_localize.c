@@ -13,6 +13,8 @@
 #include <cmocka.h>
 
 #include "localize/loc_filter.h"
+#include "localize/loc_hold.h"
+#include "localize/loc_match.h"
 #include "slam/error.h"
 #include "slam/localize.h"
 #include "slam/readings.h"

@@ -69,7 +69,7 @@
  * obstacle ahead), loc_match.c (a match of the window, its gates and refusals), loc_tick.c
  * (the state set up, and what is published for the tick; the tick's side, loc_adopt() and
  * loc_tick_pose(), is inline below), localize.c (the background loop's entry). loc_t holds
- * one sub-struct per file.
+ * one sub-struct per file. The tunables named here but LOC_HOLD are in their headers.
  *
  * Units: positions µm, angles binary (2^32 a turn) in poses and µrad in the covariance.
  */
@@ -86,31 +86,9 @@
 #include "slam/odometry.h"
 #include "slam/readings.h"
 
-#ifndef LOC_WINDOW
-#define LOC_WINDOW 60u           /**< the newest held-back hits: what a match matches */
-#endif
 #ifndef LOC_HOLD
 #define LOC_HOLD 256u            /**< hits held back from OM */
 #endif
-#ifndef LOC_EVERY
-#define LOC_EVERY 4u             /**< new hits between two matches */
-#endif
-#ifndef LOC_PASSES
-#define LOC_PASSES 3u            /**< associations and updates of a match */
-#endif
-#ifndef LOC_ASSOC_CELLS
-#define LOC_ASSOC_CELLS 3        /**< a hit's wall lies within this many cells */
-#endif
-#ifndef LOC_MIN_POINTS
-#define LOC_MIN_POINTS 10u       /**< hits on a wall line a match needs */
-#endif
-#ifndef LOC_MAX_STEP_MDEG
-#define LOC_MAX_STEP_MDEG 3000   /**< a larger turn of the pose is refused */
-#endif
-#ifndef LOC_MAX_STEP_UM
-#define LOC_MAX_STEP_UM 150000   /**< and so is a larger shift */
-#endif
-#define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
 #define LOC_AHEAD_NONE INT32_MIN  /**< no held-back hit ahead (loc_tick_t's ahead points) */
 
 /** The correction from the odometry frame to the map's. */

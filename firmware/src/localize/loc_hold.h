@@ -19,6 +19,11 @@
 
 #include "slam/localize.h"
 
+#ifndef LOC_WINDOW
+#define LOC_WINDOW 60u           /**< the newest held-back hits: what a match matches */
+#endif
+#define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
+
 /* How far from the grid's origin a held-back hit reaches, either way: a grid's length and
  * more beyond any side. */
 #define LOC_REACH_CELLS 512u

@@ -15,6 +15,10 @@
 
 #include "slam/grid.h"
 
+#ifndef LOC_ASSOC_CELLS
+#define LOC_ASSOC_CELLS 3        /**< a hit's wall lies within this many cells */
+#endif
+
 /**
  * Whether OM holds the cell of (x, y) µm free by more than one beam's pass: a wall that one
  * beam grazed past is not yet free. Off the grid counts as free: nothing is mapped there.
