@@ -382,7 +382,7 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
                 size_t errlen);
 
 /** A row as the robot's tick posted its reading: micrometres, binary angles. */
-loc_reading_t replay_reading(const replay_row_t *row);
+readq_reading_t replay_reading(const replay_row_t *row);
 
 /* ---- the scenario (scenario.c) ---------------------------------------------------------- */
 

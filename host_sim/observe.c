@@ -190,7 +190,7 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
     if (r->estimates != NULL) {
         /* Where the robot believed the ping was (odometry and the correction of the tick),
          * for a mapper outside this program to map from the firmware's estimate. */
-        odom_pose_t est = robot->loc.deferred ? loc_apply(&robot->loc.tick_corr, op) : *op;
+        odom_pose_t est = loc_tick_pose(&robot->loc, op);
         e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
         e = fmt_fixed(e, est.x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
         e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');

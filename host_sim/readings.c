@@ -162,9 +162,9 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     return rc;
 }
 
-loc_reading_t replay_reading(const replay_row_t *row)
+readq_reading_t replay_reading(const replay_row_t *row)
 {
-    const loc_reading_t rd = {
+    const readq_reading_t rd = {
         .ping = {to_um(row->x_m), to_um(row->y_m), to_bam(row->th_rad)},
         .range_um = row->echo ? (uint32_t)lround(row->range_m * 1e6) : 0u,
         .servo = fix_bam_from_mdeg((int32_t)lround(row->servo_deg * 1000.0)),

@@ -12,17 +12,20 @@ static grid_t grid;
 static mapper_t mapper;
 static loc_t loc;
 
-/* Every reading goes the way the robot's went: posted as its tick posts it, then mapped
- * and matched as its background loop does. Every echo goes through the mapper, which
- * sorts it by this configuration's range limits: a replay with another rc maps what the
- * status column calls far. */
+/* Every reading goes the way the robot's went: mapped and matched as its background loop
+ * does, or mapped by the mapper alone with the pose correction off. Every echo goes
+ * through the mapper, which sorts it by this configuration's range limits: a replay with
+ * another rc maps what the status column calls far. */
 static void replay_row(void *ctx, const replay_row_t *row)
 {
     unsigned *rows = ctx;
     (*rows)++;
-    const loc_reading_t rd = replay_reading(row);
-    (void)loc_post(&loc, &rd);
-    loc_idle(&loc, &mapper, &grid);
+    const readq_reading_t rd = replay_reading(row);
+    if (loc.on) {
+        loc_reading(&loc, &mapper, &grid, &rd);
+    } else {
+        readq_map(&rd, &mapper, &grid);
+    }
 }
 
 /* Rebuilds OM from a readings.csv through the same mapper (the config of its run comes

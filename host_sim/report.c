@@ -231,8 +231,8 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     const loc_t *lo = &robot->loc;
     fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
                "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
-            lo->on ? "true" : "false", lo->tried, lo->applied, lo->refused, lo->dropped,
-            lo->late);
+            lo->on ? "true" : "false", lo->match.tried, lo->match.applied, lo->match.refused,
+            robot->readq.dropped, robot->readq.late);
 
     double span_x = room->max_x - room->min_x;
     double span_y = room->max_y - room->min_y;
@@ -292,8 +292,8 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
            r->max_th_err * 180.0 / PI, r->path_m);
     if (lo->on) {
-        printf("  pose correction %u of %u matches applied against the map\n", lo->applied,
-               lo->tried);
+        printf("  pose correction %u of %u matches applied against the map\n",
+               lo->match.applied, lo->match.tried);
     } else {
         printf("  pose correction off: the pose is odometry alone\n");
     }

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of the pose correction's fixed-point filter (src/loc_kf.c) against a double-precision
+/* Tests of the pose correction's fixed-point filter (src/localize/loc_filter.c) against a double-precision
  * one. */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -11,7 +11,7 @@
 
 #include <cmocka.h>
 
-#include "loc_kf.h"
+#include "localize/loc_filter.h"
 #include "test_rng.h"
 
 #define PI 3.14159265358979323846

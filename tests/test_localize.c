@@ -12,9 +12,12 @@
 
 #include <cmocka.h>
 
-#include "loc_kf.h"
+#include "localize/loc_filter.h"
+#include "localize/loc_hold.h"
+#include "localize/loc_match.h"
 #include "slam/error.h"
 #include "slam/localize.h"
+#include "slam/readings.h"
 #include "test_rng.h"
 
 #define PI 3.14159265358979323846
@@ -24,7 +27,15 @@
 static grid_t grid;
 static mapper_t mapper;
 static loc_t loc;
+static readq_t queue;
 static slam_config_t cfg;
+
+/* The robot's queue and correction afresh, for cfg. */
+static void loc_start(void)
+{
+    readq_init(&queue, &cfg);
+    loc_init(&loc, &cfg);
+}
 
 static int setup(void **state)
 {
@@ -32,8 +43,33 @@ static int setup(void **state)
     slam_config_default(&cfg);
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
-    loc_init(&loc, &cfg);
+    loc_start();
     return 0;
+}
+
+/* A reading as the robot's tick posts it, adopting the correction published for the
+ * reading before when the background loop is done with it. False: the queue was full. */
+static bool post(const readq_reading_t *rd)
+{
+    readq_post_t out = readq_post(&queue, rd);
+    if (out == READQ_CURRENT) {
+        loc_adopt(&loc);
+    }
+    return out != READQ_DROPPED;
+}
+
+/* The queue drained as robot_idle() drains it. */
+static void idle(void)
+{
+    readq_reading_t rd;
+    while (readq_take(&queue, &rd)) {
+        if (loc.on) {
+            loc_reading(&loc, &mapper, &grid, &rd);
+        } else {
+            readq_map(&rd, &mapper, &grid);
+        }
+        readq_done(&queue);
+    }
 }
 
 /* Walls drawn as strong obstacle evidence, as a map built earlier would hold them. */
@@ -112,19 +148,19 @@ static drive_t drive(const seg_t *w, size_t nw, double x, double y, double headi
         double sx = d.x + 0.05 * cos(d.th);
         double sy = d.y + 0.05 * sin(d.th);
         double range = ray(w, nw, sx, sy, d.th + (90.0 - servo) * PI / 180.0);
-        loc_reading_t rd = {
+        readq_reading_t rd = {
             .ping = {(int32_t)lround(d.ox * 1e6), (int32_t)lround(d.oy * 1e6),
                      (bam32_t)(int64_t)llround(d.oth / (2.0 * PI) * 4294967296.0)},
             .range_um = range > 0.0 && range < 3.5 ? (uint32_t)lround(range * 1e6) : 0u,
             .servo = fix_bam_from_mdeg((int32_t)lround(servo * 1000.0)),
             .echo = range > 0.0 && range < 3.5,
         };
-        (void)loc_post(&loc, &rd);
+        (void)post(&rd);
         if (k % idle_every == idle_every - 1u) {
-            loc_idle(&loc, &mapper, &grid);
+            idle();
         }
     }
-    loc_idle(&loc, &mapper, &grid);
+    idle();
     return d;
 }
 
@@ -132,7 +168,7 @@ static void pose_error(const drive_t *d, double *pos_m, double *th_deg)
 {
     odom_pose_t o = {(int32_t)lround(d->ox * 1e6), (int32_t)lround(d->oy * 1e6),
                      (bam32_t)(int64_t)llround(d->oth / (2.0 * PI) * 4294967296.0)};
-    odom_pose_t m = loc_apply(&loc.corr, &o);
+    odom_pose_t m = loc_apply(&loc.filter.corr, &o);
     double th = (double)(int32_t)(m.heading - (bam32_t)(int64_t)llround(d->th / (2.0 * PI) * 4294967296.0)) /
                 4294967296.0 * 360.0;
     *pos_m = hypot(m.x_um * 1e-6 - d->x, m.y_um * 1e-6 - d->y);
@@ -153,13 +189,13 @@ static void test_corner_holds_the_heading(void **state)
     double th;
     pose_error(&d, &pos, &th);
     print_message("corner: %u matches applied of %u, final error %.3f m, %.2f deg (odometry alone "
-                  "%.2f deg), drift learned %d nrad/mm (true 3491)\n", loc.applied, loc.tried, pos,
-                  th, 12.0 * 0.2, (int)(loc.kappa_prad_per_mm / 1000));
-    assert_true(loc.applied > 60u);
+                  "%.2f deg), drift learned %d nrad/mm (true 3491)\n", loc.match.applied, loc.match.tried, pos,
+                  th, 12.0 * 0.2, (int)(loc.filter.kappa_prad_per_mm / 1000));
+    assert_true(loc.match.applied > 60u);
     assert_true(fabs(th) < 0.3);
     assert_true(pos < 0.02);
-    assert_true(loc.kappa_prad_per_mm > 0);
-    assert_int_equal(loc.dropped, 0u);
+    assert_true(loc.filter.kappa_prad_per_mm > 0);
+    assert_int_equal(queue.dropped, 0u);
 }
 
 /* One wall only, odometry drifting: the heading and the distance across the wall are held,
@@ -174,7 +210,7 @@ static void test_one_wall_never_slides_along_it(void **state)
     double th;
     pose_error(&d, &pos, &th);
     odom_pose_t o = {(int32_t)lround(d.ox * 1e6), (int32_t)lround(d.oy * 1e6), 0u};
-    odom_pose_t m = loc_apply(&loc.corr, &o);
+    odom_pose_t m = loc_apply(&loc.filter.corr, &o);
     double across = m.y_um * 1e-6 - d.y;
     double along_fix = (m.x_um - o.x_um) * 1e-6; /* what the correction moved along x */
     print_message("one wall: heading %.2f deg, across %.3f m, moved along %.3f m\n", th, across,
@@ -202,27 +238,14 @@ static void test_timing_changes_nothing(void **state)
         loc_flush(&loc, &mapper, &grid);
         if (run == 0) {
             memcpy(om_a, grid.om, sizeof om_a);
-            ca = loc.corr;
-            assert_int_equal(loc.late, 0u);
+            ca = loc.filter.corr;
+            assert_int_equal(queue.late, 0u);
         } else {
             assert_memory_equal(grid.om, om_a, sizeof om_a);
-            assert_memory_equal(&loc.corr, &ca, sizeof ca);
-            assert_true(loc.late > 0u); /* the tick noticed, and kept its correction */
+            assert_memory_equal(&loc.filter.corr, &ca, sizeof ca);
+            assert_true(queue.late > 0u); /* the tick noticed, and kept its correction */
         }
     }
-}
-
-/* A queue that is never drained fills, and every reading beyond it is counted lost. */
-static void test_full_queue_drops_and_counts(void **state)
-{
-    (void)state;
-    loc_reading_t rd = {.ping = {0, 0, 0u}, .range_um = 500000u, .servo = 0u, .echo = true};
-    for (unsigned i = 0; i < 20u; i++) {
-        assert_int_equal(loc_post(&loc, &rd), i < LOC_QUEUE - 1u);
-    }
-    assert_int_equal(loc.dropped, 20u - (LOC_QUEUE - 1u));
-    loc_idle(&loc, &mapper, &grid);
-    assert_int_equal(loc.drained, LOC_QUEUE - 1u);
 }
 
 /* With localization off the readings still reach OM through the queue, exactly as the
@@ -231,23 +254,23 @@ static void test_off_maps_as_the_mapper(void **state)
 {
     (void)state;
     cfg.localize = 0u;
-    loc_init(&loc, &cfg);
-    assert_true(loc.deferred); /* OM_MODE_EVIDENCE: the rays are the background's work */
+    loc_start();
+    assert_true(queue.deferred); /* OM_MODE_EVIDENCE: the rays are the background's work */
     static grid_t direct;
     mapper_t m2;
     grid_init(&direct, &cfg);
     mapper_init(&m2, &cfg);
     test_rng_t rng = {5u};
     for (int i = 0; i < 3000; i++) {
-        loc_reading_t rd = {
+        readq_reading_t rd = {
             .ping = {test_rng_range(&rng, -500000, 500000), test_rng_range(&rng, -500000, 500000),
                      (bam32_t)test_rng_u64(&rng)},
             .range_um = (uint32_t)test_rng_range(&rng, 10000, 2000000),
             .servo = fix_bam_from_mdeg(test_rng_range(&rng, 65000, 155000)),
             .echo = test_rng_range(&rng, 0, 9) != 0,
         };
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&rd));
+        idle();
         if (rd.echo) {
             (void)mapper_reading(&m2, &direct, &rd.ping, rd.servo, rd.range_um);
         } else {
@@ -256,9 +279,9 @@ static void test_off_maps_as_the_mapper(void **state)
     }
     assert_memory_equal(grid.om, direct.om, sizeof direct.om);
     assert_int_equal(mapper.hits, m2.hits);
-    assert_int_equal(loc.corr.th, 0u);
-    assert_int_equal(loc.corr.tx_um, 0);
-    assert_int_equal(loc.tried, 0u);
+    assert_int_equal(loc.filter.corr.th, 0u);
+    assert_int_equal(loc.filter.corr.tx_um, 0);
+    assert_int_equal(loc.match.tried, 0u);
 }
 
 /* Odometry that jumps 10 m (only a corrupt log does that) between hits on a wall, with the
@@ -276,20 +299,20 @@ static void test_a_jump_of_odometry_is_not_matched(void **state)
     for (unsigned i = 0; i < LOC_WINDOW + 4u * LOC_EVERY; i++) {
         bool jumped = i >= LOC_WINDOW - LOC_EVERY;
         if (i == LOC_WINDOW - LOC_EVERY) {
-            loc.cov.p[LKF_T][LKF_T] = LKF_VAR_TH_MAX;
+            loc.filter.cov.p[LKF_T][LKF_T] = LKF_VAR_TH_MAX;
         }
         /* Facing +x, the beam turned to the left (+y) onto the wall. */
-        loc_reading_t rd = {.ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 10000000 : 0),
+        readq_reading_t rd = {.ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 10000000 : 0),
                                      0, 0u},
                             .range_um = 700000u, .servo = 0u, .echo = true};
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&rd));
+        idle();
     }
-    assert_true(loc.tried > 0u);
-    assert_int_equal(loc.applied, 0u);
-    assert_int_equal(loc.corr.th, 0u);
-    assert_int_equal(loc.corr.tx_um, 0);
-    assert_int_equal(loc.corr.ty_um, 0);
+    assert_true(loc.match.tried > 0u);
+    assert_int_equal(loc.match.applied, 0u);
+    assert_int_equal(loc.filter.corr.th, 0u);
+    assert_int_equal(loc.filter.corr.tx_um, 0);
+    assert_int_equal(loc.filter.corr.ty_um, 0);
 }
 
 /* Where a ping from the origin facing +x, the beam turned to the left (+y), 700 mm long,
@@ -307,7 +330,7 @@ static void hit_of_the_origin(int32_t *hx, int32_t *hy)
 static void test_hits_enter_om_after_the_hold(void **state)
 {
     (void)state;
-    assert_int_equal(loc.point_shift, 10u); /* 512 cells · 50 mm = 25.6 m in 2^15 units */
+    assert_int_equal(loc.hold.point_shift, 10u); /* 512 cells · 50 mm = 25.6 m in 2^15 units */
     int32_t hx;
     int32_t hy;
     hit_of_the_origin(&hx, &hy);
@@ -315,9 +338,9 @@ static void test_hits_enter_om_after_the_hold(void **state)
     int32_t edge = grid.origin_x_um + 100 * (int32_t)grid.cell_um;
     for (unsigned i = 0; i < LOC_HOLD + 5u; i++) {
         int32_t x = edge + (int32_t)(i % 20u) * 2 * (int32_t)grid.cell_um + 600 - hx;
-        loc_reading_t rd = {.ping = {x, 0, 0u}, .range_um = 700000u, .servo = 0u, .echo = true};
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        readq_reading_t rd = {.ping = {x, 0, 0u}, .range_um = 700000u, .servo = 0u, .echo = true};
+        assert_true(post(&rd));
+        idle();
         assert_int_equal(mapper.hits, i < LOC_HOLD ? 0u : i + 1u - LOC_HOLD);
     }
     for (unsigned k = 0; k < 5u; k++) {
@@ -328,7 +351,7 @@ static void test_hits_enter_om_after_the_hold(void **state)
         assert_int_equal(grid_cell_of(&grid, x - 600, hy, &c), SLAM_OK);
         assert_int_not_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
     }
-    assert_int_equal(loc.applied, 0u);
+    assert_int_equal(loc.match.applied, 0u);
 }
 
 /* Half of a hit's log-odds step enters OM when it leaves the matched window (so that
@@ -345,10 +368,10 @@ static void test_half_a_hit_enters_early(void **state)
     uint32_t k = grid_index(first);
     for (unsigned i = 0; i < LOC_HOLD + 1u; i++) {
         /* The first at x = 0, the others 1 m further along, in cells of their own. */
-        loc_reading_t rd = {.ping = {i == 0u ? 0 : 1000000 + (int32_t)(i % 8u) * 100000, 0, 0u},
+        readq_reading_t rd = {.ping = {i == 0u ? 0 : 1000000 + (int32_t)(i % 8u) * 100000, 0, 0u},
                             .range_um = 700000u, .servo = 0u, .echo = true};
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&rd));
+        idle();
         uint8_t want = i < LOC_WINDOW ? GRID_EVIDENCE_ZERO
                        : i < LOC_HOLD ? (uint8_t)(GRID_EVIDENCE_ZERO + grid.hit / 2u)
                                       : (uint8_t)(GRID_EVIDENCE_ZERO + grid.hit);
@@ -369,14 +392,14 @@ static void test_a_match_does_not_see_the_halves(void **state)
     hit_of_the_origin(&hx, &hy);
     for (unsigned i = 0; i < 200u; i++) {
         /* Along 1 m of the wall, 20 mm a reading, then back to its start. */
-        loc_reading_t rd = {.ping = {(int32_t)(i % 50u) * 20000, 0, 0u}, .range_um = 700000u,
+        readq_reading_t rd = {.ping = {(int32_t)(i % 50u) * 20000, 0, 0u}, .range_um = 700000u,
                             .servo = 0u, .echo = true};
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&rd));
+        idle();
     }
-    assert_true(loc.tried >= 30u);
-    assert_int_equal(loc.last_points, 0u);
-    assert_int_equal(loc.applied, 0u);
+    assert_true(loc.match.tried >= 30u);
+    assert_int_equal(loc.match.last_points, 0u);
+    assert_int_equal(loc.match.applied, 0u);
     assert_int_equal(mapper.hits, 0u); /* every hit still held */
     for (int32_t x = 0; x < 1000000; x += 50000) {
         grid_cell_t c;
@@ -398,7 +421,7 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
         bool seen = passes == 2;
         grid_init(&grid, &cfg);
         mapper_init(&mapper, &cfg);
-        loc_init(&loc, &cfg);
+        loc_start();
         paint_line(1.025, -1.5, 1.025, 1.5);
         if (passes > 0) {
             for (double y = -1.5; y <= 1.5; y += 0.025) {
@@ -411,20 +434,20 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
         /* Facing west from x = 1.8 m, the beam starts 50 mm ahead: 648 mm ends at 1.102 m. */
         for (unsigned i = 0; i < LOC_WINDOW + 4u; i++) {
             int32_t y = -500000 + (int32_t)i * 15000;
-            loc_reading_t rd = {.ping = {1800000, y, FIX_BAM_HALF}, .range_um = 648000u,
+            readq_reading_t rd = {.ping = {1800000, y, FIX_BAM_HALF}, .range_um = 648000u,
                                 .servo = fix_bam_from_mdeg(90000), .echo = true};
-            assert_true(loc_post(&loc, &rd));
-            loc_idle(&loc, &mapper, &grid);
+            assert_true(post(&rd));
+            idle();
         }
-        assert_true(loc.tried >= 1u);
+        assert_true(loc.match.tried >= 1u);
         if (seen) {
-            assert_true(loc.last_points >= LOC_MIN_POINTS);
-            assert_true(loc.applied >= 1u);
-            print_message("seen: %u matches applied, correction x %d um\n", loc.applied, loc.corr.tx_um);
-            assert_true(loc.corr.tx_um < 0); /* pulled west, toward the mapped face */
+            assert_true(loc.match.last_points >= LOC_MIN_POINTS);
+            assert_true(loc.match.applied >= 1u);
+            print_message("seen: %u matches applied, correction x %d um\n", loc.match.applied, loc.filter.corr.tx_um);
+            assert_true(loc.filter.corr.tx_um < 0); /* pulled west, toward the mapped face */
         } else {
-            assert_int_equal(loc.last_points, 0u);
-            assert_int_equal(loc.applied, 0u);
+            assert_int_equal(loc.match.last_points, 0u);
+            assert_int_equal(loc.match.applied, 0u);
         }
     }
 }
@@ -434,17 +457,17 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
 static void test_far_hits_are_not_held(void **state)
 {
     (void)state;
-    loc_reading_t rd = {.ping = {1000000000, 0, 0u}, .range_um = 700000u, .servo = 0u,
+    readq_reading_t rd = {.ping = {1000000000, 0, 0u}, .range_um = 700000u, .servo = 0u,
                         .echo = true};
-    assert_true(loc_post(&loc, &rd));
-    loc_idle(&loc, &mapper, &grid);
-    assert_int_equal(loc.win_count, 0u);
+    assert_true(post(&rd));
+    idle();
+    assert_int_equal(loc.hold.count, 0u);
     assert_int_equal(mapper.outside, 1u);
     assert_int_equal(mapper.hits, 0u);
     rd.ping.x_um = 0;
-    assert_true(loc_post(&loc, &rd));
-    loc_idle(&loc, &mapper, &grid);
-    assert_int_equal(loc.win_count, 1u); /* one near the grid is */
+    assert_true(post(&rd));
+    idle();
+    assert_int_equal(loc.hold.count, 1u); /* one near the grid is */
 }
 
 /* A hit just behind a wall the map holds is matched but never mapped (it says the pose is
@@ -459,17 +482,17 @@ static void test_shadowed_hit_is_not_mapped(void **state)
         cfg.localize = (uint8_t)on;
         grid_init(&grid, &cfg);
         mapper_init(&mapper, &cfg);
-        loc_init(&loc, &cfg);
+        loc_start();
         grid.om[face] = 200u; /* a wall 350 mm ahead of the robot's cell centre */
         /* From (0, 0) facing +x the beam starts 50 mm ahead: 300 mm ends on the face (cell
          * 87), 350 mm just behind it (cell 88). */
-        loc_reading_t on_face = {.ping = {0, 0, 0u}, .range_um = 300000u,
+        readq_reading_t on_face = {.ping = {0, 0, 0u}, .range_um = 300000u,
                                  .servo = fix_bam_from_mdeg(90000), .echo = true};
-        loc_reading_t behind = on_face;
+        readq_reading_t behind = on_face;
         behind.range_um = 350000u;
-        assert_true(loc_post(&loc, &behind));
-        assert_true(loc_post(&loc, &on_face));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&behind));
+        assert_true(post(&on_face));
+        idle();
         loc_flush(&loc, &mapper, &grid);
         assert_int_equal(grid.om[face], 203u); /* the far echo's beam passed it: -1, +4 */
         assert_int_equal(grid.om[back], on ? GRID_EVIDENCE_ZERO : GRID_EVIDENCE_ZERO + 4u - 1u);
@@ -484,7 +507,7 @@ static int32_t ahead_of_two(int32_t y2_mm, uint32_t range2_mm, uint8_t om2)
 {
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
-    loc_init(&loc, &cfg);
+    loc_start();
     grid_cell_t c;
     assert_int_equal(grid_cell_of(&grid, 50000 + (int32_t)range2_mm * 1000, y2_mm * 1000, &c),
                      SLAM_OK);
@@ -492,16 +515,16 @@ static int32_t ahead_of_two(int32_t y2_mm, uint32_t range2_mm, uint8_t om2)
         grid.om[grid_index(c)] = om2;
     }
     for (int i = 0; i < 2; i++) {
-        loc_reading_t rd = {.ping = {0, i == 0 ? 0 : y2_mm * 1000, 0u},
+        readq_reading_t rd = {.ping = {0, i == 0 ? 0 : y2_mm * 1000, 0u},
                             .range_um = i == 0 ? 200000u : range2_mm * 1000u,
                             .servo = fix_bam_from_mdeg(90000), .echo = true};
-        assert_true(loc_post(&loc, &rd));
-        loc_idle(&loc, &mapper, &grid);
+        assert_true(post(&rd));
+        idle();
         if (i == 0) {
-            assert_int_equal(loc.pub_ahead[0], LOC_AHEAD_NONE); /* one cell: a ghost, maybe */
+            assert_int_equal(loc.tick.pub_ahead[0], LOC_AHEAD_NONE); /* one cell: a ghost, maybe */
         }
     }
-    return loc.pub_ahead[0];
+    return loc.tick.pub_ahead[0];
 }
 
 /* Exploration is told of the held-back hits, which OM does not hold yet, as of its map's
@@ -513,12 +536,12 @@ static void test_the_obstacle_ahead_among_held_hits(void **state)
     (void)state;
     /* Held-back points are kept to 1.024 mm (loc_point_t). */
     assert_in_range(ahead_of_two(60, 230, 0u), 279000, 281000); /* 280 mm, a cell to the left */
-    assert_in_range(loc.pub_ahead[1], 59000, 61000);
-    assert_int_equal(loc.tick_ahead[0], LOC_AHEAD_NONE);
-    loc_reading_t next = {.ping = {0, 0, 0u}, .echo = false};
-    assert_true(loc_post(&loc, &next));
-    assert_int_equal(loc.tick_ahead[0], loc.pub_ahead[0]);
-    assert_int_equal(loc.tick_ahead[1], loc.pub_ahead[1]);
+    assert_in_range(loc.tick.pub_ahead[1], 59000, 61000);
+    assert_int_equal(loc.tick.ahead[0], LOC_AHEAD_NONE);
+    readq_reading_t next = {.ping = {0, 0, 0u}, .echo = false};
+    assert_true(post(&next));
+    assert_int_equal(loc.tick.ahead[0], loc.tick.pub_ahead[0]);
+    assert_int_equal(loc.tick.ahead[1], loc.tick.pub_ahead[1]);
     assert_int_equal(ahead_of_two(10, 210, 0u), LOC_AHEAD_NONE);  /* the first hit's cell */
     assert_int_equal(ahead_of_two(60, 230, 1u), LOC_AHEAD_NONE);  /* known free */
     assert_in_range(ahead_of_two(60, 230, GRID_EVIDENCE_ZERO - 1u), 279000, 281000); /* a pass */
@@ -534,7 +557,6 @@ int main(void)
         cmocka_unit_test_setup(test_corner_holds_the_heading, setup),
         cmocka_unit_test_setup(test_one_wall_never_slides_along_it, setup),
         cmocka_unit_test_setup(test_timing_changes_nothing, setup),
-        cmocka_unit_test_setup(test_full_queue_drops_and_counts, setup),
         cmocka_unit_test_setup(test_off_maps_as_the_mapper, setup),
         cmocka_unit_test_setup(test_shadowed_hit_is_not_mapped, setup),
         cmocka_unit_test_setup(test_a_jump_of_odometry_is_not_matched, setup),

@@ -251,12 +251,12 @@ static void test_save_on_command(void **state)
     assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
     /* Five hits the pose correction holds back: the save asked for puts them in OM first. */
     for (int i = 0; i < 5; i++) {
-        loc_reading_t rd = {.ping = {i * 100000, 0, 0u}, .range_um = 700000u, .servo = 0u,
-                            .echo = true};
-        assert_true(loc_post(&robot.loc, &rd));
+        readq_reading_t rd = {.ping = {i * 100000, 0, 0u}, .range_um = 700000u, .servo = 0u,
+                              .echo = true};
+        assert_true(readq_post(&robot.readq, &rd) != READQ_DROPPED);
     }
-    loc_idle(&robot.loc, &robot.mapper, &robot.grid);
-    assert_int_equal(robot.loc.win_count, 5u);
+    robot_idle(&robot); /* which drains the queue */
+    assert_int_equal(robot.loc.hold.count, 5u);
     assert_int_equal(robot.mapper.hits, 0u);
     send(TELEM_CMD_SAVE, NULL, 0u);
     run(400);

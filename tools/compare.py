@@ -39,8 +39,8 @@ import mapscore
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# The firmware's insertion of one reading as host_sim --replay runs it (localize.c's
-# drain_one with the localizer off); none of these calls another of them.
+# The firmware's insertion of one reading as host_sim --replay runs it (readq_map() with
+# the localizer off, as robot_idle() maps it); none of these calls another of them.
 FIRMWARE_FUNCTIONS = ("mapper_free", "sonar_obstacle", "mapper_hit", "mapper_timeout")
 OCTOMAP_FUNCTION = "*insert_reading*"
 

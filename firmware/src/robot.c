@@ -20,6 +20,7 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
               hal_encoder_count(HAL_WHEEL_RIGHT));
     sweep_init(&r->sweep, cfg);
     mapper_init(&r->mapper, cfg);
+    readq_init(&r->readq, cfg);
     loc_init(&r->loc, cfg);
     explore_init(&r->explore, cfg);
     umbmark_init(&r->umbmark, cfg);
@@ -73,7 +74,7 @@ void robot_tick(robot_t *r)
     /* Where are we: one odometry step (Eq. 8-12), and the correction against the map. */
     odom_step(&r->odom, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
     odom_pose_t odom = odom_pose(&r->odom);
-    r->pose = r->loc.deferred ? loc_apply(&r->loc.tick_corr, &odom) : odom;
+    r->pose = loc_tick_pose(&r->loc, &odom);
 
     /* What does the sonar say: one step of the sweep. */
     uint32_t echo_us;
@@ -88,22 +89,27 @@ void robot_tick(robot_t *r)
 
     /* Algorithm C.1: here whole, or TM here and the reading handed to robot_idle(), which
      * maps it (free-space evidence is too much work for a tick) and corrects the pose. */
-    if (!r->loc.deferred) {
+    if (!r->readq.deferred) {
         mapper_tick(&r->mapper, &r->grid, &r->pose, &r->last);
     } else {
         (void)grid_tm_visit(&r->grid, r->pose.x_um, r->pose.y_um);
         if (r->last.reading_ready) {
             const sweep_reading_t *rd = &r->last.reading;
-            /* Exploration remembers the obstacle at once, where the robot believes it. */
-            odom_pose_t at = loc_apply(&r->loc.tick_corr, &r->mapper.ping_pose);
+            /* Exploration remembers the obstacle at once, where the robot believes it (the
+             * tick's correction is none with localization off). */
+            odom_pose_t at = loc_apply(&r->loc.tick.corr, &r->mapper.ping_pose);
             mapper_note(&r->mapper, &at, rd);
-            const loc_reading_t q = {
+            const readq_reading_t q = {
                 .ping = r->mapper.ping_pose,
                 .range_um = rd->echo ? sonar_range_um(&r->mapper.sonar, rd->echo_us) : 0u,
                 .servo = rd->servo,
                 .echo = rd->echo,
             };
-            (void)loc_post(&r->loc, &q);
+            /* The correction published for the reading before, if the loop is done with it
+             * (none is ever published with localization off). */
+            if (readq_post(&r->readq, &q) == READQ_CURRENT) {
+                loc_adopt(&r->loc);
+            }
         }
         if (r->last.trigger) {
             r->mapper.ping_pose = odom; /* readings are logged and mapped from odometry */
@@ -136,7 +142,7 @@ void robot_tick(robot_t *r)
     } else {
         bool stalled = motion_stalled(&r->motion);
         r->explore.one_wheel = stalled && motion_one_wheel(&r->motion);
-        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick_ahead,
+        explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick.ahead,
                      stalled, target_mm_s);
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);

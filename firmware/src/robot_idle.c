@@ -59,6 +59,7 @@ static void robot_reconfigure(robot_t *r, bool reseed)
     bool was = r->umbmark.on;
     umbmark_init(&r->umbmark, &r->cfg);
     if (was != r->umbmark.on) {
+        readq_init(&r->readq, &r->cfg); /* (and the readings not yet mapped) */
         loc_init(&r->loc, &r->cfg);
         r->loc.on = r->loc.on && !r->umbmark.on;
     }
@@ -133,6 +134,24 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
     }
 }
 
+/* ---- the readings the tick posted ---------------------------------------------------------- */
+
+/* Each in turn: with the pose correction on, mapped and matched by it; off, mapped as the
+ * mapper alone maps them (the tick cannot: a beam's ray is too much work for it). Counted
+ * finished only after: the tick adopts what loc_reading() published once it is. */
+static void robot_readings(robot_t *r)
+{
+    readq_reading_t rd;
+    while (readq_take(&r->readq, &rd)) {
+        if (r->loc.on) {
+            loc_reading(&r->loc, &r->mapper, &r->grid, &rd);
+        } else {
+            readq_map(&rd, &r->mapper, &r->grid);
+        }
+        readq_done(&r->readq);
+    }
+}
+
 /* Commands from the UART, then what waits for the robot to stand. Kept out of line, so
  * its buffers are not on the stack while robot_idle() saves the maps. */
 __attribute__((noinline)) static void robot_commands(robot_t *r, uint32_t ticks)
@@ -165,7 +184,7 @@ void robot_idle(robot_t *r)
         hal_watchdog_kick();
     }
     robot_commands(r, ticks);
-    loc_idle(&r->loc, &r->mapper, &r->grid);
+    robot_readings(r);
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;

@@ -18,10 +18,13 @@ static void map_row(void *ctx, const replay_row_t *row)
     FUZZ_CHECK(row->servo_deg >= -360.0 && row->servo_deg <= 360.0);
     FUZZ_CHECK(row->range_m >= 0.0 && row->range_m <= 1000.0 && (row->echo || row->range_m == 0.0));
     FUZZ_CHECK(fabs(row->x_m) <= 1000.0 && fabs(row->y_m) <= 1000.0 && fabs(row->th_rad) <= 1000.0);
-    /* As the replay takes it: posted, then mapped and matched. */
-    const loc_reading_t rd = replay_reading(row);
-    (void)loc_post(&loc, &rd);
-    loc_idle(&loc, &mapper, &grid);
+    /* As the replay takes it: mapped and matched, or mapped alone with the correction off. */
+    const readq_reading_t rd = replay_reading(row);
+    if (loc.on) {
+        loc_reading(&loc, &mapper, &grid, &rd);
+    } else {
+        readq_map(&rd, &mapper, &grid);
+    }
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -10,8 +10,8 @@
  * so odometry itself stays the paper's (Eq. 8-12) and only T changes.
  *
  * Work is split between the tick and the background loop. The tick posts every completed
- * reading (the odometry pose of its ping, the servo angle, the range) into a small queue,
- * O(1) (loc_post()). robot_idle() drains the queue (loc_idle()), reading by reading:
+ * reading into the robot's queue (readings.h), O(1); robot_idle() hands them to
+ * loc_reading(), reading by reading:
  *
  * - the reading's free-space evidence enters OM at once, at the corrected pose of its ping;
  * - a hit inside the confidence sector is held back, as a point of the odometry frame,
@@ -56,13 +56,20 @@
  *   cell (a lone cell is a ghost, as for exploration's corridor on the map).
  *
  * The tick adopts, when it completes a reading, the correction published after the reading
- * before: every backend then uses the same correction for the same reading, whenever its
- * background loop happens to run, as long as that loop drains a reading within a reading's
- * time (a match is about 10⁵ instructions; readings are at least 60 ms apart). A tick that
- * finds the loop behind keeps its correction and counts it as late.
+ * before (loc_adopt(), when readq_post() finds that reading finished): every backend then
+ * uses the same correction for the same reading, whenever its background loop happens to
+ * run, as long as that loop finishes a reading within a reading's time (a match is about
+ * 10⁵ instructions; readings are at least 60 ms apart). A tick that finds the loop behind
+ * keeps its correction (the queue counts it late). With localization off none of this
+ * runs: robot_idle() maps the readings itself, and the pose is odometry's.
  *
- * With localization off the queue still carries the readings to robot_idle() when OM holds
- * free-space evidence (a beam's ray is too much work for the tick), and T stays zero.
+ * The files (src/localize/) form layers, each calling only those before it: loc_filter.c
+ * (the filter, the correction and the drift it learns), loc_walls.c (wall lines and
+ * association in OM), loc_hold.c (the held-back hits, their early halves, entering OM, the
+ * obstacle ahead), loc_match.c (a match of the window, its gates and refusals), loc_tick.c
+ * (the state set up, and what is published for the tick; the tick's side, loc_adopt() and
+ * loc_tick_pose(), is inline below), localize.c (the background loop's entry). loc_t holds
+ * one sub-struct per file. The tunables named here but LOC_HOLD are in their headers.
  *
  * Units: positions µm, angles binary (2^32 a turn) in poses and µrad in the covariance.
  */
@@ -77,34 +84,12 @@
 #include "slam/grid.h"
 #include "slam/mapper.h"
 #include "slam/odometry.h"
+#include "slam/readings.h"
 
-#define LOC_QUEUE 8u             /**< readings between the tick and robot_idle() */
-#ifndef LOC_WINDOW
-#define LOC_WINDOW 60u           /**< the newest held-back hits: what a match matches */
-#endif
 #ifndef LOC_HOLD
 #define LOC_HOLD 256u            /**< hits held back from OM */
 #endif
-#ifndef LOC_EVERY
-#define LOC_EVERY 4u             /**< new hits between two matches */
-#endif
-#ifndef LOC_PASSES
-#define LOC_PASSES 3u            /**< associations and updates of a match */
-#endif
-#ifndef LOC_ASSOC_CELLS
-#define LOC_ASSOC_CELLS 3        /**< a hit's wall lies within this many cells */
-#endif
-#ifndef LOC_MIN_POINTS
-#define LOC_MIN_POINTS 10u       /**< hits on a wall line a match needs */
-#endif
-#ifndef LOC_MAX_STEP_MDEG
-#define LOC_MAX_STEP_MDEG 3000   /**< a larger turn of the pose is refused */
-#endif
-#ifndef LOC_MAX_STEP_UM
-#define LOC_MAX_STEP_UM 150000   /**< and so is a larger shift */
-#endif
-#define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
-#define LOC_AHEAD_NONE INT32_MIN  /**< no held-back hit ahead (loc_t's ahead points) */
+#define LOC_AHEAD_NONE INT32_MIN  /**< no held-back hit ahead (loc_tick_t's ahead points) */
 
 /** The correction from the odometry frame to the map's. */
 typedef struct {
@@ -115,24 +100,16 @@ typedef struct {
     q1_30_t s;      /**< sin th */
 } loc_corr_t;
 
-/** A completed reading, as the tick hands it over. */
-typedef struct {
-    odom_pose_t ping;  /**< odometry pose at the ping */
-    uint32_t range_um; /**< 0 on a timeout */
-    bam32_t servo;     /**< servo angle θo */
-    bool echo;         /**< false: a timeout */
-} loc_reading_t;
-
 /** The filter's states: x, y, θ of a correction, and odometry's two drifts. */
 #define LOC_STATES 5u
 
-/** The filter's covariance (src/loc_kf.h says its units). */
+/** The filter's covariance (src/localize/loc_filter.h says its units). */
 typedef struct {
     int64_t p[LOC_STATES][LOC_STATES];
 } lkf_cov_t;
 
 /** A held-back hit: the obstacle point in the odometry frame, from the grid's origin in
- *  units of 2^point_shift µm (loc_t), so that ±2^15 units reach 512 cells either way, a
+ *  units of 2^point_shift µm (loc_hold_t), so that ±2^15 units reach 512 cells either way, a
  *  grid's length beyond any side (1.024 mm for 50 mm cells). Four bytes, so that LOC_HOLD
  *  of them fit the RAM budget. */
 typedef struct {
@@ -140,79 +117,90 @@ typedef struct {
     int16_t y;
 } loc_point_t;
 
-/** Localization state and counters. */
+/** The filter (loc_filter.c): the correction, its covariance about the robot and of the
+ *  systematic drift of odometry, κd (prad/mm) and κt (ppb), and their estimates. */
 typedef struct {
-    bool on;                          /**< matching enabled (the configuration) */
-    bool deferred;                    /**< readings are mapped by loc_idle(), not the tick */
-    /* The queue: the tick writes head, loc_idle() writes tail. */
-    volatile loc_reading_t queue[LOC_QUEUE];
-    volatile uint8_t head;
-    volatile uint8_t tail;
-    uint32_t posted;                  /**< readings the tick posted */
-    uint32_t drained;                 /**< readings loc_idle() has finished */
-    /* The correction: idle's, the one it published, and the one the tick uses. */
-    loc_corr_t corr;
-    volatile loc_corr_t pub;
-    volatile uint32_t pub_seq;        /**< pub holds the correction after this many readings */
-    volatile uint32_t pub_gen;        /**< odd while pub is being written */
-    loc_corr_t tick_corr;
-    /* The nearest held-back hit ahead of the robot that OM does not hold yet, in the map
-     * frame ({LOC_AHEAD_NONE, ...} when none): published with pub, adopted with it. */
-    volatile int32_t pub_ahead[2];
-    int32_t tick_ahead[2];
-    int32_t clear_um;                 /**< half the corridor ahead (clearance_um) */
-    loc_corr_t placed;                /**< where the held-back hits' early halves lie */
-    /* The window of held-back hits, a ring. */
-    loc_point_t win[LOC_HOLD];
-    uint32_t win_shadowed[LOC_HOLD / 32u]; /**< bit i: win[i] lay just behind a wall: not
-                                                mapped */
-    uint16_t win_first;
-    uint16_t win_count;
-    uint8_t point_shift;              /**< a loc_point_t's unit, log2 µm */
-    uint8_t since_match;              /**< hits added since the last match */
-    /* The filter (src/loc_kf.h): the covariance of a correction about the robot and of the
-     * systematic drift of odometry, κd (prad/mm) and κt (ppb), whose estimates are kept
-     * in kappa_prad_per_mm and kappa_ppb. */
     lkf_cov_t cov;
-    lkf_cov_t work;                   /**< a match's covariance while it runs (static: the
-                                           idle loop's stack stays small) */
+    int64_t drift_nrad;               /**< learned drift not yet turned into the correction */
+    loc_corr_t corr;                  /**< the background loop's correction */
     int32_t kappa_prad_per_mm;
     int32_t kappa_ppb;
-    int64_t drift_nrad;               /**< learned drift not yet turned into the correction */
-    odom_pose_t last_odom;            /**< odometry pose of the last reading drained */
+    odom_pose_t last_odom;            /**< odometry pose of the last reading */
     bool have_last;
-    /* Counters. */
+} loc_filter_t;
+
+/** The held-back hits (loc_hold.c), a ring. */
+typedef struct {
+    loc_point_t win[LOC_HOLD];
+    uint32_t shadowed[LOC_HOLD / 32u]; /**< bit i: win[i] lay just behind a wall: not mapped */
+    loc_corr_t placed;                /**< where the held-back hits' early halves lie */
+    int32_t clear_um;                 /**< half the corridor ahead (clearance_um) */
+    uint16_t first;
+    uint16_t count;
+    uint8_t point_shift;              /**< a loc_point_t's unit, log2 µm */
+} loc_hold_t;
+
+/** Matches (loc_match.c). */
+typedef struct {
+    lkf_cov_t work;                   /**< a match's covariance while it runs (static: the
+                                           idle loop's stack stays small) */
     uint32_t tried;                   /**< matches attempted */
     uint32_t applied;                 /**< matches that moved the pose */
     uint32_t refused;                 /**< matches refused (too few walls, too large) */
-    uint32_t dropped;                 /**< readings lost: the queue was full */
-    uint32_t late;                    /**< ticks that found the background loop behind */
     uint32_t last_points;             /**< wall measurements of the last match */
+    uint8_t since;                    /**< hits added since the last match */
+} loc_match_t;
+
+/** What the background loop publishes after each reading and the tick adopts (loc_tick.c):
+ *  the correction, and the nearest held-back hit ahead of the robot that OM does not hold
+ *  yet, in the map frame ({LOC_AHEAD_NONE, ...} when none). */
+typedef struct {
+    volatile loc_corr_t pub;
+    volatile int32_t pub_ahead[2];
+    loc_corr_t corr;                  /**< the tick's */
+    int32_t ahead[2];
+} loc_tick_t;
+
+/** Localization state and counters. */
+typedef struct {
+    bool on;            /**< matching enabled (the configuration) */
+    loc_tick_t tick;
+    loc_filter_t filter;
+    loc_hold_t hold;
+    loc_match_t match;
 } loc_t;
 
-/**
- * Set up for a checked configuration: zero correction, empty queue and window. The queue
- * is used (deferred) when localization is on or OM holds free-space evidence.
- */
+/** Set up for a checked configuration: zero correction, empty window. */
 void loc_init(loc_t *l, const slam_config_t *cfg);
 
 /** The map pose of an odometry pose under a correction. ISR-safe, O(1). */
 odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom);
 
-/**
- * Tick: hand a completed reading to the background loop, then adopt the correction
- * published for the reading before it. ISR-safe, O(1).
- * @retval true   queued
- * @retval false  the queue was full: the reading is lost (counted in dropped)
- */
-bool loc_post(loc_t *l, const loc_reading_t *rd);
+/** The map pose of an odometry pose under the correction the tick adopted; odometry's own
+ *  with localization off. ISR-safe, O(1). */
+static inline odom_pose_t loc_tick_pose(const loc_t *l, const odom_pose_t *odom)
+{
+    return l->on ? loc_apply(&l->tick.corr, odom) : *odom;
+}
+
+/** Tick: adopt what the background loop published after the reading before the one just
+ *  posted, once readq_post() has found that reading finished (READQ_CURRENT). ISR-safe, O(1);
+ *  inline, since the tick has no instructions to spare for a call. */
+static inline void loc_adopt(loc_t *l)
+{
+    l->tick.corr = l->tick.pub;
+    l->tick.ahead[0] = l->tick.pub_ahead[0];
+    l->tick.ahead[1] = l->tick.pub_ahead[1];
+}
 
 /**
- * Background loop: drain the queue, reading by reading, as the file overview says:
- * free-space evidence, held-back hits entering OM, matches, the published correction.
- * Never from the tick. The mapper counts the readings as mapper_reading() does.
+ * Background loop, with localization on (off, robot_idle() maps the readings itself, as
+ * readq_map() does): one reading, as the file overview says: its
+ * free-space evidence, its hit held back, held-back hits entering OM, a match every
+ * LOC_EVERY hits, then the correction published. Never from the tick. The mapper counts the
+ * reading as mapper_reading() does.
  */
-void loc_idle(loc_t *l, mapper_t *m, grid_t *g);
+void loc_reading(loc_t *l, mapper_t *m, grid_t *g, const readq_reading_t *rd);
 
 /** Put the window's held-back hits into OM (before a map is exported). Not ISR-safe. */
 void loc_flush(loc_t *l, mapper_t *m, grid_t *g);

@@ -25,6 +25,7 @@
 #include "slam/mapstore.h"
 #include "slam/motion.h"
 #include "slam/odometry.h"
+#include "slam/readings.h"
 #include "slam/sweep.h"
 #include "slam/telemetry.h"
 #include "slam/umbmark.h"
@@ -35,7 +36,8 @@ typedef struct {
     odom_t odom;           /**< pose tracking */
     sweep_t sweep;         /**< servo sweep */
     mapper_t mapper;       /**< Algorithm C.1 */
-    loc_t loc;             /**< pose correction; readings mapped by robot_idle() */
+    readq_t readq;         /**< completed readings, from the tick to robot_idle() */
+    loc_t loc;             /**< pose correction */
     explore_t explore;     /**< where to go */
     umbmark_t umbmark;     /**< the calibration test, instead of exploring (EXPLORE_UMBMARK) */
     motion_t motion;       /**< wheel speed control */
@@ -85,7 +87,8 @@ void robot_tick(robot_t *r);
 /**
  * Background work, from the main loop; never called from the tick: feeds the watchdog
  * while ticks progress, takes commands from the UART (telemetry.h: at most
- * ROBOT_RX_BYTES a call, each answered), sends telemetry, and saves the maps (every
+ * ROBOT_RX_BYTES a call, each answered), maps the readings the tick queued (readings.h;
+ * through the pose correction when it is on), sends telemetry, and saves the maps (every
  * save_period_s, and on request) a chunk per call. A command that changes the
  * configuration or the exploration mode waits until the tick has brought the robot to a
  * stand, then re-initialises what the configuration feeds (odometry gains, keeping the

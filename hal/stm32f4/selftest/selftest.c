@@ -244,11 +244,11 @@ void selftest_report(const selftest_t *st, bool with_costs)
     text_u32(&l, r->ping_errors);
     print_line(&l);
     text_str(&l, "localize tried ");
-    text_u32(&l, r->loc.tried);
+    text_u32(&l, r->loc.match.tried);
     text_str(&l, " applied ");
-    text_u32(&l, r->loc.applied);
+    text_u32(&l, r->loc.match.applied);
     text_str(&l, " refused ");
-    text_u32(&l, r->loc.refused);
+    text_u32(&l, r->loc.match.refused);
     print_line(&l);
     text_str(&l, "pose ");
     text_i32(&l, r->pose.x_um);

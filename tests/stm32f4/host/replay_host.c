@@ -141,7 +141,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "replay_host: the replay failed (see the 'replay' line)\n");
         rc = 1;
     }
-    if (robot.cfg.localize != 0u && robot.loc.applied == 0u) {
+    if (robot.cfg.localize != 0u && robot.loc.match.applied == 0u) {
         fprintf(stderr, "replay_host: the scenario never applies the pose correction: a longer "
                         "trace is needed (make trace)\n");
         rc = 1;

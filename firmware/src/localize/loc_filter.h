@@ -1,25 +1,29 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file
- * The Kalman filter of the pose correction (localize.c), in fixed point.
+ * The lowest layer of the pose correction (localize.h): its Kalman filter in fixed point,
+ * the correction's arithmetic, and the drift the filter learns, turned into the correction
+ * as the robot moves.
  *
  * The state: an increment of the correction about the robot, (dx, dy) in µm and dθ in
  * µrad, and two systematic errors of odometry the filter learns as it goes (what UMBmark
  * leaves, or what a tyre's wear brings): the heading odometry gains per millimetre driven,
  * κd in prad/mm (10⁻¹² rad; unequal wheels, E_d), and per radian turned, κt in ppb (a
  * wrong wheel base, E_b). Their units are that fine so that their Kalman gains, tiny in
- * any coarser unit, keep their precision in Q20. Between matches the correction turns by κd·distance + κt·turn, so the pose
- * follows the drift it has learned; each match corrects dθ, and through their correlation
- * with it, κd and κt (Martinelli's simultaneous localization and odometry calibration).
+ * any coarser unit, keep their precision in Q20. Between matches the correction turns by
+ * κd·distance + κt·turn, so the pose follows the drift it has learned; each match corrects
+ * dθ, and through their correlation with it, κd and κt (Martinelli's simultaneous
+ * localization and odometry calibration).
  *
  * The covariance is a full symmetric 5×5 matrix of int64 in the state's units. A
  * measurement's Jacobian is in Q12 (a unit normal is 4096, the θ entry in µm per µrad) and
  * never involves κ directly.
  *
- * Internal to the core; the tests check it against a double-precision filter.
+ * Internal to the core; the tests check the filter against a double-precision one. Calls
+ * nothing else of the module.
  */
-#ifndef SLAM_LOC_KF_H
-#define SLAM_LOC_KF_H
+#ifndef SLAM_LOC_FILTER_H
+#define SLAM_LOC_FILTER_H
 
 #include <stdint.h>
 
@@ -46,7 +50,8 @@ typedef struct {
     int64_t v[LKF_N];
 } lkf_state_t;
 
-/* lkf_cov_t, the filter's covariance, is in slam/localize.h: loc_t holds two. */
+/* lkf_cov_t, the filter's covariance, is in slam/localize.h: loc_filter_t holds the
+ * filter's, loc_match_t a match's while it runs. */
 
 /** floor(sqrt(v)). */
 uint32_t lkf_isqrt(uint64_t v);
@@ -76,4 +81,44 @@ int64_t lkf_drift_nrad(const lkf_state_t *k, int64_t ds_um, int64_t turn_urad);
 void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
                 const int32_t j[3], int64_t r);
 
-#endif /* SLAM_LOC_KF_H */
+/* ---- the correction and the drift (loc_filter_t) ---------------------------------------- */
+
+/** One more in a counter that stops at UINT32_MAX. */
+static inline void loc_count(uint32_t *c)
+{
+    if (*c != UINT32_MAX) {
+        (*c)++;
+    }
+}
+
+/** The covariance's units: 2π·10⁶ µrad is 2^32 binary angle units (683.565 bam per µrad,
+ *  Q16). */
+#define LOC_BAM_PER_URAD_Q16 44797728
+
+/** An angle in µrad as a binary angle. */
+static inline bam32_t loc_bam_of_urad(int64_t urad)
+{
+    return (bam32_t)(uint32_t)(int32_t)((urad * LOC_BAM_PER_URAD_Q16) >> 16);
+}
+
+/** A point (µm) through a correction. */
+void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy);
+
+/** A map point moved by an increment about a centre: turned by c, s, then shifted by
+ *  (dx, dy). µm. */
+void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy,
+                    q1_30_t c, q1_30_t s, int32_t *ox, int32_t *oy);
+
+/** No correction yet, the starting covariance, no drift learned. */
+void loc_filter_init(loc_filter_t *f);
+
+/** A reading's ping at odometry pose @p odom: since the last one the covariance grows with
+ *  the move, and the correction turns by the drift learned so far, about the robot. */
+void loc_filter_move(loc_filter_t *f, const odom_pose_t *odom);
+
+/** A match's increment @p d about the map point (cx, cy), with its covariance @p p: the
+ *  correction turned by dθ about that point, then shifted; the drift estimates moved on. */
+void loc_filter_correct(loc_filter_t *f, int32_t cx, int32_t cy, const lkf_state_t *d,
+                        lkf_cov_t *p);
+
+#endif /* SLAM_LOC_FILTER_H */

@@ -1,11 +1,14 @@
 /* SPDX-License-Identifier: MIT */
-/* The pose correction's Kalman filter in fixed point: prediction, scalar updates, and the
- * systematic drift of odometry it learns. */
-#include "loc_kf.h"
+/* The pose correction's Kalman filter in fixed point (prediction, scalar updates), the
+ * correction it estimates, and the systematic drift of odometry it learns. */
+#include "loc_filter.h"
 
 #include "slam/fixed.h"
 
 #define LKF_K_SHIFT 20u /* Kalman gains in Q20 */
+
+#define LOC_KAPPA_MAX 20000000      /* ±20 µrad/mm (1.1° a metre), ±2 % of a turn */
+#define LOC_URAD_PER_BAM_Q26 98175 /* 0.00146292 µrad per bam, Q26 */
 
 /* Odometry's random errors, measured in the simulator per metre driven and per radian
  * turned: µm² per mm; µrad² per mm and per mrad. */
@@ -149,7 +152,7 @@ void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
                 const int32_t j[3], int64_t r)
 {
     /* P Jᵀ, in the state's units × µm Q12. The bounds of lkf_sane(), |j0|, |j1| <= 2^12
-     * and |j2| <= 2^15 (an 8 m lever, localize.c) keep |P Jᵀ| below 2^55, and so its
+     * and |j2| <= 2^15 (an 8 m lever, loc_match.c) keep |P Jᵀ| below 2^55, and so its
      * gain numerator below 2^63. */
     int64_t pj[LKF_N];
     for (unsigned i = 0; i < LKF_N; i++) {
@@ -199,4 +202,104 @@ void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
             c->p[i][m] = c->p[m][i] = v;
         }
     }
+}
+
+/* ---- the correction ------------------------------------------------------------------------ */
+
+static loc_corr_t corr_of(int32_t tx_um, int32_t ty_um, bam32_t th)
+{
+    return (loc_corr_t){tx_um, ty_um, th, fix_cos(th), fix_sin(th)};
+}
+
+/* Positions stay far inside ±2^31 µm (slam_config_check keeps the world within 1 km), so
+ * the 32 × 30-bit products fit. */
+void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy)
+{
+    *ox = fix_sat_i32(fix_round_shift((int64_t)x * c->c - (int64_t)y * c->s, 30u) + c->tx_um);
+    *oy = fix_sat_i32(fix_round_shift((int64_t)x * c->s + (int64_t)y * c->c, 30u) + c->ty_um);
+}
+
+odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)
+{
+    odom_pose_t p;
+    loc_corr_point(c, odom->x_um, odom->y_um, &p.x_um, &p.y_um);
+    p.heading = odom->heading + c->th;
+    return p;
+}
+
+void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy,
+                    q1_30_t c, q1_30_t s, int32_t *ox, int32_t *oy)
+{
+    int64_t rx = (int64_t)x - cx;
+    int64_t ry = (int64_t)y - cy;
+    *ox = fix_sat_i32(cx + fix_round_shift(rx * c - ry * s, 30u) + dx);
+    *oy = fix_sat_i32(cy + fix_round_shift(rx * s + ry * c, 30u) + dy);
+}
+
+/* The correction turned by dth about a map point, then shifted: the robot standing there
+ * keeps its place and changes its heading. */
+static void correct_about(loc_filter_t *f, int32_t cx, int32_t cy, bam32_t dth, int64_t dx,
+                          int64_t dy)
+{
+    int32_t tx;
+    int32_t ty;
+    loc_move_point(f->corr.tx_um, f->corr.ty_um, cx, cy, dx, dy, fix_cos(dth), fix_sin(dth), &tx,
+                   &ty);
+    f->corr = corr_of(tx, ty, f->corr.th + dth);
+}
+
+void loc_filter_init(loc_filter_t *f)
+{
+    *f = (loc_filter_t){0};
+    f->corr.c = FIX_Q30_ONE; /* no correction: cos 0 is one, the rest is zero */
+    lkf_init(&f->cov);
+}
+
+/* ---- the drift ----------------------------------------------------------------------------- */
+
+void loc_filter_move(loc_filter_t *f, const odom_pose_t *odom)
+{
+    if (!f->have_last) {
+        f->have_last = true;
+        f->last_odom = *odom;
+        return;
+    }
+    int32_t dxo = (int32_t)((uint32_t)odom->x_um - (uint32_t)f->last_odom.x_um);
+    int32_t dyo = (int32_t)((uint32_t)odom->y_um - (uint32_t)f->last_odom.y_um);
+    int32_t turned = fix_bam_diff(odom->heading, f->last_odom.heading);
+    /* Driven: the move along the heading it began with (backwards is negative). */
+    int64_t ds_um = fix_round_shift((int64_t)dxo * fix_cos(f->last_odom.heading) +
+                                        (int64_t)dyo * fix_sin(f->last_odom.heading),
+                                    30u);
+    f->last_odom = *odom;
+    /* The move in the map frame is odometry's turned by the correction. */
+    int64_t dx = fix_round_shift((int64_t)dxo * f->corr.c - (int64_t)dyo * f->corr.s, 30u);
+    int64_t dy = fix_round_shift((int64_t)dxo * f->corr.s + (int64_t)dyo * f->corr.c, 30u);
+    int64_t turn_urad = ((int64_t)turned * LOC_URAD_PER_BAM_Q26) >> 26;
+    lkf_predict(&f->cov, fix_div_s64(dx, 1000), fix_div_s64(dy, 1000), fix_div_s64(ds_um, 1000),
+                turn_urad);
+    /* The learned drift, whole µrad at a time (the rest waits for the next move). */
+    lkf_state_t k = {{0, 0, 0, f->kappa_prad_per_mm, f->kappa_ppb}};
+    f->drift_nrad += lkf_drift_nrad(&k, ds_um, turn_urad);
+    int64_t urad = fix_div_s64(f->drift_nrad, 1000);
+    if (urad != 0) {
+        f->drift_nrad -= urad * 1000;
+        odom_pose_t at = loc_apply(&f->corr, odom);
+        correct_about(f, at.x_um, at.y_um, loc_bam_of_urad(urad), 0, 0);
+    }
+}
+
+static int32_t clamp_kappa(int64_t v)
+{
+    return (int32_t)(v < -LOC_KAPPA_MAX ? -LOC_KAPPA_MAX : v > LOC_KAPPA_MAX ? LOC_KAPPA_MAX : v);
+}
+
+void loc_filter_correct(loc_filter_t *f, int32_t cx, int32_t cy, const lkf_state_t *d,
+                        lkf_cov_t *p)
+{
+    correct_about(f, cx, cy, loc_bam_of_urad(d->v[LKF_T]), d->v[LKF_X], d->v[LKF_Y]);
+    f->kappa_prad_per_mm = clamp_kappa(f->kappa_prad_per_mm + d->v[LKF_KD]);
+    f->kappa_ppb = clamp_kappa(f->kappa_ppb + d->v[LKF_KT]);
+    lkf_sane(p);
+    f->cov = *p;
 }

@@ -1,0 +1,178 @@
+/* SPDX-License-Identifier: MIT */
+/* The pose correction's held-back hits: held as odometry points, entering OM in two halves,
+ * flushed before a map is exported, and the obstacle ahead among them. */
+#include "loc_hold.h"
+
+#include "loc_filter.h"
+#include "loc_walls.h"
+
+void loc_hold_init(loc_hold_t *h, const slam_config_t *cfg)
+{
+    *h = (loc_hold_t){0};
+    /* LOC_REACH_CELLS within 2^15 units, the same for every grid size (the host's grid and
+     * the MCU's then hold a point alike): 1 mm for 50 mm cells. Cells of 5 mm to 1 m make
+     * the reach 2^16 µm or more and keep it within 32 bits. */
+    h->point_shift = (uint8_t)(17 - __builtin_clz(LOC_REACH_CELLS * cfg->cell_um));
+    h->placed.c = FIX_Q30_ONE; /* no correction: cos 0 is one, the rest is zero */
+    h->clear_um = (int32_t)cfg->clearance_um;
+}
+
+void loc_hold_point(const loc_hold_t *h, const grid_t *g, const loc_corr_t *c, unsigned i,
+                    int32_t *x, int32_t *y)
+{
+    const loc_point_t *p = &h->win[(h->first + i) % LOC_HOLD];
+    /* In the odometry frame, modulo 2^32 as grid.c's cells: the point came from an int32_t
+     * within the reach. */
+    unsigned k = h->point_shift;
+    int32_t ox = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << k));
+    int32_t oy = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << k));
+    loc_corr_point(c, ox, oy, x, y);
+}
+
+/* Whether held-back hit i goes into OM at all: not when it lay just behind a wall. */
+static bool held_mapped(const loc_hold_t *h, unsigned i)
+{
+    unsigned slot = (h->first + i) % LOC_HOLD;
+    return ((h->shadowed[slot / 32u] >> (slot % 32u)) & 1u) == 0u;
+}
+
+/* A point of the odometry frame as a loc_point_t, rounded to its unit; false when it lies
+ * beyond a loc_point_t's reach (a grid's length and more off the grid). */
+static bool to_point(const loc_hold_t *h, const grid_t *g, int32_t x, int32_t y, loc_point_t *p)
+{
+    /* The differences modulo 2^32, as grid.c's: points and origin lie within 1 km. Halved
+     * last, so that the rounding cannot overflow. */
+    unsigned half = h->point_shift - 1u;
+    int32_t u = (((int32_t)((uint32_t)x - (uint32_t)g->origin_x_um) >> half) + 1) >> 1;
+    int32_t v = (((int32_t)((uint32_t)y - (uint32_t)g->origin_y_um) >> half) + 1) >> 1;
+    if ((((uint32_t)u + 32768u) | ((uint32_t)v + 32768u)) > UINT16_MAX) {
+        return false; /* one of them outside int16_t */
+    }
+    *p = (loc_point_t){(int16_t)u, (int16_t)v};
+    return true;
+}
+
+/* The first half of a hit's log-odds step, placed when it leaves the window (half of one
+ * in OM_MODE_COUNT is none). */
+static uint8_t early_half(const loc_hold_t *h, const grid_t *g, unsigned i)
+{
+    return i + LOC_WINDOW < h->count && g->mode == OM_MODE_EVIDENCE ? g->hit / 2u : 0u;
+}
+
+void loc_hold_halves(loc_hold_t *h, grid_t *g, const loc_corr_t *corr, bool take_back)
+{
+    if (!take_back) {
+        h->placed = *corr;
+    }
+    if (g->mode != OM_MODE_EVIDENCE) {
+        return; /* no halves */
+    }
+    for (unsigned i = 0; i + LOC_WINDOW < h->count; i++) {
+        if (held_mapped(h, i)) {
+            int32_t x;
+            int32_t y;
+            loc_hold_point(h, g, &h->placed, i, &x, &y);
+            grid_om_part(g, x, y, early_half(h, g, i), take_back);
+        }
+    }
+}
+
+/* The oldest held-back hit leaves the hold: the rest of it enters OM, at the correction now
+ * (its half stays where it lies). */
+static void hit_enters_map(loc_hold_t *h, mapper_t *m, grid_t *g, const loc_corr_t *corr)
+{
+    if (held_mapped(h, 0u)) {
+        int32_t x;
+        int32_t y;
+        loc_hold_point(h, g, corr, 0u, &x, &y);
+        (void)mapper_hit_rest(m, g, x, y, early_half(h, g, 0u));
+    }
+    h->first = (uint16_t)((h->first + 1u) % LOC_HOLD);
+    h->count--;
+}
+
+bool loc_hold_add(loc_hold_t *h, mapper_t *m, grid_t *g, const loc_corr_t *corr, int32_t x,
+                  int32_t y, bool shadowed)
+{
+    loc_point_t pt;
+    if (!to_point(h, g, x, y, &pt)) {
+        loc_count(&m->outside); /* a grid's length off the grid: nothing to match or map */
+        return false;
+    }
+    if (h->count == LOC_HOLD) {
+        hit_enters_map(h, m, g, corr);
+    }
+    unsigned slot = (h->first + h->count) % LOC_HOLD;
+    h->win[slot] = pt;
+    uint32_t *word = &h->shadowed[slot / 32u];
+    *word = (*word & ~(1u << (slot % 32u))) | ((uint32_t)shadowed << (slot % 32u));
+    h->count++;
+    /* The hit that just left the window: half of it enters OM now, with the other halves,
+     * so that what exploration reads in OM holds the walls just seen; the rest enters
+     * when it leaves the hold, where the correction then puts it. */
+    unsigned left = h->count - LOC_WINDOW - 1u; /* (wraps when none has left yet) */
+    if (h->count > LOC_WINDOW && held_mapped(h, left)) {
+        loc_hold_point(h, g, &h->placed, left, &x, &y);
+        grid_om_part(g, x, y, early_half(h, g, left), false);
+    }
+    return true;
+}
+
+void loc_hold_flush(loc_hold_t *h, mapper_t *m, grid_t *g, const loc_corr_t *corr)
+{
+    while (h->count > 0u) {
+        hit_enters_map(h, m, g, corr);
+    }
+}
+
+void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr,
+                    const odom_pose_t *ping, int32_t pt[2])
+{
+    odom_pose_t at = loc_apply(corr, ping);
+    q1_30_t c = fix_cos(at.heading);
+    q1_30_t s = fix_sin(at.heading);
+    /* The nearest hit (its cell k1) and the nearest in any other cell, ahead of the axle. */
+    int32_t near[2] = {INT32_MAX, INT32_MAX};
+    int32_t near_pt[2][2] = {{LOC_AHEAD_NONE, 0}, {LOC_AHEAD_NONE, 0}};
+    uint32_t k1 = UINT32_MAX;
+    unsigned first = h->count > LOC_WINDOW ? h->count - LOC_WINDOW : 0u;
+    for (unsigned i = first; i < h->count; i++) {
+        if (!held_mapped(h, i)) {
+            continue;
+        }
+        int32_t x;
+        int32_t y;
+        uint32_t cell;
+        loc_hold_point(h, g, corr, i, &x, &y);
+        if (loc_known_free(g, x, y, &cell)) {
+            continue;
+        }
+        /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
+         * their products with Q30 values fit 64 bits. */
+        int32_t dx = (int32_t)((uint32_t)x - (uint32_t)at.x_um);
+        int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
+        int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
+        int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -h->clear_um ||
+            side >= h->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
+            continue;
+        }
+        if (ahead < near[0]) {
+            if (cell != k1) {
+                near[1] = near[0];
+                near_pt[1][0] = near_pt[0][0];
+                near_pt[1][1] = near_pt[0][1];
+            }
+            k1 = cell;
+            near[0] = ahead;
+            near_pt[0][0] = x;
+            near_pt[0][1] = y;
+        } else {
+            near[1] = ahead;
+            near_pt[1][0] = x;
+            near_pt[1][1] = y;
+        }
+    }
+    pt[0] = near_pt[1][0];
+    pt[1] = near_pt[1][1];
+}
