@@ -23,7 +23,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "stm32f4"))
+sys.path[:0] = [os.path.join(HERE, "..", "..", "tools", d) for d in ("stm32f4", "cortex_m")]
 from elf32 import Elf  # noqa: E402
 from tick_unicorn import Machine, unicorn  # noqa: E402
 

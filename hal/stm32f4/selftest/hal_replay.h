@@ -11,7 +11,7 @@
  * decoded tick), hal_uart_write() takes every byte and keeps a count and a CRC-32 of them,
  * and hal_uart_read() and map storage are the defaults of hal/defaults (nothing received,
  * no storage: HAL_ENOSYS), so a program links this file with hal_unsupported. A scenario
- * is a trace turned into C data by tools/stm32f4/trace2c.py; its byte stream, per tick:
+ * is a trace turned into C data by tools/cortex_m/trace2c.py; its byte stream, per tick:
  *
  *   byte     bits 0-2 poll ('-' 'i' 'b' 'e' 't' = 0..4), bits 3-4 trigger ('-' 'o' 'b'
  *            = 0..2), bit 5: an output changed; bits 6-7 zero

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Worst-case stack depth of an image's call paths, from GCC's own per-function numbers.
 
-usage: tools/stm32f4/stack_depth.py ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
+usage: tools/cortex_m/stack_depth.py ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
                                         [--budget ROOT=BYTES]... [--json FILE]
 
 The image is built with -fcallgraph-info=su: next to every object GCC writes a .ci file
