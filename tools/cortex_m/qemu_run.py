@@ -4,7 +4,7 @@
 
 usage:
   tools/cortex_m/qemu_run.py --machine NAME selftest ELF HOST_REPLAY [--out DIR] [--tick-budget N]
-      Run the self-test image (hal/stm32f4/selftest), run the host build of the same
+      Run the self-test image (hal/cortex_m/selftest), run the host build of the same
       replay (replay_host), and compare the two reports byte for byte; OM and TM are also
       decoded, checked against their CRC-32 and compared cell by cell. Prints robot_tick()
       instructions (mean and worst, from the chip's counter under -icount) and fails when

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Turns a HAL trace into C data for the replay HAL (hal/stm32f4/selftest/hal_replay.h).
+"""Turns a HAL trace into C data for the replay HAL (hal/cortex_m/selftest/hal_replay.h).
 
 usage: tools/cortex_m/trace2c.py TRACE OUT.c [--name NAME]
 

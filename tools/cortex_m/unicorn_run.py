@@ -7,7 +7,7 @@ the machine) over the chip's memory map, which a subclass gives, and calls its f
 directly. Counter counts every instruction executed between a function's entry and its
 return, and separately those inside hal_* functions, and records the deepest stack write.
 
-measure_selftest() plays the self-test image (hal/stm32f4/selftest) the way its main loop
+measure_selftest() plays the self-test image (hal/cortex_m/selftest) the way its main loop
 does: selftest_begin(), then selftest_step() and robot_idle() for every tick of the
 compiled-in scenario, counting robot_tick(). It is the second, independent measurement of
 the figure the chip's counter gives in QEMU under -icount.

@@ -26,8 +26,8 @@
  *
  * Not thread-safe; one replay at a time. Every call is O(1).
  */
-#ifndef STM32F4_HAL_REPLAY_H
-#define STM32F4_HAL_REPLAY_H
+#ifndef CM_HAL_REPLAY_H
+#define CM_HAL_REPLAY_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -89,4 +89,4 @@ void replay_check(void);
 /** Where the replay stands. */
 replay_status_t replay_status(void);
 
-#endif /* STM32F4_HAL_REPLAY_H */
+#endif /* CM_HAL_REPLAY_H */
