@@ -29,10 +29,13 @@ class Machine:
 
     A chip's subclass sets PLAIN, the (base, size) regions mapped as plain memory (flash,
     RAM, peripherals, the core's private peripherals at 0xE0000000), and STACK_TOP, the top
-    of a call stack of the tools' own in RAM, away from the image's. RETURN is added."""
+    of a call stack of the tools' own in RAM, away from the image's. RETURN is added.
+    CPU is unicorn's model of the core (A.UC_CPU_ARM_CORTEX_M3, _M7...): the M4 unless the
+    subclass says otherwise."""
 
     PLAIN = ()
     STACK_TOP = None
+    CPU = A.UC_CPU_ARM_CORTEX_M4
 
     def __init__(self, elf, mmio=()):
         """mmio: (base, size, read(offset, size), write(offset, size, value)) models of
@@ -41,7 +44,7 @@ class Machine:
             raise TypeError("Machine needs a chip's subclass that sets PLAIN and STACK_TOP")
         self.elf = elf
         uc = unicorn.Uc(unicorn.UC_ARCH_ARM, unicorn.UC_MODE_THUMB | unicorn.UC_MODE_MCLASS)
-        uc.ctl_set_cpu_model(A.UC_CPU_ARM_CORTEX_M4)
+        uc.ctl_set_cpu_model(self.CPU)
         for base, size in list(self.PLAIN) + [(RETURN, 0x1000)]:
             cuts = sorted((b, b + n) for b, n, _, _ in mmio if base <= b < base + size)
             at = base
