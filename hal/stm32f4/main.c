@@ -64,7 +64,7 @@ static void banner(void)
     send(&l);
 }
 
-void stm32_fault_hook(const stm32_fault_t *f)
+void cm_fault_hook(const cm_fault_t *f)
 {
     text_line_t l;
     text_clear(&l);
@@ -87,11 +87,11 @@ int main(void)
         text_str(&l, bad != NULL ? bad : "?");
         text_str(&l, "; motors off\r\n");
         stm32_uart_write_blocking(l.buf);
-        stm32_panic("bad configuration");
+        cm_panic("bad configuration");
     }
     banner();
     if (hal_tick_start(tick, &robot) != HAL_OK) {
-        stm32_panic("the tick did not start");
+        cm_panic("the tick did not start");
     }
 
     for (;;) {

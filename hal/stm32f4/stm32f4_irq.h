@@ -1,26 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file
- * The exceptions and the 82 interrupts of the STM32F405/407 (RM0090 Table 61), as one
- * list from which the vector table, the handler prototypes and the IRQ numbers are made.
+ * The 82 interrupts of the STM32F405/407 (RM0090 Table 61), as one list from which the
+ * vector table, the handler prototypes and the IRQ numbers are made.
  *
- * Every handler is weak: a driver defines the one it needs (void USART1_IRQHandler(void))
- * and every other vector lands in the default handler, which treats it as a fault.
+ * The vector table is hal/cortex_m's (cm_chip.h hands it this list): every handler is weak,
+ * a driver defines the one it needs (void USART1_IRQHandler(void)) and every other vector
+ * lands in the default handler, which treats it as a fault.
  */
 #ifndef STM32F4_IRQ_H
 #define STM32F4_IRQ_H
-
-/* System exceptions 2..15 that have a handler (the others are reserved). */
-#define STM32_EXCEPTIONS(X)                                                                     \
-    X(NMI_Handler)                                                                              \
-    X(HardFault_Handler)                                                                        \
-    X(MemManage_Handler)                                                                        \
-    X(BusFault_Handler)                                                                         \
-    X(UsageFault_Handler)                                                                       \
-    X(SVC_Handler)                                                                              \
-    X(DebugMon_Handler)                                                                         \
-    X(PendSV_Handler)                                                                           \
-    X(SysTick_Handler)
 
 /* Interrupts in vector order: position n is IRQ n, exception 16 + n. */
 #define STM32_IRQS(X)                                                                           \
@@ -46,10 +35,6 @@ _Static_assert(STM32_IRQ_COUNT == 82, "the STM32F405 has 82 interrupts");
 _Static_assert(STM32_IRQ_TIM5 == 50 && STM32_IRQ_USART1 == 37 && STM32_IRQ_TIM2 == 28,
                "IRQ numbers follow RM0090 Table 61");
 
-void Reset_Handler(void);
-#define STM32_HANDLER_PROTO_(name) void name(void);
-STM32_EXCEPTIONS(STM32_HANDLER_PROTO_)
-#undef STM32_HANDLER_PROTO_
 #define STM32_IRQ_PROTO_(name) void name##_IRQHandler(void);
 STM32_IRQS(STM32_IRQ_PROTO_)
 #undef STM32_IRQ_PROTO_

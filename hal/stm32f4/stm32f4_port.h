@@ -2,12 +2,13 @@
 /**
  * @file
  * The interfaces between the files of the STM32F4 port (not part of the HAL contract):
- * clocks, pins, the time base and tick, the watchdog, the UART pump, faults.
+ * clocks, pins, the time base and tick, the watchdog, the UART pump. Start-up and faults
+ * are hal/cortex_m's (cm_startup.h).
  *
  * Which files an image links decides what it is: the robot image links them all with
  * main.c; the self-test image links the start-up, clock, tick, watchdog and critical
- * section with the replay HAL (selftest/) instead of the time base, wheel, sonar, UART
- * and storage drivers.
+ * section with the replay HAL (hal/cortex_m/selftest) instead of the time base, wheel,
+ * sonar, UART and storage drivers.
  */
 #ifndef STM32F4_PORT_H
 #define STM32F4_PORT_H
@@ -16,6 +17,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "cm_startup.h"
 #include "stm32f4_irq.h"
 #include "stm32f4_regs.h"
 
@@ -130,36 +132,9 @@ void stm32_uart_write_blocking(const char *s);
 
 /* ---- wheels and sonar (wheels.c, sonar.c) --------------------------------------------- */
 
+/** Both set up with their outputs off. wheels.c also defines cm_safe_outputs(), which a
+ *  fault calls: PWM 0, direction pins low, driver in standby. */
 void stm32_wheels_init(void);
 void stm32_sonar_init(void);
-
-/**
- * Put the motors in a safe state: PWM 0, direction pins low, driver in standby. Called
- * by the fault handler; weak, so an image without motor driver links without it.
- */
-void stm32_safe_outputs(void);
-
-/* ---- faults (startup.c) ------------------------------------------------------------------ */
-
-/** What a fault left behind, for a report. */
-typedef struct stm32_fault {
-    uint32_t exception; /**< IPSR: 3 HardFault, 4 MemManage, 5 BusFault, 6 UsageFault, 16+n IRQ n */
-    uint32_t pc;        /**< stacked PC: the faulting instruction (0 for a panic) */
-    uint32_t lr;        /**< stacked LR */
-    uint32_t cfsr;      /**< SCB->CFSR */
-    uint32_t hfsr;      /**< SCB->HFSR */
-    uint32_t bfar;      /**< SCB->BFAR */
-    const char *why;    /**< a panic's reason, or NULL */
-} stm32_fault_t;
-
-/**
- * Called once the outputs are safe, with interrupts off; weak. The robot image prints a
- * report on the UART, the self-test exits QEMU. When it returns the MCU waits for the
- * watchdog.
- */
-void stm32_fault_hook(const stm32_fault_t *f);
-
-/** A broken invariant: safe outputs, report, wait for the watchdog. */
-_Noreturn void stm32_panic(const char *why);
 
 #endif /* STM32F4_PORT_H */

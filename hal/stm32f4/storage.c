@@ -32,7 +32,7 @@ static bool slot_open[HAL_STORAGE_SLOTS]; /* erased by hal_storage_begin(), not 
 static void require_thread_mode(void)
 {
     if (cm_ipsr() != 0u) {
-        stm32_panic("map storage used from an interrupt");
+        cm_panic("map storage used from an interrupt");
     }
 }
 

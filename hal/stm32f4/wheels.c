@@ -106,7 +106,7 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     *ccr = (uint32_t)d * motor_period / HAL_DUTY_MAX; /* from the next period */
 }
 
-STM32_START_UP void stm32_safe_outputs(void)
+STM32_START_UP void cm_safe_outputs(void)
 {
     stm32_tim_t *tim = STM32_TIM(BOARD_MOTOR_TIM);
     tim->CCR[BOARD_MOTOR_LEFT_CH - 1u] = 0u;

@@ -3,6 +3,10 @@
  * The template port: every HAL function, compiling, doing nothing. A new board starts as
  * a copy of this file (see README, "Porting to a new board"); each function says what the
  * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
+ *
+ * Map storage (hal_storage_*) and hal_uart_read() are optional: link hal_unsupported
+ * (hal/defaults) and a board without them answers "no storage" and "nothing received".
+ * A board that has them defines them here, and its definitions replace the defaults.
  */
 #include "hal/hal.h"
 
@@ -69,48 +73,6 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     (void)data;
     (void)len;
     return 0u;
-}
-
-size_t hal_uart_read(uint8_t *data, size_t len)
-{
-    (void)data;
-    (void)len;
-    return 0u;
-}
-
-size_t hal_storage_size(void)
-{
-    return 0u;
-}
-
-int hal_storage_begin(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_commit(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
 }
 
 hal_irq_state_t hal_critical_enter(void)

@@ -33,7 +33,7 @@ const driver_table_t driver_table = {
     hal_storage_read, hal_watchdog_kick, stm32_watchdog_start, hal_tick_start,
     hal_tick_overruns, hal_time_us, hal_encoder_count, hal_motor_set, hal_servo_set_pulse,
     hal_sonar_trigger, hal_sonar_poll, hal_uart_write, hal_uart_read, hal_critical_enter,
-    hal_critical_exit, stm32_safe_outputs,
+    hal_critical_exit, cm_safe_outputs,
 };
 
 int main(void)

@@ -23,7 +23,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "tools", "stm32f4"))
+sys.path[:0] = [os.path.join(HERE, "..", "..", "tools", d) for d in ("stm32f4", "cortex_m")]
 from elf32 import Elf  # noqa: E402
 from tick_unicorn import Machine, unicorn  # noqa: E402
 
@@ -447,7 +447,7 @@ def test_wheels(r):
           "the encoders read their timers' 16-bit counters")
     test_wheels_never_reverse_at_the_old_duty(r, motor)
     motor(0, 700)
-    r.call("stm32_safe_outputs")
+    r.call("cm_safe_outputs")
     check(m.read32(BOARD["motor_ccr"][0]) == 0 and m.read32(BOARD["motor_ccr"][1]) == 0,
           "the safe state stops both PWMs")
     check(m.read32(BOARD["dir_bsrr"]) == 1 << (BOARD["stby_pin"] + 16),

@@ -119,11 +119,6 @@ uint32_t hal_time_us(void)
     return w.now_us;
 }
 
-uint32_t hal_tick_overruns(void)
-{
-    return 0u;
-}
-
 uint16_t hal_encoder_count(hal_wheel_t wheel)
 {
     uint16_t count = (uint16_t)(int64_t)floor(w.count[wheel]);
@@ -199,61 +194,8 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     return len;
 }
 
-size_t hal_uart_read(uint8_t *data, size_t len)
-{
-    (void)data;
-    (void)len;
-    return 0u;
-}
-
-size_t hal_storage_size(void)
-{
-    return 0u;
-}
-
-int hal_storage_begin(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_commit(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
-}
-
-hal_irq_state_t hal_critical_enter(void)
-{
-    return 0u;
-}
-
-void hal_critical_exit(hal_irq_state_t state)
-{
-    (void)state;
-}
-
-void hal_watchdog_kick(void)
-{
-}
+/* hal_uart_read() and map storage are hal_unsupported's (nothing received, no storage); the
+ * critical section, the overrun count and the watchdog hal_synchronous's (one thread). */
 
 static int usage(const char *why)
 {

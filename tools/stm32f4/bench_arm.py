@@ -12,8 +12,8 @@ usage: tools/stm32f4/bench_arm.py [BUILD_DIR] [--static-only] [--image NAME]
 2. The real HAL calls of the tick, from the robot image in unicorn, and a bound on the tick
    with them: the worst firmware-only tick plus every HAL call a tick can make.
 3. .text/.data/.bss of the robot image (arm-none-eabi-size); RAM counts the stack reserve.
-4. The worst-case stack depth of the tick path and of all handlers nested (stack_depth.py,
-   from -fcallgraph-info/-fstack-usage).
+4. The worst-case stack depth of the tick path and of all handlers nested
+   (tools/cortex_m/stack_depth.py, from -fcallgraph-info/-fstack-usage).
 
 Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 6 KiB; flash <= 32 KiB;
 tick stack <= 512 bytes. Exit status 1 when one is exceeded. --static-only skips 1 and 2
@@ -26,7 +26,7 @@ import sys
 import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, HERE)
+sys.path[:0] = [HERE, os.path.join(HERE, "..", "cortex_m")]
 import stack_depth  # noqa: E402
 from elf32 import Elf  # noqa: E402
 

@@ -35,25 +35,8 @@ void selftest_print(const char *s)
     fputs(s, stdout);
 }
 
-/* The rest of the platform's part of the HAL, for a core that comes to call it. */
-void hal_watchdog_kick(void)
-{
-}
-
-uint32_t hal_tick_overruns(void)
-{
-    return 0u;
-}
-
-hal_irq_state_t hal_critical_enter(void)
-{
-    return 0u;
-}
-
-void hal_critical_exit(hal_irq_state_t state)
-{
-    (void)state;
-}
+/* The rest of the platform's part of the HAL is hal_synchronous's: the tick and the
+ * background loop run in turn here, in one thread. */
 
 /* The configuration as text, so two can be compared field by field without padding. */
 static char *config_text(const slam_config_t *cfg)

@@ -241,6 +241,8 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
 
 /* ---- the rest of the HAL, the same on every machine ----------------------------------- */
 
+/* hal_uart_read() and map storage are hal/defaults' (nothing received, HAL_ENOSYS). */
+
 size_t hal_uart_write(const uint8_t *data, size_t len)
 {
     uint32_t crc = ~rp.st.uart_crc32;
@@ -253,46 +255,4 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     rp.st.uart_crc32 = ~crc;
     rp.st.uart_bytes += (uint32_t)len;
     return len;
-}
-
-size_t hal_uart_read(uint8_t *data, size_t len)
-{
-    (void)data;
-    (void)len;
-    return 0u;
-}
-
-size_t hal_storage_size(void)
-{
-    return 0u;
-}
-
-int hal_storage_begin(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_commit(uint8_t slot)
-{
-    (void)slot;
-    return HAL_ENOSYS;
-}
-
-int hal_storage_read(uint8_t slot, uint32_t offset, void *data, size_t len)
-{
-    (void)slot;
-    (void)offset;
-    (void)data;
-    (void)len;
-    return HAL_ENOSYS;
 }

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """Worst-case stack depth of an image's call paths, from GCC's own per-function numbers.
 
-usage: tools/stm32f4/stack_depth.py ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
+usage: tools/cortex_m/stack_depth.py ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
                                         [--budget ROOT=BYTES]... [--json FILE]
 
 The image is built with -fcallgraph-info=su: next to every object GCC writes a .ci file
@@ -234,14 +234,14 @@ def main(argv):
     if nesting:
         # Every interrupt handler the image defines (those that are not the weak default),
         # in priority order as the board tables give it: the UART (lowest), the tick, the
-        # echo capture; then a fault, whose naked handler branches to stm32_fault_report.
+        # echo capture; then a fault, whose naked handler branches to cm_fault_report.
         syms = Elf(elf).symbols
-        default = syms["stm32_default_handler"][0] if "stm32_default_handler" in syms else None
+        default = syms["cm_default_handler"][0] if "cm_default_handler" in syms else None
         irqs = sorted(n for n, v in syms.items()
                       if n.endswith("_IRQHandler") and v[0] != default)
         uart = [n for n in irqs if "USART" in n or "UART" in n]
         roots = (["Reset_Handler"] + uart + ["SysTick_Handler"] +
-                 [n for n in irqs if n not in uart] + ["stm32_fault_report"])
+                 [n for n in irqs if n not in uart] + ["cm_fault_report"])
     result = {}
     total = 0
     failed = False

@@ -1,13 +1,15 @@
 /* SPDX-License-Identifier: MIT */
 /**
  * @file
- * The Cortex-M4 core as this port uses it: SysTick, NVIC and SCB registers (ARMv7-M
- * Architecture Reference Manual, B3), the few special instructions, and an atomic block.
+ * The ARMv7-M core (Cortex-M3, M4, M7) as every port of this project uses it: SysTick, NVIC
+ * and SCB registers (ARMv7-M Architecture Reference Manual, B3), the few special
+ * instructions, and an atomic block. Nothing here depends on the chip around the core.
  *
- * The STM32F4 implements 4 priority bits: a priority byte is 0x00 (highest) .. 0xF0.
+ * A chip implements only the top bits of a priority byte (the STM32F4 4 of them, the nRF52
+ * 3) and ignores the others: with 4, a priority byte is 0x00 (highest) .. 0xF0.
  */
-#ifndef STM32F4_CORTEX_M_H
-#define STM32F4_CORTEX_M_H
+#ifndef CORTEX_M_H
+#define CORTEX_M_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -118,7 +120,7 @@ static inline void cm_isb(void)
     __asm__ volatile("isb" : : : "memory");
 }
 
-/** Enable IRQ n at a priority (0x00 highest .. 0xF0 lowest). */
+/** Enable IRQ n at a priority byte (0x00 highest; the chip keeps only its top bits). */
 static inline void cm_nvic_enable(uint32_t irq, uint8_t priority)
 {
     CM_NVIC->IPR[irq] = priority;
@@ -160,4 +162,4 @@ static inline void cm_atomic_end(const uint32_t *saved)
                   cm_atomic_once_ = 1u;                                                         \
          cm_atomic_once_ != 0u; cm_atomic_once_ = 0u)
 
-#endif /* STM32F4_CORTEX_M_H */
+#endif /* CORTEX_M_H */

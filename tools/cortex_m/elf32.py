@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """A minimal reader of 32-bit little-endian ELF files: loadable segments and symbols.
 
-Enough for the STM32F4 tools to load an image into an emulator and find functions by
+Enough for the Cortex-M tools to load an image into an emulator and find functions by
 name, without third-party modules.
 """
 import struct

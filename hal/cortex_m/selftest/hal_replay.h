@@ -9,8 +9,9 @@
  * file builds for the MCU and for the host and both run the same ticks. The calls a trace
  * does not record answer the same way on both: hal_time_us() is replay time (10 ms a
  * decoded tick), hal_uart_write() takes every byte and keeps a count and a CRC-32 of them,
- * hal_uart_read() has nothing, and there is no map storage (HAL_ENOSYS). A scenario is a
- * trace turned into C data by tools/stm32f4/trace2c.py; its byte stream, per tick:
+ * and hal_uart_read() and map storage are the defaults of hal/defaults (nothing received,
+ * no storage: HAL_ENOSYS), so a program links this file with hal_unsupported. A scenario
+ * is a trace turned into C data by tools/cortex_m/trace2c.py; its byte stream, per tick:
  *
  *   byte     bits 0-2 poll ('-' 'i' 'b' 'e' 't' = 0..4), bits 3-4 trigger ('-' 'o' 'b'
  *            = 0..2), bit 5: an output changed; bits 6-7 zero
@@ -25,8 +26,8 @@
  *
  * Not thread-safe; one replay at a time. Every call is O(1).
  */
-#ifndef STM32F4_HAL_REPLAY_H
-#define STM32F4_HAL_REPLAY_H
+#ifndef CM_HAL_REPLAY_H
+#define CM_HAL_REPLAY_H
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -88,4 +89,4 @@ void replay_check(void);
 /** Where the replay stands. */
 replay_status_t replay_status(void);
 
-#endif /* STM32F4_HAL_REPLAY_H */
+#endif /* CM_HAL_REPLAY_H */

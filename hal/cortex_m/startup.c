@@ -1,13 +1,14 @@
 /* SPDX-License-Identifier: MIT */
-/* Start-up of the STM32F405: vector table with weak default handlers, RAM init, faults. */
+/* Start-up of a Cortex-M image: vector table with weak default handlers, RAM init, faults. */
 #include <stddef.h>
 #include <string.h>
 
+#include "cm_chip.h"
+#include "cm_startup.h"
 #include "cortex_m.h"
-#include "stm32f4_port.h"
 #include "text.h"
 
-/* From the linker script (stm32f405rg.ld). */
+/* From the linker script (sections.ld). */
 extern uint32_t _sidata[]; /* .data's image in flash */
 extern uint32_t _sdata[];
 extern uint32_t _edata[];
@@ -18,22 +19,23 @@ extern uint32_t _estack[]; /* the top of the main stack */
 int main(void);
 
 /* A vector without a handler is a bug: report it as a fault. */
-void stm32_default_handler(void);
+void cm_default_handler(void);
 
-#define STM32_WEAK_ALIAS_(name) void name(void) __attribute__((weak, alias("stm32_default_handler")));
-STM32_EXCEPTIONS(STM32_WEAK_ALIAS_)
-#undef STM32_WEAK_ALIAS_
-#define STM32_WEAK_IRQ_(name)                                                                  \
-    void name##_IRQHandler(void) __attribute__((weak, alias("stm32_default_handler")));
-STM32_IRQS(STM32_WEAK_IRQ_)
-#undef STM32_WEAK_IRQ_
+#define CM_WEAK_ALIAS_(name) void name(void) __attribute__((weak, alias("cm_default_handler")));
+CM_EXCEPTIONS(CM_WEAK_ALIAS_)
+#undef CM_WEAK_ALIAS_
+#define CM_WEAK_IRQ_(name)                                                                     \
+    void name##_IRQHandler(void) __attribute__((weak, alias("cm_default_handler")));
+CM_CHIP_IRQS(CM_WEAK_IRQ_)
+#undef CM_WEAK_IRQ_
 
-typedef void (*stm32_vector_t)(void);
+typedef void (*cm_vector_t)(void);
 
 /* The table the core reads at reset: initial stack pointer, then the handlers. */
-#define STM32_IRQ_VECTOR_(name) name##_IRQHandler,
-__attribute__((section(".isr_vector"), used)) static const stm32_vector_t vector_table[16 + STM32_IRQ_COUNT] = {
-    (stm32_vector_t)(uintptr_t)_estack,
+#define CM_IRQ_ONE_(name) +1
+#define CM_IRQ_VECTOR_(name) name##_IRQHandler,
+__attribute__((section(".isr_vector"), used)) static const cm_vector_t vector_table[16 CM_CHIP_IRQS(CM_IRQ_ONE_)] = {
+    (cm_vector_t)(uintptr_t)_estack,
     Reset_Handler,
     NMI_Handler,
     HardFault_Handler,
@@ -49,9 +51,10 @@ __attribute__((section(".isr_vector"), used)) static const stm32_vector_t vector
     0,
     PendSV_Handler,
     SysTick_Handler,
-    STM32_IRQS(STM32_IRQ_VECTOR_)
+    CM_CHIP_IRQS(CM_IRQ_VECTOR_)
 };
-#undef STM32_IRQ_VECTOR_
+#undef CM_IRQ_VECTOR_
+#undef CM_IRQ_ONE_
 
 void Reset_Handler(void)
 {
@@ -70,7 +73,7 @@ void Reset_Handler(void)
     cm_dsb();
     cm_isb();
     (void)main();
-    stm32_panic("main returned");
+    cm_panic("main returned");
 }
 
 /* ---- the C library's two copies -------------------------------------------------------- */
@@ -100,23 +103,23 @@ void *memset(void *dst, int c, size_t n)
 
 /* ---- faults ------------------------------------------------------------------------- */
 
-__attribute__((weak)) void stm32_safe_outputs(void)
+__attribute__((weak)) void cm_safe_outputs(void)
 {
 }
 
-__attribute__((weak)) void stm32_fault_hook(const stm32_fault_t *f)
+__attribute__((weak)) void cm_fault_hook(const cm_fault_t *f)
 {
     (void)f;
 }
 
-static _Noreturn void fault_stop(stm32_fault_t *f)
+static _Noreturn void fault_stop(cm_fault_t *f)
 {
     cm_irq_disable();
     f->cfsr = CM_SCB->CFSR;
     f->hfsr = CM_SCB->HFSR;
     f->bfar = CM_SCB->BFAR;
-    stm32_safe_outputs();
-    stm32_fault_hook(f);
+    cm_safe_outputs();
+    cm_fault_hook(f);
     /* The watchdog, when it runs, restarts the robot; the motors stay off until then. */
     for (;;) {
         cm_wfi();
@@ -124,30 +127,30 @@ static _Noreturn void fault_stop(stm32_fault_t *f)
 }
 
 /* Called by the fault entry below with the stacked exception frame (r0-r3, r12, lr, pc, psr). */
-_Noreturn void stm32_fault_report(const uint32_t *frame);
-_Noreturn void stm32_fault_report(const uint32_t *frame)
+_Noreturn void cm_fault_report(const uint32_t *frame);
+_Noreturn void cm_fault_report(const uint32_t *frame)
 {
-    stm32_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .lr = frame[5], .pc = frame[6]};
+    cm_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .lr = frame[5], .pc = frame[6]};
     fault_stop(&f);
 }
 
 /* Every fault and unexpected interrupt: pass the frame of whichever stack was in use. */
-__attribute__((naked)) void stm32_default_handler(void)
+__attribute__((naked)) void cm_default_handler(void)
 {
     __asm__ volatile("tst lr, #4\n"
                      "ite eq\n"
                      "mrseq r0, msp\n"
                      "mrsne r0, psp\n"
-                     "b stm32_fault_report\n");
+                     "b cm_fault_report\n");
 }
 
-_Noreturn void stm32_panic(const char *why)
+_Noreturn void cm_panic(const char *why)
 {
-    stm32_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .why = why};
+    cm_fault_t f = {.exception = cm_ipsr() & 0x1FFu, .why = why};
     fault_stop(&f);
 }
 
-void text_fault(text_line_t *l, const struct stm32_fault *f)
+void text_fault(text_line_t *l, const struct cm_fault *f)
 {
     text_str(l, "FAULT exception ");
     text_u32(l, f->exception);

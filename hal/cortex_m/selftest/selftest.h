@@ -3,7 +3,7 @@
  * @file
  * The self-test: the firmware's robot_init()/robot_tick() over a recorded scenario through
  * the replay HAL, then a report of OM, TM and the robot's counters. The same file runs on
- * the emulated STM32F405 (selftest_main.c) and on the host (tests/stm32f4/replay_host.c);
+ * an emulated MCU (selftest_main.c, QEMU) and on the host (tests/stm32f4/host/replay_host.c);
  * their reports up to the `end` line must be byte-identical.
  *
  * Report (text, version 1):
@@ -28,10 +28,11 @@
  *     cost ticks N sum S worst W at T
  *     cost HHHH HHHH ...                       robot_tick() instructions, 16 ticks a line
  *
- * The platform supplies selftest_counter() and selftest_print().
+ * The platform supplies selftest_counter() and selftest_print() (on the MCU: the chip's
+ * selftest_port.c and selftest_main.c).
  */
-#ifndef STM32F4_SELFTEST_H
-#define STM32F4_SELFTEST_H
+#ifndef CM_SELFTEST_H
+#define CM_SELFTEST_H
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -89,4 +90,4 @@ void selftest_idle(selftest_t *st);
  */
 void selftest_reading_costs(selftest_t *st);
 
-#endif /* STM32F4_SELFTEST_H */
+#endif /* CM_SELFTEST_H */

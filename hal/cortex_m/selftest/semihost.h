@@ -5,8 +5,8 @@
  * console and an exit status. Without a debugger attached the BKPT instruction faults, so
  * the robot image never uses it.
  */
-#ifndef STM32F4_SEMIHOST_H
-#define STM32F4_SEMIHOST_H
+#ifndef CM_SEMIHOST_H
+#define CM_SEMIHOST_H
 
 #include <stdint.h>
 
@@ -16,4 +16,4 @@ void semihost_write0(const char *s);
 /** End the program with an exit status (SYS_EXIT_EXTENDED); QEMU exits with it. */
 _Noreturn void semihost_exit(uint32_t status);
 
-#endif /* STM32F4_SEMIHOST_H */
+#endif /* CM_SEMIHOST_H */

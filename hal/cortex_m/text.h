@@ -4,8 +4,8 @@
  * Building short text lines without printf (newlib-nano's would cost kilobytes of flash):
  * strings, decimal and hex numbers appended to a bounded line; too long a line is cut.
  */
-#ifndef STM32F4_TEXT_H
-#define STM32F4_TEXT_H
+#ifndef CM_TEXT_H
+#define CM_TEXT_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -22,10 +22,10 @@ void text_i32(text_line_t *l, int32_t v);
 /** @p digits hex digits of v, most significant first, without a prefix. */
 void text_hex(text_line_t *l, uint32_t v, unsigned digits);
 
-struct stm32_fault;
+struct cm_fault;
 
 /** "FAULT exception N: why pc 0x.. lr 0x.. cfsr 0x.. hfsr 0x.. bfar 0x..", after @p l's
  *  text (in startup.c: MCU images only). */
-void text_fault(text_line_t *l, const struct stm32_fault *f);
+void text_fault(text_line_t *l, const struct cm_fault *f);
 
-#endif /* STM32F4_TEXT_H */
+#endif /* CM_TEXT_H */
