@@ -15,7 +15,7 @@ usage: tools/stm32f4/bench_arm.py [BUILD_DIR] [--static-only] [--image NAME]
 4. The worst-case stack depth of the tick path and of all handlers nested
    (tools/cortex_m/stack_depth.py, from -fcallgraph-info/-fstack-usage).
 
-Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 6 KiB; flash <= 32 KiB;
+Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 8 KiB; flash <= 64 KiB;
 tick stack <= 512 bytes. Exit status 1 when one is exceeded. --static-only skips 1 and 2
 (no QEMU, no unicorn): what the ctest stm32f4_budgets checks, for every board's image.
 """
@@ -32,7 +32,7 @@ from elf32 import Elf  # noqa: E402
 
 TICK_BUDGET = 1500
 READING_PLAN = 400  # instructions a reading was to cost the mapper when it mapped in the tick
-FLASH_BUDGET = 32 * 1024
+FLASH_BUDGET = 64 * 1024  # half of a 128 KiB part: the rest for map storage and a bootloader
 STACK_BUDGET = 512
 
 
@@ -112,7 +112,7 @@ def main(argv):
     if m is None:
         die("cannot read SLAM_GRID_A/B from firmware/include/slam/grid.h")
     om_tm = 2 * int(m.group(1)) * int(m.group(2))
-    ram_budget = om_tm + 6 * 1024
+    ram_budget = om_tm + 8 * 1024
 
     print("sonarslam STM32F4 image (%s)" % robot_elf)
     print("  sizes (arm-none-eabi-size): .text %d  .data %d  .bss %d (of which stack %d, robot_t %d)"
@@ -171,7 +171,7 @@ def main(argv):
               % ("worst reading mapped, background loop", summary["reading_worst"], READING_PLAN))
     else:
         print("  budgets:")
-    budget("RAM: .data + .bss incl. stack (2*A*B + 6 KiB)", data + bss, ram_budget, "bytes")
+    budget("RAM: .data + .bss incl. stack (2*A*B + 8 KiB)", data + bss, ram_budget, "bytes")
     budget("flash: .text + .data", text + data, FLASH_BUDGET, "bytes")
     budget("tick stack (SysTick_Handler, static)", st["SysTick_Handler"]["bytes"], STACK_BUDGET,
            "bytes")
