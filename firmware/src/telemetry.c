@@ -199,8 +199,9 @@ void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
 /* ---- commands ------------------------------------------------------------------------- */
 
 /* Where each key's field lies in slam_config_t and how it is stored. */
-enum { KEY_U8 = 0u, KEY_U16 = 1u, KEY_U32 = 2u, KEY_I32 = 3u, KEY_SIZE = 3u };
+enum { KEY_U8 = 0u, KEY_U16 = 1u, KEY_U32 = 2u, KEY_I32 = 3u, KEY_Q30 = KEY_I32, KEY_SIZE = 3u };
 #define KEY_LIVE 0x40u  /* SET may change it while the robot runs */
+#define KEY_FIXED 0x00u /* it takes effect only at robot_init() */
 #define KEY_KNOWN 0x80u /* the id is in use */
 typedef struct {
     uint8_t offset;
@@ -210,9 +211,8 @@ typedef struct {
 _Static_assert(sizeof(slam_config_t) <= 255u, "key offsets are bytes");
 
 static const config_key_t config_keys[TELEM_CONFIG_KEY_MAX + 1u] = {
-#define KEY(id, field, type, live)                                                              \
-    [id] = {(uint8_t)offsetof(slam_config_t, field),                                            \
-            (uint8_t)(KEY_KNOWN | ((live) ? KEY_LIVE : 0u) | KEY_##type)},
+#define KEY(name, type, dflt, lo, hi, rule, id, live, words)                                   \
+    [id] = {(uint8_t)offsetof(slam_config_t, name), (uint8_t)(KEY_KNOWN | KEY_##live | KEY_##type)},
     TELEM_CONFIG_KEYS(KEY)
 #undef KEY
 };
