@@ -107,10 +107,10 @@ static const uint8_t cfg_offset[] = {SLAM_CONFIG_FIELDS(CFG_OFFSET)};
 static const uint8_t cfg_kind[] = {SLAM_CONFIG_FIELDS(CFG_KIND)};
 static const char cfg_names[] = SLAM_CONFIG_FIELDS(CFG_NAME);
 
-static uint32_t field_value(const slam_config_t *c, size_t i)
+uint32_t slam_config_field_get(const slam_config_t *cfg, unsigned row)
 {
-    const uint8_t *field = (const uint8_t *)c + cfg_offset[i];
-    unsigned type = cfg_kind[i] & 3u;
+    const uint8_t *field = (const uint8_t *)cfg + cfg_offset[row];
+    unsigned type = cfg_kind[row] & 3u;
     if (type == CFG_U8) {
         return *field;
     }
@@ -122,6 +122,27 @@ static uint32_t field_value(const slam_config_t *c, size_t i)
     uint32_t v;
     memcpy(&v, field, sizeof v); /* an int32_t's bits are its two's complement */
     return v;
+}
+
+bool slam_config_field_set(slam_config_t *cfg, unsigned row, uint32_t value)
+{
+    uint8_t *field = (uint8_t *)cfg + cfg_offset[row];
+    unsigned type = cfg_kind[row] & 3u;
+    if (type == CFG_U8) {
+        if (value > UINT8_MAX) {
+            return false;
+        }
+        *field = (uint8_t)value;
+    } else if (type == CFG_U16) {
+        if (value > UINT16_MAX) {
+            return false;
+        }
+        uint16_t v = (uint16_t)value;
+        memcpy(field, &v, sizeof v);
+    } else {
+        memcpy(field, &value, sizeof value);
+    }
+    return true;
 }
 
 static bool rule_holds(const slam_config_t *c, unsigned rule, uint32_t v)
@@ -150,7 +171,7 @@ static const char *first_bad_field(const slam_config_t *c)
 {
     const char *name = cfg_names;
     for (size_t i = 0; i < sizeof cfg_lo / sizeof cfg_lo[0]; i++) {
-        uint32_t v = field_value(c, i);
+        uint32_t v = slam_config_field_get(c, (unsigned)i);
         bool in_range = (cfg_kind[i] & 3u) == CFG_I32
                             ? (int32_t)v >= (int32_t)cfg_lo[i] && (int32_t)v <= (int32_t)cfg_hi[i]
                             : v >= cfg_lo[i] && v <= cfg_hi[i];

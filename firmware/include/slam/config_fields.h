@@ -31,7 +31,9 @@
 #ifndef SLAM_CONFIG_FIELDS_H
 #define SLAM_CONFIG_FIELDS_H
 
+#include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include "slam/config.h"
 #include "slam/fixed.h"
@@ -157,5 +159,20 @@ enum slam_config_id {
         SLAM_CONFIG_FIELDS(SLAM_CONFIG_ID_SPAN)                                                 \
     }))
 #define SLAM_CONFIG_ID_SPAN(name, type, dflt, lo, hi, rule, id, live, words) char name[id];
+
+/**
+ * A field's value by its row, widened to 32 bits: zero-extended from U8 and U16, an I32's
+ * or a Q30's two's complement bits.
+ * @param row  a slam_config_row (below SLAM_CONFIG_ROWS)
+ */
+uint32_t slam_config_field_get(const slam_config_t *cfg, unsigned row);
+
+/**
+ * Store a value into a field by its row (an I32 or Q30 takes the value's bits), unchecked
+ * against the field's range: slam_config_check() judges the whole configuration.
+ * @param row  a slam_config_row (below SLAM_CONFIG_ROWS)
+ * @return false, and @p cfg unchanged, when the value does not fit a U8 or U16 field
+ */
+bool slam_config_field_set(slam_config_t *cfg, unsigned row, uint32_t value);
 
 #endif /* SLAM_CONFIG_FIELDS_H */
