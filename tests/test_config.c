@@ -181,8 +181,9 @@ typedef struct {
 #define ROW_I32 's'
 #define ROW_Q30 's'
 static const row_t rows[] = {
-#define ROW(name, type, dflt, lo, hi, rule, id, live, words) \
-    {#name, offsetof(slam_config_t, name), ROW_##type, (int64_t)(lo), (int64_t)(hi), #rule[0] != 'N'},
+#define ROW(name, type, dflt, lo, hi, rule, id, live, words)                                    \
+    {#name, offsetof(slam_config_t, name), ROW_##type, (int64_t)(lo), (int64_t)(hi),          \
+     #rule[0] != 'N'},
     SLAM_CONFIG_FIELDS(ROW)
 #undef ROW
 };
@@ -237,7 +238,8 @@ static void test_every_row_bounds_its_field(void **state)
             const char *field = NULL;
             int rc = slam_config_check(&c, &field);
             size_t named = 0;
-            while (field != NULL && named < SLAM_CONFIG_ROWS && strcmp(rows[named].name, field) != 0) {
+            while (field != NULL && named < SLAM_CONFIG_ROWS &&
+                   strcmp(rows[named].name, field) != 0) {
                 named++;
             }
             bool by_rule = field != NULL && named < SLAM_CONFIG_ROWS && rows[named].rule;

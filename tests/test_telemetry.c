@@ -512,7 +512,9 @@ static void test_config_keys_are_the_rows(void **state)
         memset((uint8_t *)&c + rows[i].offset, 0x5A, rows[i].size);
         uint32_t v = 0u;
         assert_int_equal(telem_config_get(&c, rows[i].id, &v), 0);
-        assert_int_equal(v, rows[i].size == 1u ? 0x5Au : rows[i].size == 2u ? 0x5A5Au : 0x5A5A5A5Au);
+        assert_int_equal(v, rows[i].size == 1u   ? 0x5Au
+                            : rows[i].size == 2u ? 0x5A5Au
+                                                 : 0x5A5A5A5Au);
         /* SET of the value in force: taken when live, TELEM_ERR_FIXED when not. */
         slam_config_default(&c);
         assert_int_equal(telem_config_set(&c, rows[i].id, before),

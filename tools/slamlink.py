@@ -90,7 +90,8 @@ class TableError(RuntimeError):
 Field = collections.namedtuple("Field", "name type default lo hi rule id live words")
 
 _C_TOKENS = re.compile(r'"(?:\\.|[^"\\\n])*"|/\*.*?\*/|//[^\n]*', re.S)
-_CASTS = re.compile(r"\(\s*(?:const\s+)?(?:u?int(?:8|16|32|64)_t|q\d+_\d+_t|unsigned|int|size_t)\s*\)")
+_CASTS = re.compile(r"\(\s*(?:const\s+)?"
+                    r"(?:u?int(?:8|16|32|64)_t|q\d+_\d+_t|unsigned|int|size_t)\s*\)")
 _SUFFIX = re.compile(r"\b(0[xX][0-9a-fA-F]+|\d+)[uUlL]+\b")
 _C_LIMITS = {"UINT8_MAX": 255, "UINT16_MAX": 65535, "UINT32_MAX": 2**32 - 1,
              "INT32_MAX": 2**31 - 1, "INT32_MIN": -2**31}
@@ -157,7 +158,8 @@ def _symbols(texts):
     """The object-like #defines and plain enum constants of the headers: name -> C text."""
     sym = {}
     for text in texts:
-        for name, value in re.findall(r"^[ \t]*#[ \t]*define[ \t]+(\w+)[ \t]+([^\n\\]+)$", text, re.M):
+        defines = re.findall(r"^[ \t]*#[ \t]*define[ \t]+(\w+)[ \t]+([^\n\\]+)$", text, re.M)
+        for name, value in defines:
             sym.setdefault(name, value.strip())
         for body in re.findall(r"\benum\b[^{;]*\{([^}]*)\}", text):
             if "(" in body:
@@ -185,7 +187,8 @@ class _Eval:
         try:
             return self.node(ast.parse(expr, mode="eval").body, where)
         except SyntaxError:
-            raise TableError("%s: '%s' is not an expression the tools can evaluate" % (where, text)) from None
+            raise TableError("%s: '%s' is not an expression the tools can evaluate"
+                             % (where, text)) from None
 
     def node(self, n, where):
         if isinstance(n, ast.Constant) and type(n.value) is int:

@@ -51,21 +51,25 @@ _Static_assert(RULE_ABOVE_CLEARANCE < 64, "a rule fits the six bits above a fiel
 /* What a row of config_fields.h must agree with: its member exists and has the row's type
  * (a compile error names the member otherwise), rows follow the members' order (so the
  * check and the text configuration go through the struct in order), no two rows share an
- * id, and the default lies within the range. */
+ * id, and the default lies within the range. A struct built from the rows must be
+ * slam_config_t's size: a member without a row shows, unless it fits into padding
+ * (tests/sim/test_tools_telemetry.py matches members and rows by name). */
 #define CFG_CTYPE_U8 uint8_t
 #define CFG_CTYPE_U16 uint16_t
 #define CFG_CTYPE_U32 uint32_t
 #define CFG_CTYPE_I32 int32_t
 #define CFG_CTYPE_Q30 q1_30_t
-#define CFG_MEMBER_TYPE(name) _Generic(((const slam_config_t *)NULL)->name, \
-    uint8_t: CFG_U8, uint16_t: CFG_U16, uint32_t: CFG_U32, int32_t: CFG_I32, default: -1)
+#define CFG_MEMBER_TYPE(name)                                                                   \
+    _Generic(((const slam_config_t *)NULL)->name, uint8_t: CFG_U8, uint16_t: CFG_U16,          \
+             uint32_t: CFG_U32, int32_t: CFG_I32, default: -1)
 #define CFG_SIGNED_I32 1
 #define CFG_SIGNED_Q30 1
 #define CFG_SIGNED_U8 0
 #define CFG_SIGNED_U16 0
 #define CFG_SIGNED_U32 0
 #define CFG_ROW_ASSERTS(name, type, dflt, lo, hi, rule, id, live, words)                     \
-    _Static_assert(CFG_MEMBER_TYPE(name) == CFG_##type, #name ": the row's type is not the member's"); \
+    _Static_assert(CFG_MEMBER_TYPE(name) == CFG_##type,                                       \
+                   #name ": the row's type is not the member's");                            \
     _Static_assert(offsetof(slam_config_t, name) == offsetof(struct cfg_rows, name),         \
                    #name ": rows follow the order of slam_config_t's members");              \
     _Static_assert((id) >= 1 && (id) <= 255, #name ": a telemetry key is 1..255");            \

@@ -148,7 +148,8 @@ enum slam_config_row {
 
 /** Each field's telemetry key (SLAM_CONFIG_ID_<name>). */
 enum slam_config_id {
-#define SLAM_CONFIG_ID_OF(name, type, dflt, lo, hi, rule, id, live, words) SLAM_CONFIG_ID_##name = id,
+#define SLAM_CONFIG_ID_OF(name, type, dflt, lo, hi, rule, id, live, words)                        \
+    SLAM_CONFIG_ID_##name = id,
     SLAM_CONFIG_FIELDS(SLAM_CONFIG_ID_OF)
 #undef SLAM_CONFIG_ID_OF
 };
