@@ -9,15 +9,20 @@
 #include "hal_common/config_text.h"
 #include "host_sim.h"
 
-/* The key names, in the protocol's numbering (telemetry.h). */
+/* The key names and their ids (config_fields.h). */
 static const struct {
     uint8_t id;
     const char *name;
 } key_names[] = {
-#define KEY_NAME(id, field, type, live) {id, #field},
+#define KEY_NAME(name, type, dflt, lo, hi, rule, id, live, words) {id, #name},
     TELEM_CONFIG_KEYS(KEY_NAME)
 #undef KEY_NAME
 };
+
+/* The mode names as a message lists them: "off, random, ..." (explore_modes.h). */
+#define MODE_NAME(id, value, name, ...) ", " #name
+static const char mode_list[] = SLAM_EXPLORE_MODES(MODE_NAME);
+#undef MODE_NAME
 
 static const struct {
     const char *word;
@@ -110,7 +115,7 @@ static int encode(char *args, uint8_t *out, size_t max, char *err, size_t errlen
             mode = strcmp(tok[1], explore_names[m]) == 0 ? m : mode;
         }
         if (mode < 0) {
-            snprintf(err, errlen, "mode: '%s' is not off, random, tm or square", tok[1]);
+            snprintf(err, errlen, "mode: '%s' is not one of %s", tok[1], mode_list + 2);
             return -1;
         }
         payload[len++] = (uint8_t)mode;

@@ -2,6 +2,7 @@
 /* Tests of the configuration: the paper's defaults, and every bad field named. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -9,6 +10,7 @@
 #include <cmocka.h>
 
 #include "slam/config.h"
+#include "slam/config_fields.h"
 #include "slam/error.h"
 #include "slam/grid.h"
 
@@ -165,12 +167,98 @@ static void test_edges_of_valid_ranges_pass(void **state)
     assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
 }
 
+/* Every row of config_fields.h, as the check must apply it. */
+typedef struct {
+    const char *name;
+    size_t offset;
+    char type; /* 'b' U8, 'h' U16, 'w' U32, 's' I32 or Q30 */
+    int64_t lo, hi;
+    bool rule; /* compared with other fields too */
+} row_t;
+#define ROW_U8 'b'
+#define ROW_U16 'h'
+#define ROW_U32 'w'
+#define ROW_I32 's'
+#define ROW_Q30 's'
+static const row_t rows[] = {
+#define ROW(name, type, dflt, lo, hi, rule, id, live, words)                                    \
+    {#name, offsetof(slam_config_t, name), ROW_##type, (int64_t)(lo), (int64_t)(hi),          \
+     #rule[0] != 'N'},
+    SLAM_CONFIG_FIELDS(ROW)
+#undef ROW
+};
+
+/* Stores v into a row's field; false when the type cannot hold it. */
+static bool row_store(slam_config_t *c, const row_t *r, int64_t v)
+{
+    uint8_t *p = (uint8_t *)c + r->offset;
+    int64_t tmin = r->type == 's' ? INT32_MIN : 0;
+    int64_t tmax = r->type == 'b' ? UINT8_MAX : r->type == 'h' ? UINT16_MAX
+                 : r->type == 'w' ? (int64_t)UINT32_MAX : INT32_MAX;
+    if (v < tmin || v > tmax) {
+        return false;
+    }
+    uint8_t b8 = (uint8_t)v;
+    uint16_t b16 = (uint16_t)v;
+    uint32_t b32 = (uint32_t)v;
+    int32_t s32 = (int32_t)v;
+    switch (r->type) {
+    case 'b':
+        memcpy(p, &b8, 1);
+        break;
+    case 'h':
+        memcpy(p, &b16, 2);
+        break;
+    case 'w':
+        memcpy(p, &b32, 4);
+        break;
+    default:
+        memcpy(p, &s32, 4);
+        break;
+    }
+    return true;
+}
+
+/* The check holds each field to its row's range: just outside it is refused (naming the
+ * field, or a field before it whose rule compares the two), and at either end it is
+ * accepted unless a rule refuses it. */
+static void test_every_row_bounds_its_field(void **state)
+{
+    (void)state;
+    assert_int_equal(sizeof rows / sizeof rows[0], SLAM_CONFIG_ROWS);
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; i++) {
+        const row_t *r = &rows[i];
+        const int64_t probe[4] = {r->lo - 1, r->hi + 1, r->lo, r->hi};
+        for (int k = 0; k < 4; k++) {
+            slam_config_t c;
+            slam_config_default(&c);
+            if (!row_store(&c, r, probe[k])) {
+                continue; /* the type itself keeps the value out */
+            }
+            const char *field = NULL;
+            int rc = slam_config_check(&c, &field);
+            size_t named = 0;
+            while (field != NULL && named < SLAM_CONFIG_ROWS &&
+                   strcmp(rows[named].name, field) != 0) {
+                named++;
+            }
+            bool by_rule = field != NULL && named < SLAM_CONFIG_ROWS && rows[named].rule;
+            if (k < 2 ? rc != SLAM_EINVAL || (named != i && !(by_rule && named < i))
+                      : rc != SLAM_OK && !by_rule) {
+                fail_msg("%s = %lld: slam_config_check() %s (%s)", r->name, (long long)probe[k],
+                         rc == SLAM_OK ? "accepts it" : "refuses it", field != NULL ? field : "-");
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults_are_the_papers),
         cmocka_unit_test(test_every_bad_field_is_named),
         cmocka_unit_test(test_edges_of_valid_ranges_pass),
+        cmocka_unit_test(test_every_row_bounds_its_field),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

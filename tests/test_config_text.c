@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "hal_common/config_text.h"
+#include "slam/config_fields.h"
 
 static char path[64];
 
@@ -82,6 +83,7 @@ static void test_raw_round_trip(void **state)
     }
     fclose(f);
     assert_true(n >= 30);
+    assert_int_equal(n, SLAM_CONFIG_ROWS); /* every field, once */
     assert_memory_equal(&c, &d, sizeof c);
     assert_int_equal(cfgtext_set_raw(&d, "om_max", 256, err, sizeof err), -2);
     assert_int_equal(cfgtext_set_raw(&d, "nope", 1, err, sizeof err), -1);
@@ -227,17 +229,9 @@ static void test_rules_match_the_check(void **state)
 {
     (void)state;
     static const char *const keys[] = {
-        "wheel_diameter_left_um", "wheel_diameter_right_um", "wheel_base_um",
-        "encoder_counts_per_rev", "cal_left", "cal_right", "cal_base", "start_x_um",
-        "start_y_um", "start_heading_mdeg", "cell_um", "start_cell_a", "start_cell_b",
-        "om_max", "tm_max", "om_mode", "om_hit", "om_miss", "confidence_radius_um", "range_min_um", "sound_speed_mm_per_s",
-        "mount_x_um", "mount_y_um", "mount_yaw_mdeg", "sweep_first_mdeg", "sweep_last_mdeg",
-        "sweep_stops", "settle_ticks", "echo_timeout_ticks", "servo_pulse_0deg_us",
-        "servo_pulse_180deg_us", "post_threshold", "post_template_k", "post_insert", "top_speed_mm_s",
-        "accel_mm_s2", "motion_kp_q8", "motion_ki_q8", "explore_mode", "cruise_mm_s",
-        "turn_mm_s", "avoid_um", "clearance_um", "square_side_um", "square_laps",
-        "explore_seed", "save_period_s", "localize", "ping_interval_ticks", "follow_um",
-        "umbmark_runs", "umbmark_pause_s",
+#define KEY_NAME(name, type, dflt, lo, hi, rule, id, live, words) #name,
+        SLAM_CONFIG_FIELDS(KEY_NAME)
+#undef KEY_NAME
     };
     FILE *f = fopen(path, "w+");
     assert_non_null(f);
@@ -251,6 +245,9 @@ static void test_rules_match_the_check(void **state)
     while (fscanf(f, "%63s = %63s\n", key, value) == 2) { /* every field has a rule */
         if (cfgtext_rule(key) == NULL) {
             fail_msg("%s has no rule", key);
+        }
+        if (n >= sizeof keys / sizeof keys[0] || strcmp(key, keys[n]) != 0) {
+            fail_msg("line %zu of the text is %s, not the table's row", n + 1u, key);
         }
         n++;
     }
@@ -291,6 +288,29 @@ static void test_rules_match_the_check(void **state)
     }
 }
 
+/* explore_mode's words list the modes of explore_modes.h, by number, and the text takes
+ * each number. */
+static void test_mode_words_are_the_modes(void **state)
+{
+    (void)state;
+    char want[160] = "";
+#define MODE_NAME(id, value, name, ...) #name ", "
+    static const char names[] = SLAM_EXPLORE_MODES(MODE_NAME);
+#undef MODE_NAME
+    snprintf(want, sizeof want, "0..%d (%.*s)", EXPLORE_MODES - 1, (int)sizeof names - 3, names);
+    assert_string_equal(cfgtext_rule("explore_mode"), want);
+    assert_null(cfgtext_rule("no_such_key"));
+    char err[256];
+    for (int m = 0; m < EXPLORE_MODES; m++) {
+        slam_config_t c;
+        slam_config_default(&c);
+        char text[8];
+        snprintf(text, sizeof text, "%d", m);
+        assert_int_equal(cfgtext_set(&c, "explore_mode", text, err, sizeof err), 0);
+        assert_int_equal(cfgtext_check(&c, NULL, err, sizeof err), 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -300,6 +320,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_file_errors_name_file_and_line, setup, teardown),
         cmocka_unit_test_setup_teardown(test_not_text, setup, teardown),
         cmocka_unit_test_setup_teardown(test_rules_match_the_check, setup, teardown),
+        cmocka_unit_test(test_mode_words_are_the_modes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

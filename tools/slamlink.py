@@ -1,7 +1,11 @@
 # SPDX-License-Identifier: MIT
 """The robot's link in Python: telemetry frames in, command frames out, as
 firmware/include/slam/telemetry.h describes them (tools/telemetry.py is the program)."""
+import ast
+import collections
 import math
+import os
+import re
 import struct
 
 SYNC = b"\xa5\x5a"
@@ -24,7 +28,6 @@ ERROR_TEXT = {
     "fixed": "this key takes effect only when the robot starts",
     "unsupported": "this robot cannot do that (no map storage)",
 }
-MODES = ("off", "random", "tm", "square")
 OUTCOMES = ("hit", "far", "near", "outside", "timeout")
 FLAG_STOPPED, FLAG_PENDING = 0x01, 0x02
 
@@ -65,37 +68,224 @@ def counts_image(cells, top):
     v = np.minimum(np.asarray(cells, np.uint32), top)
     return (255 - (v * 255 + top // 2) // top).astype(np.uint8)[::-1]
 
-# The configuration keys GET and SET address: (id, name, type, live), as
-# TELEM_CONFIG_KEYS in telemetry.h (a test compares the two).
-KEYS = [
-    (1, "wheel_diameter_left_um", "U32", 1), (2, "wheel_diameter_right_um", "U32", 1),
-    (3, "wheel_base_um", "U32", 1), (4, "encoder_counts_per_rev", "U32", 1),
-    (5, "cal_left", "I32", 1), (6, "cal_right", "I32", 1), (7, "cal_base", "I32", 1),
-    (8, "start_x_um", "I32", 0), (9, "start_y_um", "I32", 0),
-    (10, "start_heading_mdeg", "I32", 0), (11, "cell_um", "U32", 0),
-    (12, "start_cell_a", "U16", 0), (13, "start_cell_b", "U16", 0), (14, "om_max", "U8", 0),
-    (15, "tm_max", "U8", 0), (16, "om_mode", "U8", 0), (17, "om_hit", "U8", 0),
-    (18, "om_miss", "U8", 0), (19, "confidence_radius_um", "U32", 1),
-    (20, "range_min_um", "U32", 1), (21, "sound_speed_mm_per_s", "U32", 1),
-    (22, "mount_x_um", "I32", 1), (23, "mount_y_um", "I32", 1),
-    (24, "mount_yaw_mdeg", "I32", 1), (25, "sweep_first_mdeg", "I32", 0),
-    (26, "sweep_last_mdeg", "I32", 0), (27, "sweep_stops", "U8", 0),
-    (28, "settle_ticks", "U8", 0), (29, "echo_timeout_ticks", "U8", 0),
-    (30, "servo_pulse_0deg_us", "U16", 0), (31, "servo_pulse_180deg_us", "U16", 0),
-    (32, "post_threshold", "U8", 1), (33, "post_template_k", "U8", 1),
-    (34, "post_insert", "U8", 1), (35, "top_speed_mm_s", "U16", 1),
-    (36, "accel_mm_s2", "U16", 1), (37, "motion_kp_q8", "U16", 1),
-    (38, "motion_ki_q8", "U16", 1), (39, "explore_mode", "U8", 1),
-    (40, "cruise_mm_s", "U16", 1), (41, "turn_mm_s", "U16", 1), (42, "avoid_um", "U32", 1),
-    (43, "clearance_um", "U32", 1), (44, "square_side_um", "U32", 1),
-    (45, "square_laps", "U8", 1), (46, "explore_seed", "U32", 1),
-    (47, "save_period_s", "U16", 1), (48, "localize", "U8", 0),
-    (49, "ping_interval_ticks", "U8", 0), (50, "follow_um", "U32", 1),
-    (51, "umbmark_runs", "U8", 1), (52, "umbmark_pause_s", "U16", 1),
-]
+
+# ---- the firmware's tables ------------------------------------------------------------
+# The configuration fields and the exploration modes are read from the firmware's own
+# tables (firmware/include/slam/config_fields.h, explore_modes.h) when this module is
+# imported: the tools hold no copy of them. tests/test_config_tables.py holds this reading
+# to what the compiled C does.
+
+SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+HEADER_DIR = os.path.join(SOURCE_DIR, "firmware", "include", "slam")
+
+
+class TableError(RuntimeError):
+    """A firmware table could not be read; the message names the file and what is wrong."""
+
+
+# One row of config_fields.h. type: U8, U16, U32, I32 or Q30 (an I32 holding a Q1.30
+# factor, a decimal in text); default, lo, hi: integers (raw Q1.30 for Q30); rule: the
+# name of the rule that compares the field with others (NONE: none); live: 1 when SET may
+# change it while the robot runs; words: the valid range in words, as messages give it.
+Field = collections.namedtuple("Field", "name type default lo hi rule id live words")
+
+_C_TOKENS = re.compile(r'"(?:\\.|[^"\\\n])*"|/\*.*?\*/|//[^\n]*', re.S)
+_CASTS = re.compile(r"\(\s*(?:const\s+)?"
+                    r"(?:u?int(?:8|16|32|64)_t|q\d+_\d+_t|unsigned|int|size_t)\s*\)")
+_SUFFIX = re.compile(r"\b(0[xX][0-9a-fA-F]+|\d+)[uUlL]+\b")
+_C_LIMITS = {"UINT8_MAX": 255, "UINT16_MAX": 65535, "UINT32_MAX": 2**32 - 1,
+             "INT32_MAX": 2**31 - 1, "INT32_MIN": -2**31}
+
+
+def _header(name):
+    """A header's text without comments (string literals kept)."""
+    path = os.path.join(HEADER_DIR, name)
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise TableError("cannot read %s (%s): the tools take the configuration fields and "
+                         "the mode names from the firmware's headers, so they must run from "
+                         "the source tree" % (path, e.strerror or e)) from None
+    return _C_TOKENS.sub(lambda m: m.group(0) if m.group(0)[0] == '"' else " ", text)
+
+
+def _rows(text, macro, where):
+    """The argument lists of the X(...) rows of `#define MACRO(X)`, as lists of strings."""
+    m = re.search(r"#\s*define\s+%s\(X\)((?:[^\n]*\\\n)*[^\n]*)" % macro, text)
+    if m is None:
+        raise TableError("%s: no #define %s(X)" % (where, macro))
+    body = m.group(1).replace("\\\n", " ")
+    rows, i = [], 0
+    while True:
+        i = body.find("X(", i)
+        if i < 0:
+            return rows
+        if i > 0 and (body[i - 1].isalnum() or body[i - 1] == "_"):
+            i += 2
+            continue
+        args, depth, cur, j = [], 0, "", i + 2
+        while j < len(body):
+            c = body[j]
+            if c == '"':
+                k = j + 1
+                while body[k] != '"':
+                    k += 2 if body[k] == "\\" else 1
+                cur += body[j:k + 1]
+                j = k + 1
+                continue
+            if c == "(":
+                depth += 1
+            elif c == ")" and depth == 0:
+                break
+            elif c == ")":
+                depth -= 1
+            elif c == "," and depth == 0:
+                args.append(cur.strip())
+                cur = ""
+                j += 1
+                continue
+            cur += c
+            j += 1
+        else:
+            raise TableError("%s: a row of %s is not closed: %s" % (where, macro, body[i:i + 60]))
+        args.append(cur.strip())
+        rows.append(args)
+        i = j + 1
+
+
+def _symbols(texts):
+    """The object-like #defines and plain enum constants of the headers: name -> C text."""
+    sym = {}
+    for text in texts:
+        defines = re.findall(r"^[ \t]*#[ \t]*define[ \t]+(\w+)[ \t]+([^\n\\]+)$", text, re.M)
+        for name, value in defines:
+            sym.setdefault(name, value.strip())
+        for body in re.findall(r"\benum\b[^{;]*\{([^}]*)\}", text):
+            if "(" in body:
+                continue  # generated from a table: those constants come from the table
+            prev = None
+            for item in filter(None, (x.strip() for x in body.split(","))):
+                name, _, value = item.partition("=")
+                name = name.strip()
+                value = value.strip() or ("0" if prev is None else "(%s) + 1" % prev)
+                sym.setdefault(name, value)
+                prev = name
+    return sym
+
+
+class _Eval:
+    """Integer C expressions over a table of symbols, as the C compiler computes them."""
+
+    def __init__(self, symbols, values):
+        self.symbols = symbols
+        self.values = dict(_C_LIMITS, **values)
+        self.busy = set()
+
+    def __call__(self, text, where):
+        expr = _SUFFIX.sub(r"\1", _CASTS.sub(" ", text)).strip()
+        try:
+            return self.node(ast.parse(expr, mode="eval").body, where)
+        except SyntaxError:
+            raise TableError("%s: '%s' is not an expression the tools can evaluate"
+                             % (where, text)) from None
+
+    def node(self, n, where):
+        if isinstance(n, ast.Constant) and type(n.value) is int:
+            return n.value
+        if isinstance(n, ast.Name):
+            return self.name(n.id, where)
+        if isinstance(n, ast.UnaryOp) and isinstance(n.op, (ast.USub, ast.UAdd)):
+            v = self.node(n.operand, where)
+            return -v if isinstance(n.op, ast.USub) else v
+        if isinstance(n, ast.BinOp):
+            a, b = self.node(n.left, where), self.node(n.right, where)
+            ops = {ast.Add: lambda: a + b, ast.Sub: lambda: a - b, ast.Mult: lambda: a * b,
+                   ast.Div: lambda: abs(a) // abs(b) * (1 if (a < 0) == (b < 0) else -1),
+                   ast.LShift: lambda: a << b, ast.RShift: lambda: a >> b}
+            if type(n.op) in ops:
+                return ops[type(n.op)]()
+        raise TableError("%s: '%s' is not an expression the tools can evaluate"
+                         % (where, ast.unparse(n)))
+
+    def name(self, name, where):
+        if name in self.values:
+            return self.values[name]
+        if name not in self.symbols or name in self.busy:
+            raise TableError("%s: %s is not a constant of the firmware's headers" % (where, name))
+        self.busy.add(name)
+        self.values[name] = self(self.symbols[name], "%s (%s)" % (where, name))
+        self.busy.discard(name)
+        return self.values[name]
+
+
+def _c_string(text, where):
+    """The value of adjacent C string literals."""
+    parts = re.findall(r'"((?:\\.|[^"\\])*)"', text)
+    if not parts or re.sub(r'"(?:\\.|[^"\\])*"', "", text).strip():
+        raise TableError("%s: expected a string, got %s" % (where, text))
+    return "".join(re.sub(r"\\(.)", r"\1", p) for p in parts)
+
+
+def explore_modes():
+    """The rows of explore_modes.h as (value, name, summary), by value; they must number
+    0, 1, 2... as the MODE command's byte and host_sim's names do."""
+    where = "firmware/include/slam/explore_modes.h"
+    rows = []
+    for args in _rows(_header("explore_modes.h"), "SLAM_EXPLORE_MODES", where):
+        if len(args) < 4:
+            raise TableError("%s: a row has %d columns, not X(ENUM, value, name, summary)"
+                             % (where, len(args)))
+        rows.append((int(args[1], 0), args[2], _c_string(args[3], where), args[0]))
+    rows.sort()
+    if [r[0] for r in rows] != list(range(len(rows))):
+        raise TableError("%s: the modes must be numbered 0, 1, 2... (%s)"
+                         % (where, [r[0] for r in rows]))
+    return rows
+
+
+def config_fields(grid=None):
+    """The rows of config_fields.h as Field tuples, in the order of slam_config_t. A range
+    or default that depends on the grid (start_cell_a...) is computed for `grid`, (A, B) as
+    the robot was built with, or else for grid.h's default."""
+    where = "firmware/include/slam/config_fields.h"
+    text = _header("config_fields.h")
+    symbols = _symbols([text, _header("config.h"), _header("grid.h"), _header("fixed.h")])
+    modes = explore_modes()
+    values = {row[3]: row[0] for row in modes}
+    values["EXPLORE_MODES"] = len(modes)
+    if grid is not None:
+        values["SLAM_GRID_A"], values["SLAM_GRID_B"] = grid
+    ev = _Eval(symbols, values)
+    fields = []
+    for args in _rows(text, "SLAM_CONFIG_FIELDS", where):
+        if len(args) < 9:
+            raise TableError("%s: a row has %d columns, not X(name, type, default, lo, hi, "
+                             "rule, id, live, words): %s" % (where, len(args), args))
+        name, typ, dflt, lo, hi, rule, key, live, words = args[:9]
+        at = "%s: %s" % (where, name)
+        if typ not in ("U8", "U16", "U32", "I32", "Q30") or live not in ("LIVE", "FIXED"):
+            raise TableError("%s: type %s, live %s" % (at, typ, live))
+        if words == "SLAM_CONFIG_WORDS_MODES":
+            words = "%d..%d (%s)" % (modes[0][0], modes[-1][0], ", ".join(m[1] for m in modes))
+        else:
+            words = _c_string(words, at)
+        fields.append(Field(name, typ, ev(dflt, at), ev(lo, at), ev(hi, at), rule,
+                            ev(key, at), int(live == "LIVE"), words))
+    ids = [f.id for f in fields]
+    if len(set(ids)) != len(ids) or len({f.name for f in fields}) != len(fields):
+        raise TableError("%s: two rows share an id or a name" % where)
+    return fields
+
+
+FIELDS = config_fields()
+MODES = tuple(m[1] for m in explore_modes())
+
+# The configuration keys GET and SET address: (id, name, type as stored, live), by id.
+KEYS = sorted((f.id, f.name, "I32" if f.type == "Q30" else f.type, f.live) for f in FIELDS)
 KEY_IDS = {name: k for k, name, _, _ in KEYS}
 KEY_BY_ID = {k: (name, typ, live) for k, name, typ, live in KEYS}
-Q30_KEYS = ("cal_left", "cal_right", "cal_base")  # decimal factors, sent as raw Q1.30
+Q30_KEYS = tuple(f.name for f in FIELDS if f.type == "Q30")  # decimal factors, sent as raw Q1.30
 TYPE_RANGE = {"U8": (0, 255), "U16": (0, 65535), "U32": (0, 2**32 - 1),
               "I32": (-2**31, 2**31 - 1)}
 
@@ -301,7 +491,7 @@ def command(words):
     ctype, _ = COMMANDS[name]
     want = {"mode": 2, "get": 2, "set": 3}.get(name, 1)
     if len(words) != want:
-        usage = {"mode": "mode off|random|tm|square", "get": "get KEY", "set": "set KEY VALUE"}
+        usage = {"mode": "mode " + "|".join(MODES), "get": "get KEY", "set": "set KEY VALUE"}
         raise CommandError("usage: %s" % usage.get(name, name))
     if name == "mode":
         if words[1] not in MODES:

@@ -20,8 +20,9 @@ needs python3-serial) or a file of raw bytes, such as `host_sim --telemetry FILE
 view draws into a window; without a display, give --png FILE: the picture is written
 at the end, and rewritten every --every seconds (default 5) while --follow reads on.
 
-Commands: start, stop, mode off|random|tm|square, get KEY, set KEY VALUE, save, map,
-calibrate. KEY is a field of slam_config_t (firmware/include/slam/config.h); cal_left,
+Commands: start, stop, mode MODE, get KEY, set KEY VALUE, save, map, calibrate.
+MODE is one of: %(modes)s.
+KEY is a field of slam_config_t (firmware/include/slam/config_fields.h); cal_left,
 cal_right and cal_base take decimal factors such as 0.9901. `send PORT map --out DIR`
 waits for both maps and writes them as DIR/om.pgm and DIR/tm.pgm with ROS YAML.
 
@@ -425,7 +426,7 @@ def cmd_frame(args):
 
 
 def main(argv=None):
-    doc = __doc__.strip().splitlines()
+    doc = (__doc__ % {"modes": ", ".join(slamlink.MODES)}).strip().splitlines()
     ap = argparse.ArgumentParser(prog="tools/telemetry.py", description=doc[0] + " " + doc[1],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(doc[3:]))

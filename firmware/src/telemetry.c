@@ -198,88 +198,50 @@ void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
 
 /* ---- commands ------------------------------------------------------------------------- */
 
-/* Where each key's field lies in slam_config_t and how it is stored. */
-enum { KEY_U8 = 0u, KEY_U16 = 1u, KEY_U32 = 2u, KEY_I32 = 3u, KEY_SIZE = 3u };
-#define KEY_LIVE 0x40u  /* SET may change it while the robot runs */
-#define KEY_KNOWN 0x80u /* the id is in use */
-typedef struct {
-    uint8_t offset;
-    uint8_t flags;
-} config_key_t;
+/* Each key's row of config_fields.h plus one (0: no such key), with KEY_LIVE when SET may
+ * change it while the robot runs. The fields are read and written through config.c, which
+ * knows where each row lies and how it is stored. */
+#define KEY_LIVE 0x80u
+#define KEY_FIXED 0x00u
+_Static_assert(SLAM_CONFIG_ROWS < KEY_LIVE, "a row number fits below the live bit");
 
-_Static_assert(sizeof(slam_config_t) <= 255u, "key offsets are bytes");
-
-static const config_key_t config_keys[TELEM_CONFIG_KEY_MAX + 1u] = {
-#define KEY(id, field, type, live)                                                              \
-    [id] = {(uint8_t)offsetof(slam_config_t, field),                                            \
-            (uint8_t)(KEY_KNOWN | ((live) ? KEY_LIVE : 0u) | KEY_##type)},
+static const uint8_t config_keys[TELEM_CONFIG_KEY_MAX + 1u] = {
+#define KEY(name, type, dflt, lo, hi, rule, id, live, words)                                   \
+    [id] = (uint8_t)((SLAM_CONFIG_ROW_##name + 1u) | KEY_##live),
     TELEM_CONFIG_KEYS(KEY)
 #undef KEY
 };
 
-static const config_key_t *config_key(uint8_t key)
+/* The row of a key; -1: no such key. */
+static int config_row(uint8_t key)
 {
-    if (key > TELEM_CONFIG_KEY_MAX || (config_keys[key].flags & KEY_KNOWN) == 0u) {
-        return NULL;
+    if (key > TELEM_CONFIG_KEY_MAX || config_keys[key] == 0u) {
+        return -1;
     }
-    return &config_keys[key];
+    return (int)(config_keys[key] & ~KEY_LIVE) - 1;
 }
 
 int telem_config_get(const slam_config_t *cfg, uint8_t key, uint32_t *value)
 {
-    const config_key_t *k = config_key(key);
-    if (k == NULL) {
+    int row = config_row(key);
+    if (row < 0) {
         return -(int)TELEM_ERR_KEY;
     }
-    const uint8_t *field = (const uint8_t *)cfg + k->offset;
-    switch (k->flags & KEY_SIZE) {
-    case KEY_U8:
-        *value = *field;
-        break;
-    case KEY_U16: {
-        uint16_t v;
-        memcpy(&v, field, sizeof v);
-        *value = v;
-        break;
-    }
-    default:
-        memcpy(value, field, sizeof *value); /* an int32_t's bits are its two's complement */
-        break;
-    }
+    *value = slam_config_field_get(cfg, (unsigned)row);
     return 0;
 }
 
 int telem_config_set(slam_config_t *cfg, uint8_t key, uint32_t value)
 {
-    const config_key_t *k = config_key(key);
-    if (k == NULL) {
+    int row = config_row(key);
+    if (row < 0) {
         return -(int)TELEM_ERR_KEY;
     }
-    if ((k->flags & KEY_LIVE) == 0u) {
+    if ((config_keys[key] & KEY_LIVE) == 0u) {
         return -(int)TELEM_ERR_FIXED;
     }
     slam_config_t c = *cfg;
-    uint8_t *field = (uint8_t *)&c + k->offset;
-    switch (k->flags & KEY_SIZE) {
-    case KEY_U8:
-        if (value > UINT8_MAX) {
-            return -(int)TELEM_ERR_RANGE;
-        }
-        *field = (uint8_t)value;
-        break;
-    case KEY_U16: {
-        if (value > UINT16_MAX) {
-            return -(int)TELEM_ERR_RANGE;
-        }
-        uint16_t v = (uint16_t)value;
-        memcpy(field, &v, sizeof v);
-        break;
-    }
-    default:
-        memcpy(field, &value, sizeof value);
-        break;
-    }
-    if (slam_config_check(&c, NULL) != 0) {
+    if (!slam_config_field_set(&c, (unsigned)row, value) || slam_config_check(&c, NULL) != 0) {
         return -(int)TELEM_ERR_RANGE;
     }
     *cfg = c;

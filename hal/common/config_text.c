@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* slam_config_t as `key = value` text: one table of fields, parsing and writing. */
+/* slam_config_t as `key = value` text: the fields' names and words, parsing and writing. */
 #include "hal_common/config_text.h"
 
 #include <ctype.h>
@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "slam/config_fields.h"
 #include "slam/error.h"
 
 typedef enum { T_U8, T_U16, T_U32, T_I32, T_Q30 } field_type_t;
@@ -17,105 +18,32 @@ typedef struct {
     const char *name;
     size_t offset;
     field_type_t type;
+    const char *words; /* what slam_config_check() accepts, for messages (NULL: the modes) */
 } field_t;
 
-#define F(name, type) {#name, offsetof(slam_config_t, name), type}
+/* The rows of config_fields.h. Their words are the only place the firmware's ranges are
+ * said in words: the firmware names only the field. A leading "lo..hi" is the field's
+ * whole range (tests/test_config_text.c holds these to slam_config_check(), so they cannot
+ * drift from it unnoticed). */
 static const field_t fields[] = {
-    F(wheel_diameter_left_um, T_U32), F(wheel_diameter_right_um, T_U32),
-    F(wheel_base_um, T_U32),          F(encoder_counts_per_rev, T_U32),
-    F(cal_left, T_Q30),               F(cal_right, T_Q30),
-    F(cal_base, T_Q30),               F(start_x_um, T_I32),
-    F(start_y_um, T_I32),             F(start_heading_mdeg, T_I32),
-    F(cell_um, T_U32),                F(start_cell_a, T_U16),
-    F(start_cell_b, T_U16),           F(om_max, T_U8),
-    F(tm_max, T_U8),                  F(om_mode, T_U8),
-    F(om_hit, T_U8),                  F(om_miss, T_U8),
-    F(confidence_radius_um, T_U32),
-    F(range_min_um, T_U32),           F(sound_speed_mm_per_s, T_U32),
-    F(mount_x_um, T_I32),             F(mount_y_um, T_I32),
-    F(mount_yaw_mdeg, T_I32),         F(sweep_first_mdeg, T_I32),
-    F(sweep_last_mdeg, T_I32),        F(sweep_stops, T_U8),
-    F(settle_ticks, T_U8),            F(echo_timeout_ticks, T_U8),
-    F(servo_pulse_0deg_us, T_U16),    F(servo_pulse_180deg_us, T_U16),
-    F(post_threshold, T_U8),          F(post_template_k, T_U8),
-    F(post_insert, T_U8),
-    F(top_speed_mm_s, T_U16),         F(accel_mm_s2, T_U16),
-    F(motion_kp_q8, T_U16),           F(motion_ki_q8, T_U16),
-    F(explore_mode, T_U8),            F(cruise_mm_s, T_U16),
-    F(turn_mm_s, T_U16),              F(avoid_um, T_U32),
-    F(clearance_um, T_U32),           F(square_side_um, T_U32),
-    F(square_laps, T_U8),
-    F(explore_seed, T_U32),           F(save_period_s, T_U16),
-    F(localize, T_U8),
-    F(ping_interval_ticks, T_U8),     F(follow_um, T_U32),
-    F(umbmark_runs, T_U8),            F(umbmark_pause_s, T_U16),
-};
+#define F(name, type, dflt, lo, hi, rule, id, live, words) \
+    {#name, offsetof(slam_config_t, name), T_##type, words},
+    SLAM_CONFIG_FIELDS(F)
 #undef F
+};
 #define NFIELDS (sizeof fields / sizeof fields[0])
 _Static_assert(NFIELDS <= CFGTEXT_MAX_KEYS, "cfgtext_where_t has a line per field");
 
-/*
- * What slam_config_check() accepts, in words, for messages: the firmware names only the
- * field. A leading "lo..hi" is the field's whole range (tests/test_config_text.c holds
- * these to slam_config_check(), so they cannot drift from it unnoticed).
- */
-static const struct {
-    const char *name;
-    const char *rule;
-} rules[] = {
-    {"wheel_diameter_left_um", "10000..300000"},
-    {"wheel_diameter_right_um", "10000..300000"},
-    {"wheel_base_um", "50000..1000000"},
-    {"encoder_counts_per_rev", "16..65535"},
-    {"cal_left", "0.5..1.5"},
-    {"cal_right", "0.5..1.5"},
-    {"cal_base", "0.5..1.5"},
-    {"start_x_um", "-1000000000..1000000000"},
-    {"start_y_um", "-1000000000..1000000000"},
-    {"start_heading_mdeg", "-360000..360000"},
-    {"cell_um", "5000..1000000, and at most 1 km over the grid's longer side"},
-    {"start_cell_a", "0..65535, below the grid's cells along x"},
-    {"start_cell_b", "0..65535, below the grid's cells along y"},
-    {"om_max", "1..255, and above post_threshold when om_mode is 0"},
-    {"tm_max", "1..255"},
-    {"om_mode", "0..1 (0 the paper's hit counts, 1 log-odds evidence)"},
-    {"om_hit", "1..127"},
-    {"om_miss", "1..127"},
-    {"confidence_radius_um", "1..10000000, above range_min_um"},
-    {"range_min_um", "0..1000000, below confidence_radius_um"},
-    {"sound_speed_mm_per_s", "300000..400000"},
-    {"mount_x_um", "-1000000..1000000"},
-    {"mount_y_um", "-1000000..1000000"},
-    {"mount_yaw_mdeg", "-180000..180000"},
-    {"sweep_first_mdeg", "0..180000"},
-    {"sweep_last_mdeg", "0..180000"},
-    {"sweep_stops", "1..16, and 1 only when sweep_first_mdeg equals sweep_last_mdeg"},
-    {"settle_ticks", "1..255"},
-    {"echo_timeout_ticks", "1..255"},
-    {"servo_pulse_0deg_us", "400..2600"},
-    {"servo_pulse_180deg_us", "400..2600, and not equal to servo_pulse_0deg_us"},
-    {"post_threshold", "0..254, below om_max when om_mode is 0, below 127 when it is 1"},
-    {"post_template_k", "0..8"},
-    {"post_insert", "0..1"},
-    {"top_speed_mm_s", "50..5000, at least cruise_mm_s and turn_mm_s"},
-    {"accel_mm_s2", "10..50000"},
-    {"motion_kp_q8", "0..2048"},
-    {"motion_ki_q8", "0..2048"},
-    {"explore_mode", "0..5 (off, random, tm, square, walls, umbmark)"},
-    {"cruise_mm_s", "1..5000, at most top_speed_mm_s"},
-    {"turn_mm_s", "1..5000, at most top_speed_mm_s"},
-    {"avoid_um", "50000..4000000"},
-    {"clearance_um", "10000..2000000, below follow_um"},
-    {"square_side_um", "100000..100000000"},
-    {"square_laps", "0..255 (0: for ever)"},
-    {"explore_seed", "1..4294967295 (not 0)"},
-    {"save_period_s", "0..65535 (0: never)"},
-    {"localize", "0..1 (1: the pose corrected against OM)"},
-    {"ping_interval_ticks", "1..255"},
-    {"follow_um", "50000..2000000, above clearance_um"},
-    {"umbmark_runs", "1..50 (runs each way)"},
-    {"umbmark_pause_s", "1..3600 (standing still before and after each run)"},
-};
+/* explore_mode's words: its range and the names of explore_modes.h, in their order. */
+static const char *mode_words(void)
+{
+#define MODE_NAME(id, value, name, ...) ", " #name
+    static const char names[] = SLAM_EXPLORE_MODES(MODE_NAME);
+#undef MODE_NAME
+    static _Thread_local char text[sizeof names + 16u];
+    snprintf(text, sizeof text, "0..%d (%s)", EXPLORE_MODES - 1, names + 2);
+    return text;
+}
 
 static int field_index(const char *key)
 {
@@ -129,12 +57,11 @@ static int field_index(const char *key)
 
 const char *cfgtext_rule(const char *key)
 {
-    for (size_t i = 0; i < sizeof rules / sizeof rules[0]; i++) {
-        if (strcmp(rules[i].name, key) == 0) {
-            return rules[i].rule;
-        }
+    int i = field_index(key);
+    if (i < 0) {
+        return NULL;
     }
-    return NULL;
+    return fields[i].words != NULL ? fields[i].words : mode_words();
 }
 
 unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key)

@@ -29,17 +29,16 @@ def run_tool(*args, env=None):
                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-# The key table: the firmware's TELEM_CONFIG_KEYS, and every field of slam_config_t.
-with open(os.path.join(sim.src, "firmware", "include", "slam", "telemetry.h")) as f:
-    header = f.read()
-keys = [(int(i), n, t, int(live)) for i, n, t, live in
-        re.findall(r"X\((\d+), (\w+), (U8|U16|U32|I32), ([01])\)", header)]
+# The key table: slamlink reads it from config_fields.h, one row per slam_config_t field
+# in the members' order (tests/test_config_tables.py holds it to the compiled C).
 with open(os.path.join(sim.src, "firmware", "include", "slam", "config.h")) as f:
     config = f.read()
 struct_body = config[config.index("typedef struct {"):config.index("} slam_config_t;")]
 fields = re.findall(r"^\s+\w+ (\w+);", struct_body, re.M)
-check(keys == slamlink.KEYS and [n for _, n, _, _ in keys] == fields,
-      "tools/slamlink.py's %d keys are telemetry.h's, one per slam_config_t field" % len(keys))
+ids = [k for k, _, _, _ in slamlink.KEYS]
+check([f.name for f in slamlink.FIELDS] == fields and len(set(ids)) == len(ids) and
+      sorted(slamlink.KEY_IDS) == sorted(fields),
+      "tools/slamlink.py's %d keys are config_fields.h's, one per slam_config_t field" % len(ids))
 
 log = sim.out("run.log")
 sim.run("--duration", 30, "--seed", 3, "--out", sim.out("run"), "--telemetry", log)
@@ -169,6 +168,17 @@ ok, rc, out, err = robot_answers(["set", "cruise_mm_s", "150"],
                                               slamlink.frame(slamlink.CONFIG, struct.pack("<BI", slamlink.KEY_IDS["cruise_mm_s"], 150))])
 check(ok and rc == 0 and out.strip() == "config key=cruise_mm_s value=150",
       "send set: the robot gets the frame, the answer is printed: %s" % out.strip())
+# Every mode of explore_modes.h, the robot's default (walls) among them, goes out as its
+# number and the robot's ACK is printed.
+ok, rc, out, err = robot_answers(["mode", "walls"],
+                                 lambda got: [slamlink.frame(slamlink.ACK, got[2:3])])
+check(ok and rc == 0 and slamlink.command(["mode", "walls"]) == slamlink.frame(0x12, b"\x04") and
+      out.strip() == "ack command=mode" and "Traceback" not in err,
+      "send mode walls: the robot gets MODE 4, its ACK is printed: %s%s" % (out.strip(), err.strip()))
+for mode in slamlink.MODES:
+    p = run_tool("frame", "mode", mode)
+    check(p.returncode == 0 and bytes.fromhex(p.stdout.strip()) ==
+          slamlink.frame(0x12, bytes([slamlink.MODES.index(mode)])), "frame mode %s" % mode)
 ok, rc, out, err = robot_answers(["set", "cell_um", "100000"],
                                  lambda got: [slamlink.frame(slamlink.ERROR, bytes([0x14, 6, 11]))])
 check(ok and rc == 1 and "only when the robot starts" in err,

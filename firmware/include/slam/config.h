@@ -11,6 +11,9 @@
  * Compile-time choices (grid size A×B) live in grid.h; everything here can be changed at
  * run time by filling a `slam_config_t` before robot_init(). A configuration is checked as
  * a whole by slam_config_check(); the core refuses a bad one and changes nothing.
+ *
+ * Each member has a row in config_fields.h (its type, default, range, telemetry key and
+ * range in words): a new field is a member here, with its doc, and a row there.
  */
 #ifndef SLAM_CONFIG_H
 #define SLAM_CONFIG_H
@@ -45,7 +48,8 @@ typedef enum {
     EXPLORE_MODES
 } explore_mode_t;
 
-/** Everything the core can be told about the robot, the sensor and the method. */
+/** Everything the core can be told about the robot, the sensor and the method; the
+ *  defaults and ranges are those of config_fields.h. */
 typedef struct {
     /* Odometry (Eq. 8-12). */
     uint32_t wheel_diameter_left_um;  /**< nominal left wheel diameter; 65 mm */
@@ -121,8 +125,7 @@ typedef struct {
     uint8_t localize;        /**< 1: correct the pose against OM; 0: odometry alone (the
                                   paper's); 1 */
 
-    /* Sonar timing and the walls mode (after the rest: the telemetry keys follow the
-     * fields' order and never change their ids). */
+    /* Sonar timing and the walls mode. */
     uint8_t ping_interval_ticks; /**< least time from one trigger to the next; 6 (60 ms, the
                                       HC-SR04 datasheet's measurement cycle: sooner, the
                                       late echo of one ping is read as the next) */

@@ -57,6 +57,7 @@
 #include <stdint.h>
 
 #include "slam/config.h"
+#include "slam/config_fields.h"
 #include "slam/grid.h"
 #include "slam/odometry.h"
 
@@ -112,71 +113,21 @@ typedef enum {
 #define TELEM_RX_TIMEOUT_TICKS 20u /**< a command frame incomplete this long is refused */
 
 /**
- * The configuration keys GET and SET address: X(id, field of slam_config_t, type, live).
- * type is how the value is stored (cal_* are I32: raw Q1.30); live 0 marks a key that
- * takes effect only at robot_init() (SET answers TELEM_ERR_FIXED). The ids are the
- * protocol: never renumber one, add new keys at the end.
+ * The configuration keys GET and SET address: the rows of config_fields.h,
+ * X(name, type, default, lo, hi, rule, id, live, words), of which the keys use the field
+ * (name), how it is stored (type: a Q30 factor travels as its raw I32), the key (id) and
+ * whether SET may change it while the robot runs (live: LIVE, or FIXED for a key that
+ * takes effect only at robot_init(), which SET refuses with TELEM_ERR_FIXED). The ids are
+ * the protocol: never renumber one; a new field's row gives it a new one.
  */
-#define TELEM_CONFIG_KEYS(X)                                                                    \
-    X(1, wheel_diameter_left_um, U32, 1)                                                        \
-    X(2, wheel_diameter_right_um, U32, 1)                                                       \
-    X(3, wheel_base_um, U32, 1)                                                                 \
-    X(4, encoder_counts_per_rev, U32, 1)                                                        \
-    X(5, cal_left, I32, 1)                                                                      \
-    X(6, cal_right, I32, 1)                                                                     \
-    X(7, cal_base, I32, 1)                                                                      \
-    X(8, start_x_um, I32, 0)                                                                    \
-    X(9, start_y_um, I32, 0)                                                                    \
-    X(10, start_heading_mdeg, I32, 0)                                                           \
-    X(11, cell_um, U32, 0)                                                                      \
-    X(12, start_cell_a, U16, 0)                                                                 \
-    X(13, start_cell_b, U16, 0)                                                                 \
-    X(14, om_max, U8, 0)                                                                        \
-    X(15, tm_max, U8, 0)                                                                        \
-    X(16, om_mode, U8, 0)                                                                       \
-    X(17, om_hit, U8, 0)                                                                        \
-    X(18, om_miss, U8, 0)                                                                       \
-    X(19, confidence_radius_um, U32, 1)                                                         \
-    X(20, range_min_um, U32, 1)                                                                 \
-    X(21, sound_speed_mm_per_s, U32, 1)                                                         \
-    X(22, mount_x_um, I32, 1)                                                                   \
-    X(23, mount_y_um, I32, 1)                                                                   \
-    X(24, mount_yaw_mdeg, I32, 1)                                                               \
-    X(25, sweep_first_mdeg, I32, 0)                                                             \
-    X(26, sweep_last_mdeg, I32, 0)                                                              \
-    X(27, sweep_stops, U8, 0)                                                                   \
-    X(28, settle_ticks, U8, 0)                                                                  \
-    X(29, echo_timeout_ticks, U8, 0)                                                            \
-    X(30, servo_pulse_0deg_us, U16, 0)                                                          \
-    X(31, servo_pulse_180deg_us, U16, 0)                                                        \
-    X(32, post_threshold, U8, 1)                                                                \
-    X(33, post_template_k, U8, 1)                                                               \
-    X(34, post_insert, U8, 1)                                                                   \
-    X(35, top_speed_mm_s, U16, 1)                                                               \
-    X(36, accel_mm_s2, U16, 1)                                                                  \
-    X(37, motion_kp_q8, U16, 1)                                                                 \
-    X(38, motion_ki_q8, U16, 1)                                                                 \
-    X(39, explore_mode, U8, 1)                                                                  \
-    X(40, cruise_mm_s, U16, 1)                                                                  \
-    X(41, turn_mm_s, U16, 1)                                                                    \
-    X(42, avoid_um, U32, 1)                                                                     \
-    X(43, clearance_um, U32, 1)                                                                 \
-    X(44, square_side_um, U32, 1)                                                               \
-    X(45, square_laps, U8, 1)                                                                   \
-    X(46, explore_seed, U32, 1)                                                                 \
-    X(47, save_period_s, U16, 1)                                                                \
-    X(48, localize, U8, 0)                                                                      \
-    X(49, ping_interval_ticks, U8, 0)                                                           \
-    X(50, follow_um, U32, 1)                                                                    \
-    X(51, umbmark_runs, U8, 1)                                                                  \
-    X(52, umbmark_pause_s, U16, 1)
+#define TELEM_CONFIG_KEYS(X) SLAM_CONFIG_FIELDS(X)
 
 /** The highest key id. */
-#define TELEM_CONFIG_KEY_MAX 52u
+#define TELEM_CONFIG_KEY_MAX SLAM_CONFIG_ID_MAX
 /** Keys the robot itself sets: MODE and CALIBRATE set explore_mode; a new explore_seed
  *  restarts the exploration's random stream. */
-#define TELEM_KEY_EXPLORE_MODE 39u
-#define TELEM_KEY_EXPLORE_SEED 46u
+#define TELEM_KEY_EXPLORE_MODE ((uint8_t)SLAM_CONFIG_ID_explore_mode)
+#define TELEM_KEY_EXPLORE_SEED ((uint8_t)SLAM_CONFIG_ID_explore_seed)
 
 /** An event posted by the tick. */
 typedef struct {
