@@ -13,7 +13,11 @@
 #define SLAM_SOURCE_DIR "."
 #endif
 
-#define EXPLORE_NAME(id, value, name, summary) [id] = #name,
+/* The modes' names, " off random ...", for --help and messages. */
+#define EXPLORE_NAME_WORD(id, value, name, ...) " " #name
+#define EXPLORE_NAME_LIST SLAM_EXPLORE_MODES(EXPLORE_NAME_WORD)
+
+#define EXPLORE_NAME(id, value, name, ...) [id] = #name,
 const char *const explore_names[EXPLORE_MODES] = {SLAM_EXPLORE_MODES(EXPLORE_NAME)};
 #undef EXPLORE_NAME
 
@@ -47,8 +51,8 @@ static void usage(FILE *f)
         "  --seed N             seed of every random error and of the exploration (default 1;\n"
         "                       sets explore_seed)\n"
         "  --cell MM            grid cell size in mm (default 50; sets cell_um)\n"
-        "  --explore MODE       walls | random | tm | square | umbmark | off (default\n"
-        "                       walls; sets explore_mode); umbmark: the calibration test,\n"
+        "  --explore MODE       one of" EXPLORE_NAME_LIST " (default walls;\n"
+        "                       sets explore_mode); umbmark: the calibration test,\n"
         "                       with a simulated person who measures each run's return\n"
         "                       error (a tape, +-5 mm) into umbmark.csv and puts the robot\n"
         "                       back; it ends after the last run\n"
@@ -272,8 +276,8 @@ int parse_options(int argc, char **argv, options_t *o)
                 }
             }
             if (o->explore < 0) {
-                return fail_usage("--explore: unknown mode '%.40s' (random, tm, walls, square, "
-                                  "umbmark, off)", argv[i]);
+                return fail_usage("--explore: unknown mode '%.40s' (one of%s)", argv[i],
+                                  EXPLORE_NAME_LIST);
             }
             o->has_explore = true;
         } else if (strcmp(a, "--out") == 0) {

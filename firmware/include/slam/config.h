@@ -42,7 +42,7 @@ typedef enum {
 
 /** How the robot explores (explore.h): the rows of explore_modes.h. */
 typedef enum {
-#define SLAM_EXPLORE_MODE_ENUM(id, value, name, summary) id = value,
+#define SLAM_EXPLORE_MODE_ENUM(id, value, ...) id = value,
     SLAM_EXPLORE_MODES(SLAM_EXPLORE_MODE_ENUM)
 #undef SLAM_EXPLORE_MODE_ENUM
     EXPLORE_MODES
