@@ -183,6 +183,7 @@ typedef struct {
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
     bool scoring; /* --scoring: write the scorer's truth and observable masks */
+    bool sweep;   /* --sweep: score the post-processing chain at every TH and K */
     bool plot;
     bool quiet;
 } options_t;
@@ -311,13 +312,14 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
 void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
                 uint8_t *scratch, post_sweep_t *ps);
 
-/** Write metrics.json (DESIGN.md §5, and the scenario that produced it). */
+/** Write metrics.json (DESIGN.md §5, and the scenario that produced it); post_sweep only
+ *  when @p ps is not NULL (--sweep). */
 int write_metrics(const options_t *o, const room_t *room, const run_t *r,
                   const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
                   const robot_t *robot, const chain_scores_t *odo,
                   const chain_scores_t *ideal, const post_sweep_t *ps);
 
-/** The summary table on stdout. */
+/** The summary table on stdout; the best TH and K only when @p ps is not NULL. */
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
                    uint64_t ticks, const sim_t *sim, const robot_t *robot);

@@ -179,7 +179,9 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     json_chain(f, "odometry", odo, true);
     json_chain(f, "perfect_odometry", ideal, false);
     fprintf(f, "  },\n");
-    json_sweep(f, ps);
+    if (ps != NULL) {
+        json_sweep(f, ps);
+    }
 
     fprintf(f, "  \"odometry\": {\n    \"final_position_m\": %.4f,\n    \"max_position_m\": %.4f,\n"
                "    \"final_heading_deg\": %.3f,\n    \"max_heading_deg\": %.3f,\n"
@@ -284,9 +286,11 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
         printf("  %-20s    %6.3f  %6.3f  %6.3f   |  %6.3f\n", names[i], a[i]->precision,
                a[i]->recall, a[i]->f1, b[i]->f1);
     }
-    const score_t *best = &ps->s[ps->best_th][ps->best_k];
-    printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
-           best->precision, best->recall, best->f1);
+    if (ps != NULL) {
+        const score_t *best = &ps->s[ps->best_th][ps->best_k];
+        printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
+               best->precision, best->recall, best->f1);
+    }
     const loc_t *lo = &robot->loc;
     printf("\n  pose error      final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
