@@ -222,7 +222,35 @@ uint32_t explore_seed_of(uint64_t seed);
 /* Units: the firmware's µm and binary angles from metres and radians, and back. */
 static inline int32_t to_um(double m)
 {
-    return (int32_t)lround(m * 1e6);
+    double v = m * 1e6;
+    if (fabs(v) < 2147483647.0) { /* so that i ± 1 fits too */
+        /* lround(v) without its call (it runs twice a period): the fraction beside the
+         * truncated value is exact, and a half rounds away from zero. */
+        int32_t i = (int32_t)v;
+        double f = v - (double)i;
+        return i + (f >= 0.5) - (f <= -0.5);
+    }
+    return (int32_t)lround(v);
+}
+
+/* remainder(a, 2π), into [-π, π]: the IEEE remainder is exact, and so is each step here
+ * for |a| <= 4π (Sterbenz: x - y is exact when y/2 <= x <= 2y), at a tenth of libm's
+ * cost; it runs several times a period. Beyond, libm's. */
+static inline double wrap_pi(double a)
+{
+    const double turn = 2.0 * HOST_SIM_PI;
+    double m = fabs(a);
+    if (m <= HOST_SIM_PI) {
+        return a; /* a tie at π keeps the even quotient, 0 */
+    }
+    if (!(m <= 2.0 * turn)) {
+        return remainder(a, turn);
+    }
+    double r = m - turn; /* quotient 1 */
+    if (r >= HOST_SIM_PI) {
+        r -= turn; /* quotient 2, which a tie at 3π also takes: it is even */
+    }
+    return a < 0.0 ? -r : r;
 }
 
 static inline bam32_t to_bam(double rad)

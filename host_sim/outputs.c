@@ -10,6 +10,12 @@
 #include "hal_common/mapexport.h"
 #include "host_sim.h"
 
+/* "00" "01" ... "99": the digits of a number two at a time. */
+static const char digit_pairs[201] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
 char *fmt_fixed(char *out, double v, int decimals, char sep)
 {
     static const double scale[11] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
@@ -21,19 +27,41 @@ char *fmt_fixed(char *out, double v, int decimals, char sep)
     } else if (n == 0 && v < 0) {
         *out++ = '-'; /* printf keeps the sign of a negative that rounds to zero */
     }
-    char digits[32];
-    int k = 0;
-    do {
-        digits[k++] = (char)('0' + n % 10);
-        n /= 10;
-    } while (n > 0 || k <= decimals);
-    while (k > decimals) {
-        *out++ = digits[--k];
+    /* The digits right to left, two a step, in 32 bits once the number fits. */
+    char digits[24];
+    char *d = digits + sizeof digits;
+    uint64_t u = (uint64_t)n;
+    while (u > UINT32_MAX) {
+        unsigned pair = (unsigned)(u % 100u);
+        u /= 100u;
+        d -= 2;
+        memcpy(d, &digit_pairs[2u * pair], 2u);
+    }
+    uint32_t w = (uint32_t)u;
+    while (w >= 100u) {
+        unsigned pair = w % 100u;
+        w /= 100u;
+        d -= 2;
+        memcpy(d, &digit_pairs[2u * pair], 2u);
+    }
+    if (w >= 10u) {
+        d -= 2;
+        memcpy(d, &digit_pairs[2u * w], 2u);
+    } else {
+        *--d = (char)('0' + w);
+    }
+    /* At least one digit before the point, and every decimal. */
+    while (digits + sizeof digits - d <= decimals) {
+        *--d = '0';
+    }
+    const char *point = digits + sizeof digits - decimals;
+    while (d < point) {
+        *out++ = *d++;
     }
     if (decimals > 0) {
         *out++ = '.';
-        while (k > 0) {
-            *out++ = digits[--k];
+        while (d < digits + sizeof digits) {
+            *out++ = *d++;
         }
     }
     if (sep != 0) {
