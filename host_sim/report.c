@@ -27,18 +27,25 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
     memcpy(out, om, n);
     post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, 0u), cfg->om_max);
     score_map(g, out, r->truth, r->observable, &s->raw);
-    memcpy(out, om, n);
-    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
-                   cfg->om_max);
-    score_map(g, out, r->truth, r->observable, &s->threshold);
+    /* A step that is off leaves the map as it was, and so its score (the default on the
+     * evidence map: every step off). */
+    s->threshold = s->raw;
+    if (cfg->post_threshold != 0u) {
+        memcpy(out, om, n);
+        post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
+                       cfg->om_max);
+        score_map(g, out, r->truth, r->observable, &s->threshold);
+    }
+    s->templ = s->threshold;
     if (cfg->post_template_k > 0u) {
         post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+        score_map(g, out, r->truth, r->observable, &s->templ);
     }
-    score_map(g, out, r->truth, r->observable, &s->templ);
+    s->insert = s->templ;
     if (cfg->post_insert != 0u) {
         post_insert(out, g->a, g->b, cfg->om_max, scratch);
+        score_map(g, out, r->truth, r->observable, &s->insert);
     }
-    score_map(g, out, r->truth, r->observable, &s->insert);
 }
 
 static void json_score(FILE *f, const char *name, const score_t *s, bool comma)
