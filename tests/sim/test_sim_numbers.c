@@ -168,7 +168,7 @@ static void test_wrap_pi_is_the_ieee_remainder(void **state)
     (void)state;
     const double pi = HOST_SIM_PI;
     const double at[] = {0.0, pi, 2.0 * pi, 3.0 * pi, 4.0 * pi, 5.0 * pi, 1.5 * (2.0 * pi),
-                         0.5 * (2.0 * pi), 2.5 * (2.0 * pi), 100.0, HUGE_VAL, NAN};
+                         0.5 * (2.0 * pi), 2.5 * (2.0 * pi), 100.0, HUGE_VAL, (double)NAN};
     for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
         for (int s = -1; s <= 1; s += 2) {
             double a = s * at[i];
