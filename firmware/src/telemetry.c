@@ -11,7 +11,7 @@
 /*
  * CRC-16/CCITT-FALSE. Where memory is plenty (a 64-bit processor: the simulator, a 64-bit
  * Linux robot) a byte at a time from a 512-byte table: every frame is checked, whether
- * anything reads the UART or not, and a nibble at a time it was a tenth of a simulated
+ * anything reads the UART or not, and a nibble at a time it was 6 % of a simulated
  * run. On an MCU a nibble at a time from 32 bytes: measured on the STM32F4, the byte table
  * costs 456 bytes of flash and takes nothing off a budget (the tick never runs the CRC,
  * and the worst background-loop call, a match, loses 0.2 %). Either way the same CRC; a
