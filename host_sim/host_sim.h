@@ -183,6 +183,7 @@ typedef struct {
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
     bool scoring; /* --scoring: write the scorer's truth and observable masks */
+    bool sweep;   /* --sweep: score the post-processing chain at every TH and K */
     bool plot;
     bool quiet;
 } options_t;
@@ -221,7 +222,35 @@ uint32_t explore_seed_of(uint64_t seed);
 /* Units: the firmware's µm and binary angles from metres and radians, and back. */
 static inline int32_t to_um(double m)
 {
-    return (int32_t)lround(m * 1e6);
+    double v = m * 1e6;
+    if (fabs(v) < 2147483647.0) { /* so that i ± 1 fits too */
+        /* lround(v) without its call (it runs twice a period): the fraction beside the
+         * truncated value is exact, and a half rounds away from zero. */
+        int32_t i = (int32_t)v;
+        double f = v - (double)i;
+        return i + (f >= 0.5) - (f <= -0.5);
+    }
+    return (int32_t)lround(v);
+}
+
+/* remainder(a, 2π), into [-π, π]: the IEEE remainder is exact, and so is each step here
+ * for |a| <= 4π (Sterbenz: x - y is exact when y/2 <= x <= 2y), at a tenth of libm's
+ * cost; it runs several times a period. Beyond, libm's. */
+static inline double wrap_pi(double a)
+{
+    const double turn = 2.0 * HOST_SIM_PI;
+    double m = fabs(a);
+    if (m <= HOST_SIM_PI) {
+        return a; /* a tie at π keeps the even quotient, 0 */
+    }
+    if (!(m <= 2.0 * turn)) {
+        return remainder(a, turn);
+    }
+    double r = m - turn; /* quotient 1 */
+    if (r >= HOST_SIM_PI) {
+        r -= turn; /* quotient 2, which a tie at 3π also takes: it is even */
+    }
+    return a < 0.0 ? -r : r;
 }
 
 static inline bam32_t to_bam(double rad)
@@ -311,13 +340,14 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
 void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
                 uint8_t *scratch, post_sweep_t *ps);
 
-/** Write metrics.json (DESIGN.md §5, and the scenario that produced it). */
+/** Write metrics.json (DESIGN.md §5, and the scenario that produced it); post_sweep only
+ *  when @p ps is not NULL (--sweep). */
 int write_metrics(const options_t *o, const room_t *room, const run_t *r,
                   const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
                   const robot_t *robot, const chain_scores_t *odo,
                   const chain_scores_t *ideal, const post_sweep_t *ps);
 
-/** The summary table on stdout. */
+/** The summary table on stdout; the best TH and K only when @p ps is not NULL. */
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
                    const chain_scores_t *ideal, const post_sweep_t *ps, double wall_s,
                    uint64_t ticks, const sim_t *sim, const robot_t *robot);

@@ -381,8 +381,8 @@ static int write_timing(const options_t *o, const outcome_t *out)
 
 /* The end of a run: the held-back hits mapped, the maps scored and exported, the metrics,
  * the storage slots and the timing written, then all committed at once; the summary, the
- * figure. 0, or 1. */
-static int finish(const options_t *o, held_t *h, const outcome_t *out)
+ * figure. 0, or 1. Never inlined: tools/bench.py measures the end of a run from its entry. */
+__attribute__((noinline)) static int finish(const options_t *o, held_t *h, const outcome_t *out)
 {
     const scenario_t *sc = &h->sc;
     run_t *r = h->r;
@@ -394,14 +394,19 @@ static int finish(const options_t *o, held_t *h, const outcome_t *out)
     chain_scores_t ideal;
     score_chain(r, fw.robot.grid.om, &sc->cfg, e->post, e->scratch, &odo);
     score_chain(r, fw.ideal_grid.om, &sc->cfg, e->ideal_post, e->scratch, &ideal);
-    sweep_post(r, fw.robot.grid.om, &sc->cfg, e->work, e->scratch, e->ps);
+    /* The chain at every TH and K only when asked: it costs more than the rest of the end. */
+    const post_sweep_t *ps = NULL;
+    if (o->sweep) {
+        sweep_post(r, fw.robot.grid.om, &sc->cfg, e->work, e->scratch, e->ps);
+        ps = e->ps;
+    }
 
     int bad = 0;
     if (!export_maps(o, h, &bad)) {
         return 1;
     }
     bad |= write_metrics(o, &sc->room, r, &sc->cfg, &sc->errors, sc->sim, &fw.robot, &odo,
-                         &ideal, e->ps);
+                         &ideal, ps);
     if (o->storage != NULL) {
         bad |= write_storage(o->storage);
     }
@@ -414,7 +419,7 @@ static int finish(const options_t *o, held_t *h, const outcome_t *out)
         return 1;
     }
     if (!o->quiet) {
-        print_summary(o, r, &odo, &ideal, e->ps, out->wall_s, out->ticks, sc->sim, &fw.robot);
+        print_summary(o, r, &odo, &ideal, ps, out->wall_s, out->ticks, sc->sim, &fw.robot);
     }
     if (o->plot) {
         plot_figure(o->out, o->quiet);

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* Scoring a map against ground truth (DESIGN.md §5) and marking cells near a point. */
 #include <math.h>
+#include <string.h>
 
 #include "host_sim.h"
 
@@ -45,6 +46,14 @@ void score_map(const map_geom_t *g, const uint8_t *map, const uint8_t *truth,
     *out = s;
 }
 
+/* Whether cell column i of a row dy away lies in the disc: the one test every cell is held
+ * to, so the spans below mark exactly the cells a test of each would. */
+static bool in_disc(long i, double fx, double dy, double r)
+{
+    double dx = (double)i - fx;
+    return dx * dx + dy * dy <= r * r;
+}
+
 void mark_disc(const map_geom_t *g, uint8_t *marks, double x, double y, double radius_m)
 {
     double fx = (x - g->origin_x) / g->cell_m - 0.5; /* in cell-centre units */
@@ -58,13 +67,35 @@ void mark_disc(const map_geom_t *g, uint8_t *marks, double x, double y, double r
     y0 = y0 < 0 ? 0 : y0;
     x1 = x1 >= (long)g->a ? (long)g->a - 1 : x1;
     y1 = y1 >= (long)g->b ? (long)g->b - 1 : y1;
+    if (x0 > x1) {
+        return;
+    }
+    /* Along a row the test's left side falls to the column nearest fx and rises beyond it
+     * (rounding keeps that order), so the cells in the disc are one span around that
+     * column: found from the circle's chord, then each end moved until the test agrees. */
+    long c = lround(fx);
+    c = c < x0 ? x0 : c > x1 ? x1 : c;
     for (long j = y0; j <= y1; j++) {
         double dy = (double)j - fy;
-        for (long i = x0; i <= x1; i++) {
-            double dx = (double)i - fx;
-            if (dx * dx + dy * dy <= r * r) {
-                marks[(size_t)j * g->a + (size_t)i] = 1u;
-            }
+        if (!in_disc(c, fx, dy, r)) {
+            continue; /* the nearest column is out: so is the row */
         }
+        double chord = r * r - dy * dy;
+        long half = chord > 0.0 ? (long)sqrt(chord) : 0;
+        long a = c - half < x0 ? x0 : c - half;
+        long b = c + half > x1 ? x1 : c + half;
+        while (a > x0 && in_disc(a - 1, fx, dy, r)) {
+            a--;
+        }
+        while (!in_disc(a, fx, dy, r)) {
+            a++;
+        }
+        while (b < x1 && in_disc(b + 1, fx, dy, r)) {
+            b++;
+        }
+        while (!in_disc(b, fx, dy, r)) {
+            b--;
+        }
+        memset(&marks[(size_t)j * g->a + (size_t)a], 1, (size_t)(b - a + 1));
     }
 }

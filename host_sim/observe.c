@@ -8,7 +8,6 @@
 #include "host_sim.h"
 #include "slam/error.h"
 
-static const double PI = HOST_SIM_PI;
 #define TRAJECTORY_EVERY 10u     /* trajectory.csv: one row per 0.1 s */
 #define COVERAGE_EVERY 1000u     /* the coverage series: one point per 10 s */
 
@@ -76,11 +75,6 @@ int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t 
     r->last_y = sc->sy;
     r->marked_x = r->marked_y = HUGE_VAL;
     return 0;
-}
-
-static double wrap_pi(double a)
-{
-    return remainder(a, 2.0 * PI);
 }
 
 /* The odometry's error against the truth @p tr, and the path driven. */

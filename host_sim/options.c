@@ -99,6 +99,9 @@ static void usage(FILE *f)
         "                       boundary cells (scoring_truth.pgm) and the cells within rc\n"
         "                       of a sonar position (scoring_observable.pgm), black where set,\n"
         "                       and the estimated pose of every reading (scoring_estimate.csv)\n"
+        "  --sweep              also score the post-processing chain at every threshold TH\n"
+        "                       and template K: post_sweep in metrics.json and the best\n"
+        "                       TH, K in the summary (tools/sim_report.py asks for it)\n"
         "  --no-plot            do not draw figure.png\n"
         "  --quiet              no progress line and no summary\n"
         "  --help               this text\n"
@@ -346,6 +349,8 @@ int parse_options(int argc, char **argv, options_t *o)
             o->replay = argv[i];
         } else if (strcmp(a, "--scoring") == 0) {
             o->scoring = true;
+        } else if (strcmp(a, "--sweep") == 0) {
+            o->sweep = true;
         } else if (strcmp(a, "--no-plot") == 0) {
             o->plot = false;
         } else if (strcmp(a, "--quiet") == 0) {

@@ -10,9 +10,43 @@
 #include "hal_common/mapexport.h"
 #include "host_sim.h"
 
+/* "00" "01" ... "99": the digits of a number two at a time. */
+static const char digit_pairs[201] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+/* The @p n lowest decimal digits of w, leading zeros included, written to end - n .. end:
+ * in 32 bits, where a division by a constant costs half the 64-bit one. */
+static inline void put_digits(char *end, uint32_t w, int n)
+{
+    for (; n >= 2; n -= 2) {
+        uint32_t pair = w % 100u;
+        w /= 100u;
+        end -= 2;
+        memcpy(end, &digit_pairs[2u * pair], 2u);
+    }
+    if (n == 1) {
+        end[-1] = (char)('0' + w % 10u);
+    }
+}
+
+/* The same for a 64-bit v, nine digits at a time. */
+static void put_digits_u64(char *end, uint64_t v, int n)
+{
+    for (; n > 9; n -= 9) {
+        put_digits(end, (uint32_t)(v % 1000000000u), 9);
+        v /= 1000000000u;
+        end -= 9;
+    }
+    put_digits(end, (uint32_t)v, n);
+}
+
 char *fmt_fixed(char *out, double v, int decimals, char sep)
 {
     static const double scale[11] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
+    static const uint64_t unit[11] = {1u, 10u, 100u, 1000u, 10000u, 100000u, 1000000u,
+                                      10000000u, 100000000u, 1000000000u, 10000000000u};
     double s = v * scale[decimals];
     long long n = (long long)(s < 0 ? s - 0.5 : s + 0.5);
     if (n < 0) {
@@ -21,20 +55,27 @@ char *fmt_fixed(char *out, double v, int decimals, char sep)
     } else if (n == 0 && v < 0) {
         *out++ = '-'; /* printf keeps the sign of a negative that rounds to zero */
     }
-    char digits[32];
-    int k = 0;
-    do {
-        digits[k++] = (char)('0' + n % 10);
-        n /= 10;
-    } while (n > 0 || k <= decimals);
-    while (k > decimals) {
-        *out++ = digits[--k];
+    /* The whole part, then every decimal, each written straight in place. */
+    uint64_t whole = (uint64_t)n / unit[decimals];
+    uint64_t frac = (uint64_t)n - whole * unit[decimals];
+    int digits = 1;
+    for (uint64_t w = whole; w >= 10u; w /= 10u) {
+        digits++;
     }
+    if (whole <= UINT32_MAX) {
+        put_digits(out + digits, (uint32_t)whole, digits);
+    } else {
+        put_digits_u64(out + digits, whole, digits);
+    }
+    out += digits;
     if (decimals > 0) {
         *out++ = '.';
-        while (k > 0) {
-            *out++ = digits[--k];
+        if (decimals <= 9) {
+            put_digits(out + decimals, (uint32_t)frac, decimals);
+        } else {
+            put_digits_u64(out + decimals, frac, decimals);
         }
+        out += decimals;
     }
     if (sep != 0) {
         *out++ = sep;

@@ -27,18 +27,25 @@ void score_chain(const run_t *r, const uint8_t *om, const slam_config_t *cfg, ui
     memcpy(out, om, n);
     post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, 0u), cfg->om_max);
     score_map(g, out, r->truth, r->observable, &s->raw);
-    memcpy(out, om, n);
-    post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
-                   cfg->om_max);
-    score_map(g, out, r->truth, r->observable, &s->threshold);
+    /* A step that is off leaves the map as it was, and so its score (the default on the
+     * evidence map: every step off). */
+    s->threshold = s->raw;
+    if (cfg->post_threshold != 0u) {
+        memcpy(out, om, n);
+        post_threshold(out, g->a, g->b, grid_threshold_byte(cfg->om_mode, cfg->post_threshold),
+                       cfg->om_max);
+        score_map(g, out, r->truth, r->observable, &s->threshold);
+    }
+    s->templ = s->threshold;
     if (cfg->post_template_k > 0u) {
         post_template(out, g->a, g->b, cfg->post_template_k, scratch);
+        score_map(g, out, r->truth, r->observable, &s->templ);
     }
-    score_map(g, out, r->truth, r->observable, &s->templ);
+    s->insert = s->templ;
     if (cfg->post_insert != 0u) {
         post_insert(out, g->a, g->b, cfg->om_max, scratch);
+        score_map(g, out, r->truth, r->observable, &s->insert);
     }
-    score_map(g, out, r->truth, r->observable, &s->insert);
 }
 
 static void json_score(FILE *f, const char *name, const score_t *s, bool comma)
@@ -179,7 +186,9 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     json_chain(f, "odometry", odo, true);
     json_chain(f, "perfect_odometry", ideal, false);
     fprintf(f, "  },\n");
-    json_sweep(f, ps);
+    if (ps != NULL) {
+        json_sweep(f, ps);
+    }
 
     fprintf(f, "  \"odometry\": {\n    \"final_position_m\": %.4f,\n    \"max_position_m\": %.4f,\n"
                "    \"final_heading_deg\": %.3f,\n    \"max_heading_deg\": %.3f,\n"
@@ -284,9 +293,11 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
         printf("  %-20s    %6.3f  %6.3f  %6.3f   |  %6.3f\n", names[i], a[i]->precision,
                a[i]->recall, a[i]->f1, b[i]->f1);
     }
-    const score_t *best = &ps->s[ps->best_th][ps->best_k];
-    printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
-           best->precision, best->recall, best->f1);
+    if (ps != NULL) {
+        const score_t *best = &ps->s[ps->best_th][ps->best_k];
+        printf("  best TH=%u K=%u          %6.3f  %6.3f  %6.3f\n", ps->best_th, ps->best_k,
+               best->precision, best->recall, best->f1);
+    }
     const loc_t *lo = &robot->loc;
     printf("\n  pose error      final %.3f m, %.2f deg; max %.3f m, %.2f deg (path %.1f m)\n",
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,

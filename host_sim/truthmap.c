@@ -8,34 +8,56 @@
 #define REACHED 1u
 #define OUTSIDE 2u
 
-/* 4-connected flood over non-boundary cells from the seeds already marked in mark[]. */
-static void flood(const map_geom_t *g, const uint8_t *truth, uint8_t *mark, uint8_t tag,
-                  uint32_t *queue, size_t tail)
+/* A cell a flood may enter: not a boundary, not marked yet. */
+static bool open_cell(const uint8_t *truth, const uint8_t *mark, uint32_t c)
 {
-    size_t head = 0;
-    while (head < tail) {
-        uint32_t c = queue[head++];
-        uint32_t x = c % g->a;
-        uint32_t y = c / g->a;
-        uint32_t next[4];
-        size_t n = 0;
-        if (x > 0u) {
-            next[n++] = c - 1u;
+    return mark[c] == 0u && truth[c] == 0u;
+}
+
+/* Seeds a flood of the row y from the open cells of columns l..r: one a run of them. */
+static size_t seed_row(const map_geom_t *g, const uint8_t *truth, uint8_t *mark, uint8_t tag,
+                       uint32_t *stack, size_t top, uint32_t y, uint32_t l, uint32_t r)
+{
+    bool run = false;
+    for (uint32_t x = l; x <= r; x++) {
+        uint32_t c = y * g->a + x;
+        bool open = open_cell(truth, mark, c);
+        if (open && !run) {
+            mark[c] = tag;
+            stack[top++] = c;
         }
-        if (x + 1u < g->a) {
-            next[n++] = c + 1u;
+        run = open;
+    }
+    return top;
+}
+
+/*
+ * 4-connected flood over non-boundary cells from the seeds already marked in mark[] (and
+ * on the stack), a row's span at a time: each span marks the open cells left and right of
+ * its seed, then seeds the rows above and below it. Every marked cell lies in one span, and
+ * every span looks at its four sides, so it marks what a cell-by-cell flood marks.
+ */
+static void flood(const map_geom_t *g, const uint8_t *truth, uint8_t *mark, uint8_t tag,
+                  uint32_t *stack, size_t top)
+{
+    while (top > 0u) {
+        uint32_t c = stack[--top];
+        uint32_t y = c / g->a;
+        uint32_t l = c - y * g->a;
+        uint32_t r = l;
+        while (l > 0u && open_cell(truth, mark, y * g->a + l - 1u)) {
+            l--;
+            mark[y * g->a + l] = tag;
+        }
+        while (r + 1u < g->a && open_cell(truth, mark, y * g->a + r + 1u)) {
+            r++;
+            mark[y * g->a + r] = tag;
         }
         if (y > 0u) {
-            next[n++] = c - g->a;
+            top = seed_row(g, truth, mark, tag, stack, top, y - 1u, l, r);
         }
         if (y + 1u < g->b) {
-            next[n++] = c + g->a;
-        }
-        for (size_t k = 0; k < n; k++) {
-            if (mark[next[k]] == 0u && truth[next[k]] == 0u) {
-                mark[next[k]] = tag;
-                queue[tail++] = next[k];
-            }
+            top = seed_row(g, truth, mark, tag, stack, top, y + 1u, l, r);
         }
     }
 }

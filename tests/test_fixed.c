@@ -154,22 +154,21 @@ static void test_muldiv_u64(void **state)
     }
 }
 
-/* The division loops against C's own '/', at the edges and for operands of every length
- * (a random number shifted right by a random amount). */
-static void test_div_64_matches_c(void **state)
+/* One path of the 64-bit division against C's own '/', at the edges and for operands of
+ * every length (a random number shifted right by a random amount). */
+static void check_div_64(uint64_t (*du)(uint64_t, uint64_t), int64_t (*ds)(int64_t, int64_t))
 {
-    (void)state;
-    assert_int_equal(fix_div_u64(UINT64_MAX, 1u), UINT64_MAX);
-    assert_int_equal(fix_div_u64(UINT64_MAX, UINT64_MAX), 1u);
-    assert_int_equal(fix_div_u64(UINT64_MAX - 1u, UINT64_MAX), 0u);
-    assert_int_equal(fix_div_u64(1ull << 63, 3u), (1ull << 63) / 3u);
-    assert_int_equal(fix_div_u64(0u, 7u), 0u);
-    assert_int_equal(fix_div_s64(INT64_MIN, 1), INT64_MIN);
-    assert_int_equal(fix_div_s64(INT64_MIN, 2), INT64_MIN / 2);
-    assert_int_equal(fix_div_s64(INT64_MAX, -1), -INT64_MAX);
-    assert_int_equal(fix_div_s64(-7, 2), -3); /* toward zero, as C */
-    assert_int_equal(fix_div_s64(7, -2), -3);
-    assert_int_equal(fix_div_s64(-7, -2), 3);
+    assert_int_equal(du(UINT64_MAX, 1u), UINT64_MAX);
+    assert_int_equal(du(UINT64_MAX, UINT64_MAX), 1u);
+    assert_int_equal(du(UINT64_MAX - 1u, UINT64_MAX), 0u);
+    assert_int_equal(du(1ull << 63, 3u), (1ull << 63) / 3u);
+    assert_int_equal(du(0u, 7u), 0u);
+    assert_int_equal(ds(INT64_MIN, 1), INT64_MIN);
+    assert_int_equal(ds(INT64_MIN, 2), INT64_MIN / 2);
+    assert_int_equal(ds(INT64_MAX, -1), -INT64_MAX);
+    assert_int_equal(ds(-7, 2), -3); /* toward zero, as C */
+    assert_int_equal(ds(7, -2), -3);
+    assert_int_equal(ds(-7, -2), 3);
     /* Every pair of values next to the digit and word boundaries of the long division. */
     uint64_t edge[36];
     unsigned ne = 0;
@@ -185,7 +184,7 @@ static void test_div_64_matches_c(void **state)
     edge[ne++] = 0x80000000FFFFFFFFull;
     for (unsigned i = 0; i < ne; i++) {
         for (unsigned k = 0; k < ne; k++) {
-            assert_int_equal(fix_div_u64(edge[i], edge[k]), edge[i] / edge[k]);
+            assert_int_equal(du(edge[i], edge[k]), edge[i] / edge[k]);
         }
     }
     test_rng_t rng = {12u};
@@ -195,11 +194,35 @@ static void test_div_64_matches_c(void **state)
         if (d == 0u) {
             continue;
         }
-        assert_int_equal(fix_div_u64(n, d), n / d);
+        assert_int_equal(du(n, d), n / d);
         int64_t sn = (int64_t)(n >> 1) * ((i & 1) ? -1 : 1);
         int64_t sd = (int64_t)((d >> 1) | 1u) * ((i & 2) ? -1 : 1);
-        assert_int_equal(fix_div_s64(sn, sd), sn / sd);
+        assert_int_equal(ds(sn, sd), sn / sd);
     }
+}
+
+static uint64_t div_u64(uint64_t n, uint64_t d)
+{
+    return fix_div_u64(n, d);
+}
+
+static int64_t div_s64(int64_t n, int64_t d)
+{
+    return fix_div_s64(n, d);
+}
+
+/* The long division the MCU and the 32-bit build use, on every build. */
+static void test_div_64_soft_matches_c(void **state)
+{
+    (void)state;
+    check_div_64(fix_div_u64_soft, fix_div_s64_soft);
+}
+
+/* The division the core calls: C's '/' itself on a 64-bit host, the long division else. */
+static void test_div_64_matches_c(void **state)
+{
+    (void)state;
+    check_div_64(div_u64, div_s64);
 }
 
 int main(void)
@@ -212,6 +235,7 @@ int main(void)
         cmocka_unit_test(test_saturation_at_limits),
         cmocka_unit_test(test_mul_q30_i64_matches_wide_product),
         cmocka_unit_test(test_muldiv_u64),
+        cmocka_unit_test(test_div_64_soft_matches_c),
         cmocka_unit_test(test_div_64_matches_c),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

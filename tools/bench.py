@@ -7,12 +7,17 @@
    robot_tick() call; calls into the HAL are excluded, so the figures are the firmware's
    own. Then the static RAM of the core from `size` of the objects.
 2. The simulator on its default scenario (host_sim, 600 s in the default room): callgrind
-   splits the instructions of a control period between the firmware (robot_tick() without
-   its HAL calls) and the simulated world (the HAL calls and sim_step()); then three plain
-   runs give simulated ticks per wall-clock second (the best of three: the machine may be
-   shared, and only interference slows a run down).
+   counts every instruction of the run, start-up and end included, and splits them per
+   control period between the firmware's tick (robot_tick() without its HAL calls), its
+   background loop (robot_idle()), the simulated world (sim_step() and the tick's HAL
+   calls), host_sim's own measuring and logs, and the end of the run (finish(): scores,
+   maps, metrics.json). Budgets: 6 000 instructions a control period, the end of the run
+   at most 10 % of them. Then three plain runs give simulated ticks per wall-clock second
+   (the best of three: the machine may be shared, and only interference slows a run down).
+   Exit status 1 when the simulator is over a budget.
 
-usage: tools/bench.py [BUILD_DIR]      (default: build/host, made by `make bench`)
+usage: tools/bench.py [BUILD_DIR] [--sim-only]   (BUILD_DIR: build/host by default, made by
+       `make bench`; --sim-only: the simulator's part alone)
 """
 import json
 import subprocess
@@ -56,9 +61,18 @@ def sizes(paths):
 
 
 def main():
-    build = sys.argv[1] if len(sys.argv) > 1 else "build/host"
+    args = [a for a in sys.argv[1:] if a != "--sim-only"]
+    sim_only = len(args) < len(sys.argv) - 1
+    build = args[0] if args else "build/host"
     if build in ("-h", "--help"):
         print(__doc__.strip())
+        return
+    sim = os.path.join(build, "host_sim", "host_sim")
+    if sim_only:
+        if not os.path.exists(sim):
+            die("%s is missing: build the host preset first (make bench)" % sim)
+        if not simulator(sim):
+            die("the simulator is over its budget")
         return
     bench = os.path.join(build, "tools", "bench", "bench_tick")
     core = os.path.join(build, "firmware", "libslam_core.a")
@@ -93,22 +107,23 @@ def main():
               % (robot_ram, 2 * a * b, robot_ram - 2 * a * b, core_data))
     print("  code of the core (host build): %d B" % core_text)
 
-    sim = os.path.join(build, "host_sim", "host_sim")
-    if os.path.exists(sim):
-        simulator(sim)
+    if os.path.exists(sim) and not simulator(sim):
+        die("the simulator is over its budget")
 
 
 # The HAL calls robot_tick() makes; toggling collection off inside them leaves the firmware.
 TICK_HAL = ("hal_encoder_count", "hal_sonar_poll", "hal_sonar_trigger", "hal_servo_set_pulse",
             "hal_motor_set")
 
+SIM_TICKS = 60000        # the default run: 600 s of 10 ms control periods
+SIM_BUDGET = 6000        # instructions per control period, the end of the run included
+SIM_END_SHARE = 0.10     # the end of the run's share of it (no --sweep)
 
-def collected(sim, tmp, toggles):
-    """Instructions callgrind collects inside the toggled functions over a default run."""
+
+def callgrind(sim, tmp, opts):
+    """host_sim's default run under callgrind: (instructions collected, the profile)."""
     cg = os.path.join(tmp, "sim.callgrind")
-    run = subprocess.run(["valgrind", "--tool=callgrind", "--collect-atstart=no",
-                          "--callgrind-out-file=" + cg] +
-                         ["--toggle-collect=" + t for t in toggles] +
+    run = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + cg] + opts +
                          [sim, "--quiet", "--no-plot", "--out", os.path.join(tmp, "cg")],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if run.returncode != 0:
@@ -116,27 +131,73 @@ def collected(sim, tmp, toggles):
     m = re.search(r"Collected : (\d+)", run.stderr)
     if not m:
         die("callgrind reported no total")
-    return int(m.group(1))
+    return int(m.group(1)), cg
+
+
+def inclusive(profile, names):
+    """Each named function's instructions, callees included (callgrind_annotate)."""
+    run = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", profile],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if run.returncode != 0:
+        die("callgrind_annotate failed:\n" + run.stderr[-2000:])
+    got = {}
+    for line in run.stdout.splitlines():
+        # "N (P%)  FILE:FUNCTION [OBJECT]", FUNCTION maybe a clone (finish.constprop.0); a
+        # function's lines from inlined headers come under their own FILE, so the largest
+        # figure of a name is the whole function's.
+        m = re.match(r"\s*([\d,]+) .*:(\w+)(?:\.[\w.]+)?(?: \[.*\])?$", line)
+        if m and m.group(2) in names:
+            got[m.group(2)] = max(got.get(m.group(2), 0), int(m.group(1).replace(",", "")))
+    missing = [n for n in names if n not in got]
+    if missing:
+        die("no instructions for %s in the profile" % ", ".join(missing))
+    return got
 
 
 def simulator(sim):
-    ticks = 60000
+    """Instructions per simulated control period of the default run, end of run included,
+    by part; then the wall-clock speed. False when over a budget."""
+    ticks = SIM_TICKS
     with tempfile.TemporaryDirectory(prefix="slam-bench-") as tmp:
-        print("bench: running host_sim under callgrind twice (about 20 s) ...", file=sys.stderr)
-        period = collected(sim, tmp, ["hal_host_step"])
-        firmware = collected(sim, tmp, ["robot_tick"] + list(TICK_HAL))
+        print("bench: running host_sim under callgrind twice (about 30 s) ...", file=sys.stderr)
+        total, profile = callgrind(sim, tmp, [])
+        part = inclusive(profile, ("robot_idle", "hal_host_step", "observe_tick", "finish"))
+        tick, _ = callgrind(sim, tmp, ["--collect-atstart=no", "--toggle-collect=robot_tick"] +
+                            ["--toggle-collect=" + t for t in TICK_HAL])
         rates = []
         for i in range(3):
             out = os.path.join(tmp, "run%d" % i)
             subprocess.run([sim, "--quiet", "--no-plot", "--out", out], check=True)
             with open(os.path.join(out, "timing.json")) as f:
                 rates.append(json.load(f)["ticks_per_s"])
+    rows = (
+        ("firmware: robot_tick() without its HAL calls", tick),
+        ("firmware: robot_idle(), the background loop", part["robot_idle"]),
+        ("simulated world: sim_step() and the tick's HAL calls", part["hal_host_step"] - tick),
+        ("host_sim measuring and logging every period", part["observe_tick"]),
+        ("end of the run: scores, maps, metrics.json", part["finish"]),
+    )
+    rest = total - sum(v for _, v in rows)
+    per = total / ticks
+    end_share = part["finish"] / total
     best = max(rates)
-    print("simulator (host_sim, default room, 600 s = %d control ticks)" % ticks)
-    print("  instructions per control period: %.0f = firmware %.0f + simulated world %.0f"
-          % (period / ticks, firmware / ticks, (period - firmware) / ticks))
+    print("simulator (host_sim, default room, 600 s = %d control periods; callgrind)" % ticks)
+    print("  instructions per control period: %.0f, the end of the run included "
+          "(%.1f M in all)" % (per, total / 1e6))
+    for name, v in rows + (("start-up and the rest", rest),):
+        print("    %-55s %6.0f" % (name, v / ticks))
+    print("  end of the run: %.1f M instructions, %.1f %% of the run" % (part["finish"] / 1e6,
+                                                                     100.0 * end_share))
     print("  speed: %.0f ticks per wall-clock second = %.0fx real time (best of %s)"
           % (best, best / 100.0, ", ".join("%.0f" % r for r in rates)))
+    print("  budgets:")
+    ok_per = per <= SIM_BUDGET
+    ok_end = end_share <= SIM_END_SHARE
+    print("  instructions per control period      %6.0f  budget %6d  %s"
+          % (per, SIM_BUDGET, "ok" if ok_per else "OVER"))
+    print("  end of the run, share of the run     %5.1f %%  budget %4.0f %%  %s"
+          % (100.0 * end_share, 100.0 * SIM_END_SHARE, "ok" if ok_end else "OVER"))
+    return ok_per and ok_end
 
 
 if __name__ == "__main__":

@@ -31,7 +31,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_report import SRC, ROOMS, add_host_arg, mean, run_all  # noqa: E402
+from sim_report import SRC, ROOMS, add_host_arg, cores, mean, run_all  # noqa: E402
 
 MODES = (("off", "0"), ("on", "1"))
 LONG = (3600, 36000)  # s: the 1-hour and 10-hour runs
@@ -128,7 +128,7 @@ def report(args):
     base = args.out
     total = len(jobs)
     print("pose_report: %d runs of host_sim into %s" % (total, base), file=sys.stderr)
-    res = run_all(args.host_sim, base, jobs, args.jobs)
+    res = run_all(args.host_sim, base, jobs, args.jobs, "pose_report")
 
     def group(prefix):
         return [res[n] for n in sorted(res) if n.rsplit("-", 1)[0] == prefix]
@@ -258,7 +258,8 @@ def main():
     ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
     ap.add_argument("--seeds", type=int, default=10, help="seeds 1..N per room (default 10)")
     ap.add_argument("--out", default=os.path.join(SRC, "out", "pose_report"))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--jobs", type=int, default=cores(),
+                    help="runs at a time (default: every core, %d)" % cores())
     ap.add_argument("--quick", action="store_true",
                     help="2-minute runs and no long runs, for a first look")
     ap.add_argument("--no-long", action="store_true", help="leave out the 1-hour and 10-hour runs")

@@ -28,6 +28,7 @@ import math
 import os
 import subprocess
 import sys
+import time
 from concurrent.futures import ThreadPoolExecutor
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -134,13 +135,49 @@ def run(bin_, out, args):
         return json.load(f)
 
 
-def run_all(bin_, base, jobs, workers):
-    """jobs: {name: args}; returns {name: metrics}, running `workers` at a time."""
+def cores():
+    """The processors this process may run on: every one, unless an affinity mask (taskset,
+    a container) leaves it fewer."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:
+        return os.cpu_count() or 2
+
+
+def duration(args):
+    """The simulated seconds a run's arguments ask for (host_sim's default: 600)."""
+    a = [str(x) for x in args]
+    if "--duration" in a[:-1]:
+        try:
+            return float(a[a.index("--duration") + 1])
+        except ValueError:
+            pass
+    return 600.0
+
+
+def run_all(bin_, base, jobs, workers, what="sim_report"):
+    """jobs: {name: args}; returns {name: metrics}, running `workers` at a time, the longest
+    runs first (a ten-hour run started last would finish alone on one core), and says on
+    stderr how long it took."""
     names = sorted(jobs)
+    order = sorted(names, key=lambda n: -duration(jobs[n]))
+    fresh = []
+    t0 = time.monotonic()
+
+    def one(n):
+        stamp = os.path.join(base, n, "args.json")  # run() rewrites it when it runs
+        before = os.stat(stamp).st_mtime_ns if os.path.exists(stamp) else None
+        m = run(bin_, os.path.join(base, n), jobs[n])
+        if before is None or os.stat(stamp).st_mtime_ns != before:
+            fresh.append(n)
+        return m
+
     with ThreadPoolExecutor(max_workers=workers) as ex:
-        res = ex.map(lambda n: run(bin_, os.path.join(base, n), jobs[n]), names)
-        done = dict(zip(names, res))
-    return done
+        done = dict(zip(order, ex.map(one, order)))
+    print("%s: %d runs of host_sim (%d reused) in %.0f s, %d at a time"
+          % (what, len(names), len(names) - len(fresh), time.monotonic() - t0, workers),
+          file=sys.stderr)
+    return {n: done[n] for n in names}
 
 
 def mean(xs):
@@ -176,7 +213,7 @@ def report(args):
     for room in ("default", "obstacles"):
         for s in seeds:
             jobs["post-%s-%d" % (room, s)] = ["--paper", "--room", os.path.join(ROOMS, room + ".room"),
-                                              "--seed", s, "--duration", dur]
+                                              "--seed", s, "--duration", dur, "--sweep"]
             jobs["ideal-%s-%d" % (room, s)] = ["--room", os.path.join(ROOMS, room + ".room"),
                                                "--seed", s, "--duration", dur, "--ideal"]
     for acc in ACCELS:
@@ -205,6 +242,8 @@ def report(args):
                 jobs["explore-%s-%s-%d" % (mode, room, s)] = [
                     "--explore", mode, "--room", os.path.join(ROOMS, room + ".room"),
                     "--seed", s, "--duration", dur]
+                if mode == MODES[0] and room in ("default", "obstacles"):
+                    jobs["explore-%s-%s-%d" % (mode, room, s)].append("--sweep")  # tuned()
     buildings = [b for b in BUILDINGS if os.path.exists(os.path.join(args.maps, b[1]))]
     bdur = dur if args.quick else BUILDING_S
     for name, yaml, crop in buildings:
@@ -491,7 +530,8 @@ def main():
     ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--out", default=os.path.join(SRC, "out", "report"))
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--jobs", type=int, default=cores(),
+                    help="runs at a time (default: every core, %d)" % cores())
     ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
     ap.add_argument("--figure", help="also draw the results into this PNG")
     ap.add_argument("--faults-only", action="store_true",

@@ -186,7 +186,7 @@ static uint32_t div_64_32(uint32_t u1, uint32_t u0, uint32_t v)
     return q1 * b + q0;
 }
 
-uint64_t fix_div_u64(uint64_t n, uint64_t d)
+uint64_t fix_div_u64_soft(uint64_t n, uint64_t d)
 {
     uint32_t n1 = (uint32_t)(n >> 32);
     uint32_t n0 = (uint32_t)n;
@@ -214,10 +214,10 @@ uint64_t fix_div_u64(uint64_t n, uint64_t d)
     return q;
 }
 
-int64_t fix_div_s64(int64_t n, int64_t d)
+int64_t fix_div_s64_soft(int64_t n, int64_t d)
 {
     uint64_t un = n < 0 ? 0u - (uint64_t)n : (uint64_t)n;
     uint64_t ud = d < 0 ? 0u - (uint64_t)d : (uint64_t)d;
-    uint64_t q = fix_div_u64(un, ud);
+    uint64_t q = fix_div_u64_soft(un, ud);
     return (n < 0) != (d < 0) ? (int64_t)(0u - q) : (int64_t)q;
 }

@@ -87,9 +87,14 @@ def _check(v, s, root, path, errors):
                 _check(item, s["items"], root, "%s[%d]" % (path, i), errors)
 
 
+# A field only an option writes says so first: it may then be left out of 'required'.
+OPTIONAL = "Only with --"
+
+
 def undocumented(schema):
-    """Schema nodes that describe a field or definition without a description, and objects
-    that would accept fields they do not list."""
+    """Schema nodes that describe a field or definition without a description, objects
+    that would accept fields they do not list, and fields not required whose description
+    does not start with OPTIONAL."""
     out = []
 
     def walk(s, path):
@@ -100,7 +105,9 @@ def undocumented(schema):
         if s.get("type") == "object" or "properties" in s:
             if s.get("additionalProperties", True) is not False:
                 out.append("%s: additionalProperties is not false" % path)
-            missing = set(s.get("properties", {})) - set(s.get("required", []))
+            props = s.get("properties", {})
+            missing = {name for name in set(props) - set(s.get("required", []))
+                       if not props[name].get("description", "").startswith(OPTIONAL)}
             if missing:
                 out.append("%s: fields not required: %s" % (path, sorted(missing)))
         for name, sub in s.get("properties", {}).items():

@@ -42,7 +42,8 @@ def tuned_f1(ms):
 
 
 for room in ("default", "obstacles"):
-    ms = runs("post-" + room, "--paper", "--room", sim.room(room + ".room"), "--duration", 600)
+    ms = runs("post-" + room, "--paper", "--room", sim.room(room + ".room"), "--duration", 600,
+              "--sweep")
     p_raw = step_mean(ms, "raw", "precision")
     p_th = step_mean(ms, "threshold", "precision")
     p_tpl = step_mean(ms, "template", "precision")

@@ -3,7 +3,8 @@
 """metrics.json is documented field by field in host_sim/metrics.schema.json, and every
 run's file follows it exactly (simtest checks each run of every simulator test; this test
 checks the schema itself, that the validator refuses what it must, and runs that reach
-the corners of the file: a crop of a ROS map, --ideal, coverage marks reached)."""
+the corners of the file: a crop of a ROS map, --ideal, coverage marks reached, and
+post_sweep, written only with --sweep)."""
 import copy
 import json
 import os
@@ -20,9 +21,17 @@ check(not gaps, "every field of the schema is described, required, and no object
       "unlisted fields%s" % ("" if not gaps else ": " + "; ".join(gaps)))
 
 run = sim.out("run")
-sim.run("--duration", 30, "--seed", 3, "--out", run)  # validated by sim.run
+sim.run("--duration", 30, "--seed", 3, "--sweep", "--out", run)  # validated by sim.run
 m = sim.metrics(run)
 check(schema.validate(m, sch) == [], "a run's metrics.json validates")
+check("post_sweep" in m, "--sweep writes post_sweep")
+plain = sim.out("plain")
+sim.run("--duration", 30, "--seed", 3, "--out", plain)
+mp = sim.metrics(plain)
+check(set(m) - set(mp) == {"post_sweep"} and
+      all(mp[k] == m[k] for k in mp),
+      "without --sweep metrics.json loses post_sweep and nothing else (%s)"
+      % sorted(set(m) ^ set(mp)))
 
 
 def refused(change, what):
