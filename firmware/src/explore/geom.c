@@ -1,0 +1,35 @@
+/* SPDX-License-Identifier: MIT */
+/* The exploration's geometry: square roots, squared distances, the grid in Q16 cells. */
+#include "base.h"
+
+uint32_t explore_isqrt(uint32_t v)
+{
+    uint32_t r = 0u;
+    for (uint32_t b = 1u << 15; b != 0u; b >>= 1) {
+        if ((r + b) * (r + b) <= v) {
+            r += b;
+        }
+    }
+    return r;
+}
+
+/* The differences are taken modulo 2^32 (exact within 2 km, and defined after any
+ * encoder glitch); the squares fit 63 bits and their sum 64. */
+uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
+{
+    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)x_um);
+    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)y_um);
+    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
+}
+
+int32_t explore_q16_cells(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t n)
+{
+    int64_t d = (int64_t)v_um - origin_um;
+    if (d < 0 || d >= (int64_t)cell_um * n) {
+        return -1;
+    }
+    uint32_t u = (uint32_t)d;
+    uint32_t whole = u / cell_um;
+    uint32_t frac = ((u - whole * cell_um) << 8) / cell_um;
+    return (int32_t)((whole << 16) | (frac << 8));
+}
