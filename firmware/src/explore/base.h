@@ -19,8 +19,16 @@ _Static_assert(SLAM_GRID_A <= 0x8000u && SLAM_GRID_B <= 0x8000u,
 /* The integer square root of v (below 2^30: the squares stay in 32 bits). */
 uint32_t explore_isqrt(uint32_t v);
 
-/* The squared distance from a pose to a world point, defined for any two positions. */
-uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um);
+/* The squared distance from a pose to a world point, defined for any two positions: the
+ * differences are taken modulo 2^32 (exact within 2 km, and defined after any encoder
+ * glitch); the squares fit 63 bits and their sum 64. Inline: the tick measures the trail
+ * with it. */
+static inline uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
+{
+    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)x_um);
+    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)y_um);
+    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
+}
 
 /* A world coordinate in Q16 cells of the grid (n cells along it); -1 outside. The
  * fraction is taken to 1/256 of a cell, which keeps every product in 32 bits. */

@@ -27,13 +27,6 @@ static void mode_init(explore_t *e)
 #undef EXPLORE_HOOK
 }
 
-static void mode_point(explore_t *e, const odom_pose_t *pose)
-{
-#define EXPLORE_HOOK(name) explore_##name##_point(e, pose)
-    EXPLORE_DISPATCH(e)
-#undef EXPLORE_HOOK
-}
-
 static void mode_job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const int32_t held[2])
 {
 #define EXPLORE_HOOK(name) explore_##name##_job(e, pose, g, held)
@@ -41,16 +34,9 @@ static void mode_job(explore_t *e, const odom_pose_t *pose, const grid_t *g, con
 #undef EXPLORE_HOOK
 }
 
-static void mode_look(explore_t *e, const odom_pose_t *pose, bool blocked)
+static void mode_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
 {
-#define EXPLORE_HOOK(name) explore_##name##_look(e, pose, blocked)
-    EXPLORE_DISPATCH(e)
-#undef EXPLORE_HOOK
-}
-
-static void mode_ahead(explore_t *e, const odom_pose_t *pose)
-{
-#define EXPLORE_HOOK(name) explore_##name##_ahead(e, pose)
+#define EXPLORE_HOOK(name) explore_##name##_next(e, pose, why)
     EXPLORE_DISPATCH(e)
 #undef EXPLORE_HOOK
 }
@@ -58,13 +44,6 @@ static void mode_ahead(explore_t *e, const odom_pose_t *pose)
 static void mode_way(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32_t target_mm_s[2])
 {
 #define EXPLORE_HOOK(name) explore_##name##_way(e, pose, g, target_mm_s)
-    EXPLORE_DISPATCH(e)
-#undef EXPLORE_HOOK
-}
-
-static void mode_backed(explore_t *e, const odom_pose_t *pose)
-{
-#define EXPLORE_HOOK(name) explore_##name##_backed(e, pose)
     EXPLORE_DISPATCH(e)
 #undef EXPLORE_HOOK
 }
@@ -101,12 +80,15 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
 }
 
 /* The background job of a tick without a reading, one at a time so that no tick carries
- * two: a reading's point into the memory, else the mode's (a slice of the pass). */
+ * two: a reading's point into the memory (and, while following a wall, to the wall on
+ * the right), else the mode's (a slice of the pass). */
 static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const int32_t held[2])
 {
     if (e->memory.pending != 0u) {
         explore_memory_take(e);
-        mode_point(e, pose);
+        if (e->machine.state == EXPLORE_FOLLOW) {
+            explore_wall_point(e, pose, e->memory.pending_x_um, e->memory.pending_y_um);
+        }
         return;
     }
     mode_job(e, pose, g, held);
@@ -118,7 +100,7 @@ static void forward(explore_t *e, const odom_pose_t *pose, const grid_t *g, int3
     int32_t ahead = explore_ahead_um(e, pose);
     if (ahead < e->cfg.avoid_um) {
         e->count.avoidances++;
-        mode_ahead(e, pose);
+        mode_next(e, pose, EXPLORE_WHY_AHEAD);
         return;
     }
     int32_t v = explore_speed_mm_s(e, ahead);
@@ -150,7 +132,8 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
             break;
         case EXPLORE_LOOK:
             if (explore_look_done(e)) {
-                mode_look(e, pose, explore_ahead_um(e, pose) < e->cfg.avoid_um);
+                bool blocked = explore_ahead_um(e, pose) < e->cfg.avoid_um;
+                mode_next(e, pose, blocked ? EXPLORE_WHY_BLOCKED : EXPLORE_WHY_CLEAR);
             }
             break;
         case EXPLORE_DECIDE:
@@ -167,7 +150,7 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
             break;
         case EXPLORE_BACK:
             if (explore_back_step(e, pose, target_mm_s)) {
-                mode_backed(e, pose);
+                mode_next(e, pose, EXPLORE_WHY_BACKED);
             }
             break;
         case EXPLORE_HOLD:

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The exploration's geometry: square roots, squared distances, the grid in Q16 cells. */
+/* The exploration's geometry: square roots, and world coordinates in Q16 cells. */
 #include "base.h"
 
 uint32_t explore_isqrt(uint32_t v)
@@ -11,15 +11,6 @@ uint32_t explore_isqrt(uint32_t v)
         }
     }
     return r;
-}
-
-/* The differences are taken modulo 2^32 (exact within 2 km, and defined after any
- * encoder glitch); the squares fit 63 bits and their sum 64. */
-uint64_t explore_dist2(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
-{
-    int32_t dx = (int32_t)((uint32_t)pose->x_um - (uint32_t)x_um);
-    int32_t dy = (int32_t)((uint32_t)pose->y_um - (uint32_t)y_um);
-    return (uint64_t)((int64_t)dx * dx) + (uint64_t)((int64_t)dy * dy);
 }
 
 int32_t explore_q16_cells(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t n)

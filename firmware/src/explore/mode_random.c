@@ -32,11 +32,6 @@ void explore_random_init(explore_t *e)
     explore_enter(e, EXPLORE_LOOK);
 }
 
-void explore_random_point(explore_t *e, const odom_pose_t *pose)
-{
-    (void)e, (void)pose;
-}
-
 void explore_random_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
                         const int32_t held[2])
 {
@@ -45,18 +40,20 @@ void explore_random_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     }
 }
 
-void explore_random_look(explore_t *e, const odom_pose_t *pose, bool blocked)
+void explore_random_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
 {
-    if (blocked) {
-        random_turn(e, pose, EXPLORE_DEG(90), away(e));
-    } else {
+    switch (why) {
+    case EXPLORE_WHY_CLEAR:
         explore_enter(e, EXPLORE_FORWARD);
+        break;
+    case EXPLORE_WHY_BLOCKED:
+    case EXPLORE_WHY_AHEAD:
+        random_turn(e, pose, EXPLORE_DEG(90), away(e));
+        break;
+    case EXPLORE_WHY_BACKED:
+        random_turn(e, pose, EXPLORE_DEG(90), 0);
+        break;
     }
-}
-
-void explore_random_ahead(explore_t *e, const odom_pose_t *pose)
-{
-    random_turn(e, pose, EXPLORE_DEG(90), away(e));
 }
 
 void explore_random_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,
@@ -67,11 +64,6 @@ void explore_random_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,
         explore_rng_below(e, EXPLORE_RANDOM_TURN_MASK + 1u) == 0u) {
         random_turn(e, pose, EXPLORE_DEG(30), 0);
     }
-}
-
-void explore_random_backed(explore_t *e, const odom_pose_t *pose)
-{
-    random_turn(e, pose, EXPLORE_DEG(90), 0);
 }
 
 void explore_random_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,

@@ -11,25 +11,16 @@ void explore_square_init(explore_t *e)
     explore_enter(e, EXPLORE_FORWARD);
 }
 
-void explore_square_point(explore_t *e, const odom_pose_t *pose)
-{
-    (void)e, (void)pose;
-}
-
 void explore_square_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
                         const int32_t held[2])
 {
     (void)e, (void)pose, (void)g, (void)held;
 }
 
-void explore_square_look(explore_t *e, const odom_pose_t *pose, bool blocked)
+/* Never reached: the square neither looks nor meets anything ahead nor backs off. */
+void explore_square_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
 {
-    (void)e, (void)pose, (void)blocked;
-}
-
-void explore_square_ahead(explore_t *e, const odom_pose_t *pose)
-{
-    (void)e, (void)pose;
+    (void)e, (void)pose, (void)why;
 }
 
 /* A leg is measured from where the last turn ended (moves.leg). */
@@ -52,11 +43,6 @@ void explore_square_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,
         e->count.turns++;
         explore_enter(e, EXPLORE_TURN);
     }
-}
-
-void explore_square_backed(explore_t *e, const odom_pose_t *pose)
-{
-    (void)e, (void)pose;
 }
 
 void explore_square_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,

@@ -21,11 +21,6 @@ void explore_tm_init(explore_t *e)
     explore_enter(e, EXPLORE_LOOK);
 }
 
-void explore_tm_point(explore_t *e, const odom_pose_t *pose)
-{
-    (void)e, (void)pose;
-}
-
 void explore_tm_job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const int32_t held[2])
 {
     if (e->machine.state == EXPLORE_LOOK || e->machine.state == EXPLORE_FORWARD) {
@@ -33,23 +28,27 @@ void explore_tm_job(explore_t *e, const odom_pose_t *pose, const grid_t *g, cons
     }
 }
 
-void explore_tm_look(explore_t *e, const odom_pose_t *pose, bool blocked)
+void explore_tm_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
 {
     (void)pose;
-    if (blocked) {
+    switch (why) {
+    case EXPLORE_WHY_CLEAR:
+        if (e->tm.fresh) {
+            e->tm.fresh = false;
+            explore_decide(e, 0u, EXPLORE_CANDIDATES, EXPLORE_FORWARD);
+        } else {
+            explore_enter(e, EXPLORE_FORWARD);
+        }
+        break;
+    case EXPLORE_WHY_BLOCKED:
+    case EXPLORE_WHY_AHEAD:
         avoid(e);
-    } else if (e->tm.fresh) {
-        e->tm.fresh = false;
-        explore_decide(e, 0u, EXPLORE_CANDIDATES, EXPLORE_FORWARD);
-    } else {
-        explore_enter(e, EXPLORE_FORWARD);
+        break;
+    case EXPLORE_WHY_BACKED:
+        e->tm.fresh = true;
+        explore_enter(e, EXPLORE_LOOK);
+        break;
     }
-}
-
-void explore_tm_ahead(explore_t *e, const odom_pose_t *pose)
-{
-    (void)pose;
-    avoid(e);
 }
 
 void explore_tm_way(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32_t target_mm_s[2])
@@ -61,13 +60,6 @@ void explore_tm_way(explore_t *e, const odom_pose_t *pose, const grid_t *g, int3
         e->tm.fresh = false;
         explore_decide(e, EXPLORE_CANDIDATES - 2u, 5u, EXPLORE_FORWARD);
     }
-}
-
-void explore_tm_backed(explore_t *e, const odom_pose_t *pose)
-{
-    (void)pose;
-    e->tm.fresh = true;
-    explore_enter(e, EXPLORE_LOOK);
 }
 
 void explore_tm_step(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32_t target_mm_s[2])

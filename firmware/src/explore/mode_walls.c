@@ -117,13 +117,6 @@ void explore_walls_init(explore_t *e)
     explore_enter(e, EXPLORE_LOOK);
 }
 
-void explore_walls_point(explore_t *e, const odom_pose_t *pose)
-{
-    if (e->machine.state == EXPLORE_FOLLOW) {
-        explore_wall_point(e, pose, e->memory.pending_x_um, e->memory.pending_y_um);
-    }
-}
-
 /* A trail step to look at comes first; then the pass, and after each pass a slice of the
  * frontier's rolling scan. */
 void explore_walls_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
@@ -141,7 +134,9 @@ void explore_walls_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     }
 }
 
-void explore_walls_look(explore_t *e, const odom_pose_t *pose, bool blocked)
+/* LOOK is done: go on as the turn or the face before it meant to, unless something is
+ * ahead. */
+static void looked(explore_t *e, const odom_pose_t *pose, bool blocked)
 {
     uint8_t then = e->moves.after_turn;
     if (then == EXPLORE_PASS) {
@@ -177,10 +172,20 @@ void explore_walls_look(explore_t *e, const odom_pose_t *pose, bool blocked)
     explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(45), (explore_state_t)then);
 }
 
-/* Turn so that what is ahead is on the right, and follow it. */
-void explore_walls_ahead(explore_t *e, const odom_pose_t *pose)
+void explore_walls_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
 {
-    explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
+    switch (why) {
+    case EXPLORE_WHY_CLEAR:
+    case EXPLORE_WHY_BLOCKED:
+        looked(e, pose, why == EXPLORE_WHY_BLOCKED);
+        break;
+    case EXPLORE_WHY_AHEAD:
+    case EXPLORE_WHY_BACKED:
+        /* Turn so that what is ahead (or was, before backing off) is on the right, and
+         * follow it. */
+        explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
+        break;
+    }
 }
 
 /* Crossing: toward the target block, if any; once something comes within the follow
@@ -197,11 +202,6 @@ void explore_walls_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,
     int32_t steer = explore_seek_steer(e, pose, g);
     target_mm_s[ODOM_LEFT] += steer;
     target_mm_s[ODOM_RIGHT] -= steer;
-}
-
-void explore_walls_backed(explore_t *e, const odom_pose_t *pose)
-{
-    explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
 }
 
 void explore_walls_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,

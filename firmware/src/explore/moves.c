@@ -11,7 +11,6 @@
 #define EXPLORE_ECHOES_SURE 8u            /* of the last sweep's readings, echoes below which
                                              the robot slows down */
 #define EXPLORE_CRAWL_MM_S 60             /* the slowest approach */
-#define EXPLORE_TRAIL_STEP_UM 50000       /* one trail position each 50 mm driven */
 #define EXPLORE_BACK_MM_S 80
 #define EXPLORE_BACK_REACHED_UM 20000     /* a trail position is reached this close */
 /* After a stall the robot stands before it backs off: wheels that stall need not touch
@@ -143,21 +142,6 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)
 }
 
 /* ---- the trail, stalls and backing off ------------------------------------------------ */
-
-void explore_trail_step(explore_t *e, const odom_pose_t *pose)
-{
-    explore_moves_t *mv = &e->moves;
-    uint64_t step = EXPLORE_TRAIL_STEP_UM;
-    if (explore_dist2(pose, mv->trail_x_um[mv->trail_head], mv->trail_y_um[mv->trail_head]) <
-        step * step) {
-        return;
-    }
-    mv->trail_head = (uint8_t)((mv->trail_head + 1u) % EXPLORE_TRAIL);
-    mv->trail_x_um[mv->trail_head] = pose->x_um;
-    mv->trail_y_um[mv->trail_head] = pose->y_um;
-    mv->trail_len = (uint8_t)(mv->trail_len < EXPLORE_TRAIL ? mv->trail_len + 1u : EXPLORE_TRAIL);
-    mv->trail_fresh = true;
-}
 
 /* Wheels that stall while driving: stand, then back off along the trail. */
 bool explore_stall(explore_t *e, const odom_pose_t *pose)

@@ -33,8 +33,24 @@ bool explore_look_done(explore_t *e);
  * and slower when the sonar hears little. */
 int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um);
 
-/* Driving on: a new trail position each 50 mm (trail_fresh tells the mode). */
-void explore_trail_step(explore_t *e, const odom_pose_t *pose);
+#define EXPLORE_TRAIL_STEP_UM 50000 /* one trail position each 50 mm driven */
+
+/* Driving on: a new trail position each EXPLORE_TRAIL_STEP_UM (trail_fresh tells the
+ * mode). Inline: the tick makes it whenever the robot drives. */
+static inline void explore_trail_step(explore_t *e, const odom_pose_t *pose)
+{
+    explore_moves_t *mv = &e->moves;
+    uint64_t step = EXPLORE_TRAIL_STEP_UM;
+    if (explore_dist2(pose, mv->trail_x_um[mv->trail_head], mv->trail_y_um[mv->trail_head]) <
+        step * step) {
+        return;
+    }
+    mv->trail_head = (uint8_t)((mv->trail_head + 1u) % EXPLORE_TRAIL);
+    mv->trail_x_um[mv->trail_head] = pose->x_um;
+    mv->trail_y_um[mv->trail_head] = pose->y_um;
+    mv->trail_len = (uint8_t)(mv->trail_len < EXPLORE_TRAIL ? mv->trail_len + 1u : EXPLORE_TRAIL);
+    mv->trail_fresh = true;
+}
 
 /* The wheels stalled: what it means in this state. False when nothing is to be done (a
  * blind mode, or a state that stands anyway); else the robot now holds. */
