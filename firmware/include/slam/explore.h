@@ -56,11 +56,13 @@
  *
  * The output is a target speed for each wheel; motion.h follows it.
  *
- * The sources (firmware/src/explore/) are layers, each calling only the ones below it:
- * geometry and the state machine; the sonar's memory, the map's corridor and what is
- * ahead; the moves every mode shares; the walls mode's frontier and openings; one file a
- * mode (mode_<name>.c, a row of explore_modes.h); and explore.c, which hands each tick
- * to the shared states and to the mode's hooks. explore_t holds one sub-struct a file
+ * The sources (firmware/src/explore/) are layers, each calling only the ones below it
+ * (tools/check_layers.py checks it): geometry and the state machine (base.h); the
+ * sonar's memory, the map's corridor, what is ahead and the wall on the right (sight.h);
+ * the moves every mode shares and the weighing of ways (moves.h); the walls mode's
+ * frontier and openings (walls.h); one file a mode, mode_<name>.c for each row of
+ * explore_modes.h, with five hooks (modes.h); and explore.c, which runs the shared
+ * states and hands over to the mode's hooks. explore_t holds one sub-struct a file
  * (explore_types.h).
  */
 #ifndef SLAM_EXPLORE_H

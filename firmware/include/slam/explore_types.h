@@ -2,9 +2,11 @@
 /**
  * @file
  * The exploration's state (explore.h's explore_t), one sub-struct a source file of
- * firmware/src/explore/: each file writes its own, and reads those of the files below
- * it. Only explore.h includes this; nothing outside the exploration reads these fields
- * but the tests, the counters (host_sim's report) and the caller's one_wheel.
+ * firmware/src/explore/: each file keeps its own, which only the files above it read or
+ * set (a file never reaches up). Only explore.h includes this. Outside the exploration only the tests read these
+ * fields, and: the counters (host_sim's report; robot_idle.c keeps them across a
+ * reconfiguration, as it does the random stream, machine.rng), and moves.one_wheel,
+ * which robot.c sets.
  *
  * Units are in the names: world positions in µm (x_um), headings in binary angles,
  * positions on the grid in Q16 cells (16 fraction bits of a cell, fx), times in ticks

@@ -14,8 +14,7 @@
 #define EXPLORE_DOOR_PAST_UM 150000  /* an opening is measured once this far past it */
 
 /* Seek the nearest frontier block in sight and cross to it; without one, weigh the ways
- * to the left, 30° to 150° (not straight back: that would put the wall just left on the
- * blind side), and cross to the best one. */
+ * to the left and cross to the best one. */
 static void leave(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
     e->walls.retrace = 0u;
@@ -165,7 +164,7 @@ static void looked(explore_t *e, const odom_pose_t *pose, bool blocked)
     if (++e->walls.lefts > EXPLORE_LEFTS_MAX) {
         e->walls.lefts = 0u;
         e->count.leaves++;
-        explore_decide(e, 1u, 5u, EXPLORE_FORWARD);
+        explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
         return;
     }
     /* Something is still ahead: turn on to the left and look again. */

@@ -128,7 +128,7 @@ void explore_seek(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
     grid_cell_t c;
     if (grid_cell_of(g, pose->x_um, pose->y_um, &c) != 0) {
-        explore_decide(e, 1u, 5u, EXPLORE_FORWARD);
+        explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
         return;
     }
     explore_search_t *r = &e->search;
@@ -228,7 +228,7 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     }
     (void)pose;
     e->count.leaves++;
-    explore_decide(e, 1u, 5u, EXPLORE_FORWARD);
+    explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
 }
 
 int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *g)

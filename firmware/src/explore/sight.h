@@ -13,6 +13,7 @@
 
 #define EXPLORE_ECHO_WINDOW 12u  /* readings whose echoes are counted: a sweep */
 #define EXPLORE_ECHO_MASK ((1u << EXPLORE_ECHO_WINDOW) - 1u)
+_Static_assert(EXPLORE_ECHO_WINDOW <= 16u, "memory.echo_bits holds the window");
 #define EXPLORE_SLOW_UM 700000   /* what lies further ahead of the sonar does not matter */
 #define EXPLORE_PASS_CLEAR_UM 105000 /* half the corridor through an opening (narrow) */
 /* The sonar is the robot's only sight: when no stop has heard an echo for a second (an

@@ -7,6 +7,11 @@
 
 #include "moves.h"
 
+/* The ways to the left, 30° to 150° (decide.c's candidates 1 to 5): not straight back,
+ * which would put the wall just left on the blind side. */
+#define EXPLORE_LEFT_FIRST 1u
+#define EXPLORE_LEFT_SPAN 5u
+
 /* ---- seek.c ------------------------------------------------------------------------- */
 
 /* No block is sought yet. */
