@@ -10,7 +10,7 @@
 #define EXPLORE_LOST_UM 100000u      /* with nothing beside, straight on this far first */
 #define EXPLORE_ARC_MAX_TICKS 1500u  /* then about a circle at most */
 #define EXPLORE_RETRACE_LEAVE 12u    /* leave after this many trail steps driven before */
-#define EXPLORE_LEFTS_MAX 8u         /* left turns in a row before backing off: a circle */
+#define EXPLORE_LEFTS_MAX 8u         /* 45° left turns in a row (a circle), then the ways */
 #define EXPLORE_DOOR_PAST_UM 150000  /* an opening is measured once this far past it */
 
 /* Seek the nearest frontier block in sight and cross to it; without one, weigh the ways
