@@ -234,9 +234,9 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
                "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
                "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
-            m->outside, tr.collisions, robot->explore.turns, robot->explore.avoidances,
-            robot->explore.stalls, robot->explore.leaves, robot->explore.doors,
-            robot->explore.seeks);
+            m->outside, tr.collisions, robot->explore.count.turns,
+            robot->explore.count.avoidances, robot->explore.count.stalls,
+            robot->explore.count.leaves, robot->explore.count.doors, robot->explore.count.seeks);
     const loc_t *lo = &robot->loc;
     fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
                "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
