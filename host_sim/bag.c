@@ -19,6 +19,7 @@ static int bag_tool(char *const argv[])
 {
     extern char **environ;
     pid_t pid;
+    fflush(stdout); /* the summary first, then what the tool says */
     if (access(BAG_PYTHON, X_OK) != 0 || access(BAG_TOOL, R_OK) != 0 ||
         posix_spawn(&pid, BAG_PYTHON, NULL, NULL, argv, environ) != 0) {
         return -1;

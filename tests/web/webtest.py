@@ -91,3 +91,27 @@ const bytesOf = (b64) => Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
 const b64Of = (u8) => { let s = ""; for (let i = 0; i < u8.length; i += 8192) {
   s += String.fromCharCode.apply(null, u8.subarray(i, i + 8192)); } return btoa(s); };
 """
+
+
+# A run whose telemetry ends with the whole of om.pgm: the robot explores, then stands
+# and stops changing OM (no echo can fall inside a confidence radius of 20 um, and the pose
+# correction, which would hold hits back until the run's end, is off), then sends its map
+# again from the first row; the run lasts until that pass is through (256 rows of both maps
+# in 200-cell frames, one every 3 ticks: 31 s).
+SETTLED_COMMANDS = """# explore, stand, stop changing OM, send the map whole
+40 stop
+40 set confidence_radius_um 20001
+43 map
+"""
+
+
+def settled_run(sim, name="settled"):
+    """host_sim's outputs and telemetry log of such a run: (out_dir, log)."""
+    cmds = sim.out(name + ".cmds")
+    with open(cmds, "w") as f:
+        f.write(SETTLED_COMMANDS)
+    out = sim.out(name)
+    log = sim.out(name + ".tel")
+    sim.run("--duration", 80, "--set", "localize=0", "--commands", cmds, "--out", out,
+            "--telemetry", log)
+    return out, log
