@@ -18,8 +18,9 @@ DRIVER = "/usr/bin/chromedriver"
 TIMEOUT_S = 300
 
 
-def browser(width=1400, height=1000):
-    """A headless Chromium; fails the test with what to install when one is missing."""
+def browser(width=1400, height=1000, download_dir=None):
+    """A headless Chromium; fails the test with what to install when one is missing.
+    Downloads land in download_dir without asking."""
     try:
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
@@ -36,6 +37,10 @@ def browser(width=1400, height=1000):
               "--user-data-dir=" + profile, "--window-size=%d,%d" % (width, height)):
         opts.add_argument(a)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    if download_dir is not None:
+        opts.add_experimental_option("prefs", {
+            "download.default_directory": download_dir, "download.prompt_for_download": False,
+            "profile.default_content_setting_values.automatic_downloads": 1})
     drv = webdriver.Chrome(service=Service(DRIVER), options=opts)
     drv.set_script_timeout(TIMEOUT_S)
     drv.set_page_load_timeout(TIMEOUT_S)
