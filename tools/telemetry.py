@@ -12,7 +12,7 @@ usage:
   tools/telemetry.py send PORT COMMAND [ARGS...] [--wait S] [--out DIR]
                                                    send one command, print the answer
   tools/telemetry.py frame COMMAND [ARGS...]       print a command's frame in hex
-  tools/telemetry.py serve SOURCE [--port N] [--host ADDR] [--follow]
+  tools/telemetry.py serve SOURCE [--port N] [--host ADDR] [--follow] [--record FILE]
                                                    the browser page and the robot's link
                                                    over a WebSocket (tools/web/README.md)
   tools/telemetry.py to-bag LOG OUT.bag [--fov DEG] [--max-range M]
@@ -434,7 +434,8 @@ def cmd_frame(args):
 def cmd_serve(args):
     import ws_bridge
     try:
-        ws_bridge.serve(args.source, args.host, args.port, args.baud, args.follow)
+        ws_bridge.serve(args.source, args.host, args.port, args.baud, args.follow,
+                        record=args.record)
     except ws_bridge.BridgeError as e:
         raise Fatal(str(e))
     except KeyboardInterrupt:
@@ -486,6 +487,9 @@ def main(argv=None):
                    help="address to listen on (default 127.0.0.1, this machine only; "
                         "0.0.0.0: every network, e.g. a robot watched over Wi-Fi)")
     p.add_argument("--follow", action="store_true", help="a file: keep sending what is added")
+    p.add_argument("--record", metavar="FILE",
+                   help="a device: also append every byte it sends to FILE (a log for "
+                        "to-bag or to-readings)")
     p = sub.add_parser("to-bag", help="a log as a ROS bag (/map, /odom, /tf, /sonar)")
     p.add_argument("log")
     p.add_argument("out", metavar="OUT.bag")

@@ -107,8 +107,9 @@ class Client:
 class Bridge:
     """One source (a serial device, a pseudo-terminal, or a file) and the pages watching."""
 
-    def __init__(self, source, baud=115200, follow=False, quiet=False):
+    def __init__(self, source, baud=115200, follow=False, quiet=False, record=None):
         self.source = source
+        self.record = None
         self.baud = baud
         self.follow = follow
         self.quiet = quiet
@@ -125,8 +126,15 @@ class Bridge:
         if baud not in BAUDS:
             raise BridgeError("--baud %d: not one of %s" % (baud, ", ".join(map(str, BAUDS))))
         self.device = stat.S_ISCHR(mode)
+        if record is not None and not self.device:
+            raise BridgeError("--record: the source is a file already")
         if self.device:
             self.open_device()  # fail now, with the reason, rather than in the loop
+        if record is not None:
+            try:
+                self.record = open(record, "ab")
+            except OSError as e:
+                raise BridgeError("--record %s: %s" % (record, e.strerror))
 
     def say(self, text):
         if not self.quiet:
@@ -193,6 +201,11 @@ class Bridge:
             self.close_device("end of file")
             return
         self.catchup.feed(data)
+        if self.record is not None:
+            # A terminal gives each byte to one reader: recording here is how the same
+            # bytes reach both the pages and a file (telemetry.py to-bag, to-readings).
+            self.record.write(data)
+            self.record.flush()
         for c in list(self.clients):
             c.put(data)
 
@@ -320,8 +333,13 @@ async def run(bridge, host, port, ready=None):
     await asyncio.Future()  # until Ctrl-C or SIGTERM
 
 
-def serve(source, host="127.0.0.1", port=8765, baud=115200, follow=False, quiet=False):
+def serve(source, host="127.0.0.1", port=8765, baud=115200, follow=False, quiet=False,
+          record=None):
     """Run the bridge until interrupted; BridgeError for what the user must fix."""
     need_websockets()
-    bridge = Bridge(source, baud, follow, quiet)
-    asyncio.run(run(bridge, host, port))
+    bridge = Bridge(source, baud, follow, quiet, record)
+    try:
+        asyncio.run(run(bridge, host, port))
+    finally:
+        if bridge.record is not None:
+            bridge.record.close()

@@ -73,8 +73,9 @@ try:
         time.sleep(0.05)
     check(os.readlink(link).startswith("/dev/pts/"), "host_sim --link: %s -> %s" % (link, os.readlink(link)))
 
+    record = sim.out("record.log")
     bridge = start(["/usr/bin/python3", os.path.join(sim.src, "tools", "telemetry.py"), "serve", link,
-                    "--port", "0"])
+                    "--port", "0", "--record", record])
     url = line_matching(bridge, r"(http://127\.0\.0\.1:\d+/)", "the bridge's address").group(1)
 
     drv = webtest.browser()
@@ -149,6 +150,13 @@ try:
     check(joined == whole and len(whole[1]) > 100,
           "a page joining late: the bridge's catch-up and the live bytes after it give every map "
           "row the whole stream gives (%d segments)" % len(whole[1]))
+    # --record: what the bridge read is what host_sim sent, in order (a terminal's full
+    # buffer may have dropped some before the bridge came).
+    recorded = [(t, bytes(p)) for t, p in slamlink.Decoder().feed(open(record, "rb").read())]
+    sent = iter((t, bytes(p)) for t, p in slamlink.Decoder().feed(data))
+    in_order = all(any(f == g for g in sent) for f in recorded)
+    check(len(recorded) > 100 and in_order,
+          "serve --record: its %d frames are frames host_sim sent, in their order" % len(recorded))
     bridge.send_signal(signal.SIGTERM)
     ended(bridge, "the bridge")
     err = bridge.stderr.read()

@@ -226,8 +226,9 @@
         g.b * cell * s);
 
       if (m.path.length > 1) {
-        ctx.strokeStyle = which === "om" ? "#d62728" : "#1f77b4";
-        ctx.lineWidth = 1.5 * dpr;
+        // Translucent and thin: the map under the path is what matters.
+        ctx.strokeStyle = which === "om" ? "rgba(214, 39, 40, 0.6)" : "rgba(31, 119, 180, 0.45)";
+        ctx.lineWidth = (which === "om" ? 1.3 : 1) * dpr;
         ctx.beginPath();
         ctx.moveTo(X(m.path[0][0]), Y(m.path[0][1]));
         for (const [x, y] of m.path) {
@@ -300,8 +301,12 @@
       const px = len * s;
       const x = 12 * dpr;
       const y = h - 14 * dpr;
+      ctx.font = Math.round(12 * dpr) + "px sans-serif";
+      const label = (len >= 1 ? len + " m" : Math.round(len * 1000) + " mm") +
+        "  (cells of " + Math.round(cell * 1000) + " mm)";
+      const wide = Math.max(px, ctx.measureText(label).width);
       ctx.fillStyle = "rgba(0, 0, 0, 0.55)";
-      ctx.fillRect(x - 6 * dpr, y - 22 * dpr, px + 12 * dpr + 90 * dpr, 32 * dpr);
+      ctx.fillRect(x - 6 * dpr, y - 24 * dpr, wide + 12 * dpr, 32 * dpr);
       ctx.strokeStyle = "#ffffff";
       ctx.lineWidth = 3 * dpr;
       ctx.beginPath();
@@ -311,10 +316,7 @@
       ctx.lineTo(x + px, y - 6 * dpr);
       ctx.stroke();
       ctx.fillStyle = "#ffffff";
-      ctx.font = Math.round(12 * dpr) + "px sans-serif";
-      const label = (len >= 1 ? len + " m" : Math.round(len * 1000) + " mm") +
-        "  (cells of " + Math.round(cell * 1000) + " mm)";
-      ctx.fillText(label, x, y - 9 * dpr);
+      ctx.fillText(label, x, y - 10 * dpr);
     }
   }
 
