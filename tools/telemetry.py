@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Talks to the robot over its telemetry link: prints or draws what it sends, turns a log
-into readings for host_sim --replay, and sends it commands.
+"""Talks to the robot over its telemetry link: prints, draws or serves to a browser what it
+sends, turns a log into readings for host_sim --replay or a ROS bag, sends it commands.
 
 usage:
   tools/telemetry.py dump SOURCE [--follow]        one line per frame

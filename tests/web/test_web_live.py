@@ -105,6 +105,45 @@ try:
     check((p1["x_um"], p1["y_um"], p1["heading"]) == (p2["x_um"], p2["y_um"], p2["heading"]),
           "the pose the page shows no longer changes (%.1f s to %.1f s)" % (p1["ticks"] / 100, p2["ticks"] / 100))
 
+    # The other controls: Set, Get and the mode, with the robot's answers in words, and a
+    # value that does not fit refused on the page.
+    from selenium.webdriver.support.ui import Select
+
+    def answered(text, what):
+        webtest.wait(drv, "return document.getElementById('answers').textContent.includes(%s)"
+                     % json.dumps(text), what)
+
+    def set_key(key, value):
+        Select(drv.find_element("id", "key")).select_by_value(key)
+        field = drv.find_element("id", "value")
+        field.clear()
+        field.send_keys(value)
+        drv.find_element("id", "set").click()
+
+    set_key("cruise_mm_s", "150")
+    answered("cruise_mm_s = 150", "the answer to Set")
+    drv.find_element("id", "get").click()
+    webtest.wait(drv, "return %s.answers.filter((a) => a.text === 'cruise_mm_s = 150').length === 2"
+                 % STATE, "the answer to Get")
+    webtest.wait(drv, "return document.getElementById('key-note').textContent.endsWith("
+                 "'the robot said 150')", "the key's note to show the value in force")
+    set_key("cell_um", "100000")
+    answered("set cell_um refused: this key takes effect only when the robot starts",
+             "the robot's refusal in words")
+    sent = drv.execute_script("return window.slamview.app.sent.length")
+    set_key("cruise_mm_s", "fast")
+    answered("'fast' is not a whole number", "the page's own refusal")
+    set_key("turn_mm_s", "0")
+    answered("0 is out of its range, 1..5000", "a value out of the field's range refused")
+    check(drv.execute_script("return window.slamview.app.sent.length") == sent,
+          "Set and Get answered in words; values that do not fit are refused on the page, unsent")
+    Select(drv.find_element("id", "mode")).select_by_value("tm")
+    drv.find_element("id", "mode-send").click()
+    answered("mode: done", "the answer to the mode")
+    webtest.wait(drv, "return %s.status.explore_mode === %d" % (STATE, slamlink.MODES.index("tm")),
+                 "STATUS to report mode tm")
+    check(True, "Set mode tm: the robot answers and reports it")
+
     # Ctrl-C ends the linked run with its outputs; the link goes, and the bridge says so.
     host.send_signal(signal.SIGTERM)
     check(ended(host, "host_sim") == 0 and not os.path.lexists(link),

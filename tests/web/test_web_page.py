@@ -93,9 +93,11 @@ try:
 
     # At 1x the recording plays at its own pace: part of it, not all at once.
     open_recording(drv, log, 1)
-    webtest.wait(drv, "return %s.link.position >= 1.0" % APP, "a second of the recording to play")
-    fed, total, done = drv.execute_script("const l = %s.link; return [l.sent, l.bytes.length, l.done]" % APP)
-    check(not done and 0 < fed < total / 4, "at 1x a second in, %d of %d bytes are in" % (fed, total))
+    pos, fed, total, done = webtest.wait(
+        drv, "const l = %s.link; return l.position >= 1.0 && [l.position, l.sent, l.bytes.length, l.done]"
+        % APP, "a second of the recording to play")
+    check(not done and 0 < fed < total, "at 1x, %.1f s into the %.0f s recording, %d of its %d bytes "
+          "are in" % (pos, drv.execute_script("return %s.link.duration" % APP), fed, total))
     from selenium.webdriver.support.ui import Select
     Select(drv.find_element("id", "speed")).select_by_value("100")
     played(drv)
