@@ -333,12 +333,12 @@ int parse_options(int argc, char **argv, options_t *o)
             }
             o->storage = argv[i];
         } else if (strcmp(a, "--link") == 0 || strcmp(a, "--bag") == 0) {
-            bool link = a[2] == 'l';
+            bool live = a[2] == 'l';
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("%s needs a path", a);
             }
-            *(link ? &o->link : &o->bag) = argv[i];
-            o->realtime = o->realtime || link; /* a live robot keeps the real one's pace */
+            *(live ? &o->link : &o->bag) = argv[i];
+            o->realtime = o->realtime || live; /* a live robot keeps the real one's pace */
         } else if (strcmp(a, "--realtime") == 0) {
             o->realtime = true;
             /* An optional factor: the next word, when it is not an option. */
