@@ -201,6 +201,24 @@ try:
     err = bridge.stderr.read()
     check("connected" in err and "Traceback" not in err, "the bridge ends on SIGTERM: %s"
           % json.dumps(err.strip().splitlines()[-3:]))
+
+    # A recording through the bridge: the page gets the whole file, and a command the
+    # answer that a recording takes none.
+    bridge = start(["/usr/bin/python3", os.path.join(sim.src, "tools", "telemetry.py"), "serve", tee,
+                    "--port", "0"])
+    url = line_matching(bridge, r"(http://127\.0\.0\.1:\d+/)", "the bridge's address").group(1)
+    drv.get(url)
+    webtest.wait(drv, "return document.getElementById('link-state').textContent.includes('the end of')",
+                 "the bridge to send the whole recording")
+    check(drv.execute_script("return window.slamview.app.stream.frames") == len(frames),
+          "serve FILE: the page gets every frame of the recording (%d)" % len(frames))
+    drv.find_element("css selector", "button[data-cmd=stop]").click()
+    webtest.wait(drv, "return document.getElementById('link-state').textContent.includes("
+                 "'a recording takes no commands')", "the bridge to refuse the command")
+    check(True, "serve FILE: a command gets the answer that a recording takes none")
+    webtest.errors(drv)
+    bridge.send_signal(signal.SIGTERM)
+    ended(bridge, "the bridge")
 finally:
     if drv is not None:
         webtest.quit(drv)
