@@ -85,6 +85,9 @@ else
 fi
 
 echo "install-deps: installing:$missing"
+case " $missing " in
+    *" chromium "*) echo "install-deps: (chromium, for the browser page's tests, is large: with chromium-driver about 140 MB to download, 470 MB installed)" ;;
+esac
 case "$missing" in
     *":i386"*)
         if ! dpkg --print-foreign-architectures | grep -qx i386; then
