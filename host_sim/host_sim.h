@@ -179,6 +179,8 @@ typedef struct {
     const char *telemetry;
     const char *commands;
     const char *storage;
+    const char *link; /* --link PATH: the UART live on a pseudo-terminal (viewers.h) */
+    const char *bag;  /* --bag FILE: the run as a ROS bag (viewers.h) */
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;

@@ -93,6 +93,13 @@ static void usage(FILE *f)
         "                       standing still as a save begins) and write its two slots as\n"
         "                       DIR/slot0.bin and slot1.bin, as the Linux robot keeps them\n"
         "                       (tools/plot_run.py DIR draws them)\n"
+        "  --link PATH          the robot's UART live, both ways: a pseudo-terminal that PATH\n"
+        "                       links to while the run lasts, as the Linux robot offers one;\n"
+        "                       runs in real time (--realtime FACTOR changes the pace). Watch\n"
+        "                       and command it: tools/telemetry.py serve PATH, then open the\n"
+        "                       page it prints (tools/web/README.md)\n"
+        "  --bag FILE           also write the run as a ROS bag: /map, /odom, /tf, /sonar and\n"
+        "                       the truth (tools/rosbag_out.py; needs python3-rosbag)\n"
         "  --realtime [FACTOR]  run at the speed of the real robot (FACTOR times it, 0.1 to\n"
         "                       1000; default 1), not as fast as possible\n"
         "  --scoring            also write what the score is computed against: the truth's\n"
@@ -332,6 +339,13 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--storage needs a folder");
             }
             o->storage = argv[i];
+        } else if (strcmp(a, "--link") == 0 || strcmp(a, "--bag") == 0) {
+            bool live = a[2] == 'l';
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("%s needs a path", a);
+            }
+            *(live ? &o->link : &o->bag) = argv[i];
+            o->realtime = o->realtime || live; /* a live robot keeps the real one's pace */
         } else if (strcmp(a, "--realtime") == 0) {
             o->realtime = true;
             /* An optional factor: the next word, when it is not an option. */
