@@ -37,7 +37,7 @@ enum { SIM_FAULT_ECHO, SIM_FAULT_SERVO, SIM_FAULT_ENCODER, SIM_FAULT_TICK, SIM_F
 #define SIM_SONAR_RAYS 9
 
 /* The incidence limit is looked up in this many steps of the sonar's reach. */
-#define SIM_LIMIT_BINS 512u
+#define SIM_LIMIT_BINS 4096u
 
 /* The differential drive (sim_body.c): pose, wheels, encoders, collisions. */
 typedef struct {
