@@ -80,18 +80,7 @@ sim_surface_t sim_surface(const sim_t *s, double ox, double oy, double dx, doubl
     const struct sim_line *lines = s->sonar.lines;
     sim_surface_t h = {HOST_INF, 1.0, UINT32_MAX, 0.0, 0.0};
     double t = HOST_INF;
-    if (!cone && lines != NULL) { /* a mirror path in a small room: every line */
-        for (uint32_t i = 0; i < (uint32_t)r->nsegs; i++) {
-            double u = line_hit(&lines[i], ox, oy, dx, dy, t, &h.cosi);
-            h.id = u < t ? i : h.id;
-            t = u;
-        }
-        for (uint32_t i = 0; i < (uint32_t)r->ncircles; i++) {
-            double u = room_hit_circle(&r->circles[i], ox, oy, dx, dy, t, &h.cosi);
-            h.id = u < t ? (uint32_t)r->nsegs + i : h.id;
-            t = u;
-        }
-    } else if (cone) {
+    if (cone) {
         for (size_t i = 0; i < nseg; i++) {
             double u = lines != NULL ? line_hit(&lines[cand[i]], ox, oy, dx, dy, t, &h.cosi)
                                      : room_hit_segment(&r->segs[cand[i]], ox, oy, dx, dy, t,
@@ -105,8 +94,20 @@ sim_surface_t sim_surface(const sim_t *s, double ox, double oy, double dx, doubl
             h.id = u < t ? (uint32_t)r->nsegs + k : h.id;
             t = u;
         }
-    } else {
+    } else if (r->index != NULL) {
         t = room_index_ray(r, ox, oy, dx, dy, max_m, &h.cosi, &h.id);
+    } else { /* a mirror path in a small room: every object */
+        for (uint32_t i = 0; i < (uint32_t)r->nsegs; i++) {
+            double u = lines != NULL ? line_hit(&lines[i], ox, oy, dx, dy, t, &h.cosi)
+                                     : room_hit_segment(&r->segs[i], ox, oy, dx, dy, t, &h.cosi);
+            h.id = u < t ? i : h.id;
+            t = u;
+        }
+        for (uint32_t i = 0; i < (uint32_t)r->ncircles; i++) {
+            double u = room_hit_circle(&r->circles[i], ox, oy, dx, dy, t, &h.cosi);
+            h.id = u < t ? (uint32_t)r->nsegs + i : h.id;
+            t = u;
+        }
     }
     if (r->occ != NULL) {
         double c = 1.0;

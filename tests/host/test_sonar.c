@@ -564,6 +564,56 @@ static void test_limit_narrows_with_range(void **state)
     }
 }
 
+/* Mirror paths through a raster room (a ROS map, no vector geometry, no index): every
+ * heading in a 4 m x 2 m box of pixels pings without fault, and some read by a mirror. */
+static void test_multipath_in_a_raster_room(void **state)
+{
+    (void)state;
+    const char *img = test_path("mirror.pgm");
+    FILE *f = fopen(img, "wb");
+    assert_non_null(f);
+    fprintf(f, "P5\n80 40\n255\n");
+    for (int y = 0; y < 40; y++) {
+        for (int x = 0; x < 80; x++) {
+            fputc(x == 0 || x == 79 || y == 0 || y == 39 ? 0 : 254, f);
+        }
+    }
+    fclose(f);
+    char yaml_text[600];
+    snprintf(yaml_text, sizeof yaml_text,
+             "image: %s\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+             "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+             img);
+    const char *yaml = test_write("mirror.yaml", yaml_text);
+    room_t r;
+    char err[300];
+    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), 0);
+    r.start_x = 1.0;
+    r.start_y = 0.7;
+    sim_errors_t e;
+    sim_errors_ideal(&e);
+    sim_errors_sonar(&e, SIM_SONAR_TYPICAL);
+    sim_t *s = test_world(&r, &e, 1u);
+    unsigned mirrored = 0;
+    for (int deg = 0; deg < 360; deg += 3) {
+        assert_int_equal(sim_place(s, 1.0, 0.7, deg * TEST_PI / 180.0), 0);
+        uint32_t w = 0;
+        hal_sonar_status_t st = ping(s, &w, NULL);
+        sim_ping_t p = sim_last_ping(s);
+        assert_true(st == HAL_SONAR_ECHO || st == HAL_SONAR_TIMEOUT);
+        if (p.kind == SIM_PING_MULTIPATH) {
+            mirrored++;
+            assert_true(p.range_m > p.true_range_m && p.range_m <= 4.0);
+        }
+    }
+    print_message("%u of 120 headings read by a mirror\n", mirrored);
+    assert_true(mirrored > 0u);
+    sim_destroy(s);
+    room_free(&r);
+    unlink(img);
+    unlink(yaml);
+}
+
 static void test_levels_and_their_checks(void **state)
 {
     (void)state;
@@ -630,6 +680,7 @@ int main(void)
         cmocka_unit_test(test_multipath_reads_half_the_path),
         cmocka_unit_test(test_corner_reads_about_its_distance),
         cmocka_unit_test(test_limit_narrows_with_range),
+        cmocka_unit_test(test_multipath_in_a_raster_room),
         cmocka_unit_test(test_levels_and_their_checks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
