@@ -214,7 +214,7 @@ typedef enum {
 } sim_sonar_level_t;
 
 /** The level of sim_errors_default(). */
-#define SIM_SONAR_DEFAULT SIM_SONAR_OPTIMISTIC
+#define SIM_SONAR_DEFAULT SIM_SONAR_TYPICAL
 
 /** Knots of a grazing curve at most. */
 #define SIM_GRAZING_KNOTS 8u
