@@ -168,6 +168,8 @@ typedef struct {
     const char *out;
     bool ideal;
     bool paper;
+    int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
+    bool has_sonar; /* given on the command line */
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -296,6 +298,9 @@ typedef struct {
     double touch_t, touch_x, touch_y, touch_th, touch_bearing, touch_pos_err, touch_th_err;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
+    /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
+     * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
+    uint32_t walls_lowered[2];
     FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
 } run_t;
 
