@@ -144,17 +144,17 @@ void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr
         int32_t y;
         uint32_t cell;
         loc_hold_point(h, g, corr, i, &x, &y);
-        if (loc_known_free(g, x, y, &cell)) {
-            continue;
-        }
         /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
          * their products with Q30 values fit 64 bits. */
         int32_t dx = (int32_t)((uint32_t)x - (uint32_t)at.x_um);
         int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
         int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
         int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        /* The corridor first, the map after: most hits lie outside it, and a hit at or
+         * beyond the second nearest is out whatever its cell (near[0] <= near[1]). */
         if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -h->clear_um ||
-            side >= h->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
+            side >= h->clear_um || ahead >= near[1] || loc_known_free(g, x, y, &cell) ||
+            (cell == k1 && ahead >= near[0])) {
             continue;
         }
         if (ahead < near[0]) {
