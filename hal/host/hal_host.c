@@ -211,6 +211,11 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     return len; /* no cable: the bytes go nowhere, as on a robot without a radio */
 }
 
+bool hal_uart_has_reader(void)
+{
+    return hh.uart != NULL; /* without a sink hal_uart_write() discards every byte */
+}
+
 size_t hal_uart_read(uint8_t *data, size_t len)
 {
     size_t n = 0;
