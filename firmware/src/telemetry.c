@@ -261,12 +261,15 @@ void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
     bool heard = hal_uart_has_reader();
     uint8_t tail = t->tail;
     while (tail != __atomic_load_n(&t->head, __ATOMIC_ACQUIRE)) {
-        telem_event_t e = t->ring[tail];
+        uint8_t slot = tail;
         tail = (uint8_t)((tail + 1u) % TELEM_RING);
-        __atomic_store_n(&t->tail, tail, __ATOMIC_RELEASE);
-        if (!unheard(t, heard)) {
-            send_event(t, frame, &e);
+        if (unheard(t, heard)) {
+            __atomic_store_n(&t->tail, tail, __ATOMIC_RELEASE);
+            continue;
         }
+        telem_event_t e = t->ring[slot]; /* out before the slot goes back to the tick */
+        __atomic_store_n(&t->tail, tail, __ATOMIC_RELEASE);
+        send_event(t, frame, &e);
     }
     if (t->hello_due || ticks - t->last_hello_tick >= 5u * TELEM_TICKS_PER_S) {
         t->hello_due = false;

@@ -74,12 +74,13 @@ void loc_hold_halves(loc_hold_t *h, grid_t *g, const loc_corr_t *corr, bool take
     if (g->mode != OM_MODE_EVIDENCE) {
         return; /* no halves */
     }
+    const uint8_t half = early_half(h, g, 0u); /* every hit here is past the window */
     for (unsigned i = 0; i + LOC_WINDOW < h->count; i++) {
         if (held_mapped(h, i)) {
             int32_t x;
             int32_t y;
             loc_hold_point(h, g, &h->placed, i, &x, &y);
-            grid_om_part(g, x, y, early_half(h, g, i), take_back);
+            grid_om_part(g, x, y, half, take_back);
         }
     }
 }

@@ -33,6 +33,8 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
 {
     q1_30_t c = fix_cos(loc_bam_of_urad(lin->v[LKF_T]));
     q1_30_t s = fix_sin(loc_bam_of_urad(lin->v[LKF_T]));
+    /* At no increment (the first pass) cos is exactly one and sin zero: the points stay. */
+    bool moved = lin->v[LKF_X] != 0 || lin->v[LKF_Y] != 0 || lin->v[LKF_T] != 0;
     uint32_t used = 0;
     unsigned first = l->hold.count - LOC_WINDOW;
     for (unsigned i = first; i < l->hold.count; i++) {
@@ -41,7 +43,12 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
         int32_t qx;
         int32_t qy;
         loc_hold_point(&l->hold, g, &l->filter.corr, i, &mx, &my);
-        loc_move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
+        if (moved) {
+            loc_move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
+        } else {
+            qx = mx;
+            qy = my;
+        }
         int32_t wx;
         int32_t wy;
         int32_t j[3];
