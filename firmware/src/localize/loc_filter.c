@@ -219,14 +219,6 @@ static loc_corr_t corr_of(int32_t tx_um, int32_t ty_um, bam32_t th)
     return (loc_corr_t){tx_um, ty_um, th, fix_cos(th), fix_sin(th)};
 }
 
-/* Positions stay far inside ±2^31 µm (slam_config_check keeps the world within 1 km), so
- * the 32 × 30-bit products fit. */
-void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy)
-{
-    *ox = fix_sat_i32(fix_round_shift((int64_t)x * c->c - (int64_t)y * c->s, 30u) + c->tx_um);
-    *oy = fix_sat_i32(fix_round_shift((int64_t)x * c->s + (int64_t)y * c->c, 30u) + c->ty_um);
-}
-
 odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)
 {
     odom_pose_t p;

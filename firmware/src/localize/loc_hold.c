@@ -160,25 +160,32 @@ void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr
     q1_30_t c = fix_cos(at.heading);
     q1_30_t s = fix_sin(at.heading);
     const int64_t far2 = corridor_far2(h->clear_um);
+    /* A hit's offset from the ping in the odometry frame is its point (hold_odom()) from
+     * the grid's origin, plus the origin's offset from the ping. Differences modulo 2^32,
+     * exact within the 1 km world slam_config_check() allows; their products with Q30
+     * values fit 64 bits. */
+    const uint32_t bx = (uint32_t)g->origin_x_um - (uint32_t)ping->x_um;
+    const uint32_t by = (uint32_t)g->origin_y_um - (uint32_t)ping->y_um;
+    const unsigned k = h->point_shift;
     /* The nearest hit (its cell k1) and the nearest in any other cell, ahead of the axle. */
     int32_t near[2] = {INT32_MAX, INT32_MAX};
     int32_t near_pt[2][2] = {{LOC_AHEAD_NONE, 0}, {LOC_AHEAD_NONE, 0}};
     uint32_t k1 = UINT32_MAX;
     unsigned first = h->count > LOC_WINDOW ? h->count - LOC_WINDOW : 0u;
     for (unsigned i = first; i < h->count; i++) {
-        if (!held_mapped(h, i)) {
-            continue;
+        unsigned slot = (h->first + i) % LOC_HOLD;
+        if (((h->shadowed[slot / 32u] >> (slot % 32u)) & 1u) != 0u) {
+            continue; /* not mapped (held_mapped()) */
         }
-        /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
-         * their products with Q30 values fit 64 bits. */
-        int32_t ox;
-        int32_t oy;
-        hold_odom(h, g, i, &ox, &oy);
-        int64_t dxo = (int32_t)((uint32_t)ox - (uint32_t)ping->x_um);
-        int64_t dyo = (int32_t)((uint32_t)oy - (uint32_t)ping->y_um);
+        const loc_point_t *p = &h->win[slot];
+        int64_t dxo = (int32_t)(bx + ((uint32_t)(int32_t)p->x << k));
+        int64_t dyo = (int32_t)(by + ((uint32_t)(int32_t)p->y << k));
         if (dxo * dxo + dyo * dyo >= far2) {
             continue;
         }
+        int32_t ox;
+        int32_t oy;
+        hold_odom(h, g, i, &ox, &oy);
         int32_t x;
         int32_t y;
         uint32_t cell;
