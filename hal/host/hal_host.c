@@ -154,7 +154,7 @@ uint32_t hal_time_us(void)
 uint32_t hal_tick_overruns(void)
 {
     /* Virtual time: a tick never overruns, but one may be lost (the tick_miss fault). */
-    return hh.sim != NULL ? (uint32_t)sim_truth(hh.sim).ticks_missed : 0u;
+    return hh.sim != NULL ? (uint32_t)sim_ticks_missed(hh.sim) : 0u;
 }
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
