@@ -75,6 +75,16 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
     return used;
 }
 
+static bool same_state(const lkf_state_t *a, const lkf_state_t *b)
+{
+    for (unsigned i = 0; i < LKF_N; i++) {
+        if (a->v[i] != b->v[i]) {
+            return false;
+        }
+    }
+    return true;
+}
+
 static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
 {
     loc_match_t *mt = &l->match;
@@ -92,6 +102,11 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
         d = (lkf_state_t){{0}};
         *p = l->filter.cov;
         used = match_pass(l, g, now.x_um, now.y_um, &lin, &d, p);
+        if (same_state(&d, &lin)) {
+            /* The pass ended where it was linearised (no wall moved it, say): the next
+             * would start from the same state, prior and map, and repeat it exactly. */
+            break;
+        }
         lin = d;
     }
     mt->last_points = used;
