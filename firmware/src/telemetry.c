@@ -243,9 +243,9 @@ void telem_map_restart(telem_t *t)
     t->hello_due = true;
 }
 
-/* Where nothing reads the link (hal_uart_has_reader()), a frame is counted as a UART that
- * takes every byte would have it counted, and never built: the simulator without a sink
- * spent a tenth of its background loop framing bytes for nobody. */
+/* Where nothing reads the link (hal_uart_has_reader()), each frame is counted as written,
+ * as a UART that takes every byte counts it, and never built: the simulator without a
+ * sink spent a tenth of its background loop framing bytes for nobody. */
 static bool unheard(telem_t *t, bool heard)
 {
     if (!heard) {
