@@ -106,7 +106,7 @@ static void test_init_requests_every_line_with_the_motors_stopped(void **state)
     assert_int_equal(hal_storage_size(), 8192);
     assert_int_equal(hal_encoder_count(HAL_WHEEL_LEFT), 0);
     uint32_t w;
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
     assert_int_equal(hal_init(), HAL_OK); /* a second call changes nothing */
     assert_int_equal(fake_gpio_requested_count(), 11);
 }
@@ -139,7 +139,7 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 {
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
-        st = hal_sonar_poll(w);
+        st = hal_sonar_poll(HAL_SONAR_SWEPT, w);
         if (st == HAL_SONAR_BUSY) {
             wait_ms(1);
         }
@@ -150,11 +150,11 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 static void test_sonar_pulse_and_echo_width(void **state)
 {
     (void)state;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     written();
     assert_int_equal(fake_gpio_rises(TRIG), 1);
     assert_int_equal(fake_gpio_value(TRIG), 0);
-    assert_int_equal(hal_sonar_trigger(), HAL_EBUSY);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_EBUSY);
     written();
     assert_int_equal(fake_gpio_rises(TRIG), 1); /* no second pulse */
 
@@ -163,7 +163,7 @@ static void test_sonar_pulse_and_echo_width(void **state)
     uint32_t w = 0;
     assert_int_equal(poll_until_done(&w), HAL_SONAR_ECHO);
     assert_int_equal(w, 5831);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
     lhal_stats_t st;
     lhal_stats(&st);
     assert_int_equal(st.sonar.pings, 1);
@@ -174,11 +174,11 @@ static void test_sonar_times_out_on_the_backend_clock(void **state)
 {
     (void)state;
     uint32_t w;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     advance_ns(30 * MS); /* within sonar_timeout_us + 5 ms */
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_BUSY);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_BUSY);
     advance_ns(5 * MS);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_TIMEOUT);
     lhal_stats_t st;
     lhal_stats(&st);
     assert_int_equal(st.sonar.no_response, 1);
@@ -191,8 +191,8 @@ static void test_sonar_reports_a_stuck_echo_line(void **state)
     lhal_stats_t st;
     WAIT_UNTIL((lhal_stats(&st), st.sonar.stray == 1u));
     uint32_t w;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_TIMEOUT);
     lhal_stats(&st);
     assert_int_equal(st.sonar.stuck_high, 1);
 }
@@ -234,15 +234,15 @@ static void test_motor_direction_duty_and_standby(void **state)
 static void test_servo_starts_at_its_first_command_and_clamps(void **state)
 {
     (void)state;
-    hal_servo_set_pulse(1500);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 1500);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/period"), "20000000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "1500000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
-    hal_servo_set_pulse(3000);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 3000);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "2600000\n");
-    hal_servo_set_pulse(100);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 100);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "400000\n");
 }
@@ -252,7 +252,7 @@ static void test_shutdown_stops_and_releases_everything(void **state)
     (void)state;
     hal_motor_set(HAL_WHEEL_LEFT, 800);
     hal_motor_set(HAL_WHEEL_RIGHT, -800);
-    hal_servo_set_pulse(1000);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 1000);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
     assert_true(lhal_shutdown());

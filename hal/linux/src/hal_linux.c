@@ -487,8 +487,21 @@ uint16_t hal_encoder_count(hal_wheel_t wheel)
                                     : 0u;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+uint8_t hal_servo_count(void)
 {
+    return 1u;
+}
+
+uint8_t hal_sonar_count(void)
+{
+    return 1u;
+}
+
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
+{
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     if (!lx.up) {
         return HAL_SONAR_IDLE;
     }
@@ -496,6 +509,18 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
     hal_sonar_status_t st = echo_poll(&lx.echo, lx_now(), echo_us);
     pthread_mutex_unlock(&lx_sonar_lock);
     return st;
+}
+
+uint8_t hal_bump_count(void)
+{
+    return 0u;
+}
+
+int hal_bump_read(uint8_t bump, bool *pressed)
+{
+    (void)bump;
+    (void)pressed;
+    return HAL_ENOSYS;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

@@ -82,15 +82,22 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     }
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {
+    if (servo != HAL_SERVO_SWEEP) {
+        return HAL_EINVAL;
+    }
     if (lx.up && atomic_exchange(&lx.want_servo_us, pulse_us) != pulse_us) {
         lx_post();
     }
+    return HAL_OK;
 }
 
-int hal_sonar_trigger(void)
+int hal_sonar_trigger(uint8_t sonar)
 {
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     if (!lx.up) {
         return HAL_EIO;
     }
