@@ -158,6 +158,7 @@ uint8_t hal_bump_count(void);
  * @retval HAL_OK      read
  * @retval HAL_EINVAL  no such switch, or @p pressed is NULL
  * @retval HAL_ENOSYS  the board has no bump switches
+ * @retval HAL_EIO     the input cannot be read now (Linux: before hal_init())
  */
 int hal_bump_read(uint8_t bump, bool *pressed);
 
