@@ -23,7 +23,7 @@ static struct {
     FILE *trace;
     uint64_t trace_ticks;
     bool untraced_said;  /* the firmware was told the trace misses what it used */
-    bool in_tick;
+    bool recording;      /* a tick is under way and a trace records its HAL calls */
     trace_tick_t rec;    /* what the firmware saw in the tick under way */
     uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
     size_t storage_size; /* bytes of each slot in use; 0 until the first use */
@@ -57,7 +57,7 @@ void hal_host_attach(sim_t *s)
     hh.fn = NULL;
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
-    hh.in_tick = false;
+    hh.recording = false;
     hh.rx_head = hh.rx_tail = 0u; /* nothing received survives a power-up */
 }
 
@@ -95,16 +95,19 @@ void hal_host_step(void)
         return;
     }
     if (hh.fn != NULL && !(hh.lossy && sim_tick_lost(hh.sim))) {
-        hh.rec = (trace_tick_t){
-            .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
-                    sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
-            .poll = '-',
-            .trig = '-',
-        };
-        hh.in_tick = true;
+        /* Without a trace nothing of the tick is recorded (it cost 60 instructions a tick). */
+        hh.recording = hh.trace != NULL;
+        if (hh.recording) {
+            hh.rec = (trace_tick_t){
+                .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
+                        sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
+                .poll = '-',
+                .trig = '-',
+            };
+        }
         hh.fn(hh.ctx);
-        hh.in_tick = false;
-        if (hh.trace != NULL) {
+        if (hh.recording) {
+            hh.recording = false;
             hh.rec.duty[0] = sim_motor_duty(hh.sim, HAL_WHEEL_LEFT);
             hh.rec.duty[1] = sim_motor_duty(hh.sim, HAL_WHEEL_RIGHT);
             hh.rec.servo_us = sim_servo_pulse_on(hh.sim, HAL_SERVO_SWEEP);
@@ -153,7 +156,7 @@ uint32_t hal_time_us(void)
 uint32_t hal_tick_overruns(void)
 {
     /* Virtual time: a tick never overruns, but one may be lost (the tick_miss fault). */
-    return hh.sim != NULL ? (uint32_t)sim_truth(hh.sim).ticks_missed : 0u;
+    return hh.sim != NULL ? (uint32_t)sim_ticks_missed(hh.sim) : 0u;
 }
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
@@ -173,7 +176,7 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
  * will not replay, and is said so once. */
 static void untraced(const char *what, unsigned instance)
 {
-    if (hh.trace != NULL && hh.in_tick && !hh.untraced_said) {
+    if (hh.recording && !hh.untraced_said) {
         fprintf(stderr,
                 "hal_host: warning: the HAL trace records servo and sonar 0 only; the firmware "
                 "used %s %u, so the trace will not replay it\n",
@@ -214,7 +217,7 @@ int hal_sonar_trigger(uint8_t sonar)
     int rc = sim_sonar_trigger_on(hh.sim, sonar);
     if (sonar != HAL_SONAR_SWEPT) {
         untraced("sonar", sonar);
-    } else if (hh.in_tick) {
+    } else if (hh.recording) {
         hh.rec.trig = rc == HAL_OK ? 'o' : 'b';
     }
     return rc;
@@ -235,7 +238,7 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
     }
     if (sonar != HAL_SONAR_SWEPT) {
         untraced("sonar", sonar);
-    } else if (hh.in_tick) {
+    } else if (hh.recording) {
         static const char code[] = {'i', 'b', 'e', 't'};
         hh.rec.poll = code[st];
         hh.rec.echo_us = st == HAL_SONAR_ECHO ? width : 0u;
@@ -266,6 +269,11 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
         return fwrite(data, 1u, len, hh.uart);
     }
     return len; /* no cable: the bytes go nowhere, as on a robot without a radio */
+}
+
+bool hal_uart_has_reader(void)
+{
+    return hh.uart != NULL; /* without a sink hal_uart_write() discards every byte */
 }
 
 size_t hal_uart_read(uint8_t *data, size_t len)

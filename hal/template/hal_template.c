@@ -4,9 +4,10 @@
  * a copy of this file (see README, "Porting to a new board"); each function says what the
  * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
  *
- * Map storage (hal_storage_*), hal_uart_read() and the bump switches (hal_bump_*) are
- * optional: link hal_unsupported (hal/defaults) and a board without them answers "no
- * storage", "nothing received" and "no switches".
+ * Map storage (hal_storage_*), hal_uart_read(), hal_uart_has_reader() and the bump
+ * switches (hal_bump_*) are optional: link hal_unsupported (hal/defaults) and a board
+ * without them answers "no storage", "nothing received", "a listener may be there" and
+ * "no switches".
  * A board that has them defines them here, and its definitions replace the defaults.
  */
 #include "hal/hal.h"

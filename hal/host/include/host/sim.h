@@ -483,6 +483,10 @@ bool sim_tick_lost(sim_t *s);
 /** Whether the world loses ticks at all (tick_miss > 0): the HAL asks once, at attach. */
 bool sim_ticks_lost(const sim_t *s);
 
+/** The ticks lost so far, sim_truth_t.ticks_missed alone: the HAL's overrun count, asked for
+ *  every period. */
+uint64_t sim_ticks_missed(const sim_t *s);
+
 /* ---- the host backend ---------------------------------------------------------------- */
 
 /**
