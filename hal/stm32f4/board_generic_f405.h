@@ -105,7 +105,7 @@
 /*
  * hal.h addresses servos and sonars by instance, and each instance is one row here: row 0
  * is the paper's (the sweep servo, the swept sonar); a board adds a sensor by adding a row
- * numbered 1, 2, ... (hal/stm32f4/README.md has a worked example). Rows are numbered from
+ * numbered 1, 2, ... (firmware/README.md, "Adding a sonar instance"). Rows are numbered from
  * 0 without a gap; a duplicate or a gap fails the build. Pins are set up from the rows.
  *
  * Servo: a 50 Hz PWM output at 1 µs a count, on a channel of a timer of its own.
