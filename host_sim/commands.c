@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 /* The key names and their ids (config_fields.h). */
@@ -168,18 +169,19 @@ int commands_load(const char *path, commands_t *c)
         if (*p == '\0') {
             continue;
         }
-        char *end = NULL;
-        errno = 0;
-        double t = strtod(p, &end);
+        /* The time is the first word: a decimal number of seconds (hal_common/number.h). */
+        char *end = p + strcspn(p, " \t");
+        bool more = *end != '\0';
+        *end = '\0';
+        double t = 0.0;
         uint8_t bytes[256];
         int n = -1;
-        if (end == p || errno != 0 || !isfinite(t) || t < 0.0 || t > 1e6 ||
-            (*end != ' ' && *end != '\t')) {
+        if (!more || num_real(p, 0.0, 1e6, &t) != NUM_OK) {
             snprintf(err, sizeof err, "expected a time in seconds (0 .. 1000000), then a command");
         } else if ((uint64_t)llround(t / TICK_S) < last) {
             snprintf(err, sizeof err, "the times must not go back");
         } else {
-            n = encode(end, bytes, sizeof bytes, err, sizeof err);
+            n = encode(end + 1, bytes, sizeof bytes, err, sizeof err);
         }
         if (n < 0) {
             fprintf(stderr, "host_sim: %s:%u: %s\n", path, lineno, err);

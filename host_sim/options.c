@@ -1,12 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* host_sim's command line: the options, their checks, and --help. */
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 #ifndef SLAM_SOURCE_DIR
@@ -123,41 +122,22 @@ __attribute__((format(printf, 1, 2))) static int fail_usage(const char *fmt, ...
     return EXIT_USAGE;
 }
 
-typedef enum { NUM_OK, NUM_BAD, NUM_RANGE } num_t;
+typedef num_status_t num_t;
 
-/* A whole decimal number, nothing before or after it. */
+/* A real number by the rule of hal_common/number.h: decimal, the whole argument. */
 static num_t parse_double(const char *s, double lo, double hi, double *out)
 {
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || isspace((unsigned char)*s) || isnan(v)) {
-        return NUM_BAD;
-    }
-    if (errno == ERANGE || !isfinite(v) || v < lo || v > hi) {
-        return NUM_RANGE;
-    }
-    *out = v;
-    return NUM_OK;
+    return num_real(s, lo, hi, out);
 }
 
-/* Digits only: strtoull would take " -1" as 2^64 - 1. */
 static num_t parse_u64(const char *s, uint64_t *out)
 {
-    if (!isdigit((unsigned char)*s)) {
-        return NUM_BAD;
+    unsigned long long v = 0u;
+    num_t r = num_uint(s, 0u, UINT64_MAX, &v);
+    if (r == NUM_OK) {
+        *out = v;
     }
-    char *end = NULL;
-    errno = 0;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (*end != '\0') {
-        return NUM_BAD;
-    }
-    if (errno == ERANGE) {
-        return NUM_RANGE;
-    }
-    *out = v;
-    return NUM_OK;
+    return r;
 }
 
 /* "OPTION: 'TEXT' is not a number" or "... is out of range LO..HI". */
@@ -166,7 +146,7 @@ static int bad_number(const char *option, const char *text, num_t why, double lo
     if (why == NUM_RANGE) {
         return fail_usage("%s: '%.40s' is out of range %g..%g", option, text, lo, hi);
     }
-    return fail_usage("%s: '%.40s' is not a number", option, text);
+    return fail_usage("%s: '%.40s' is not a decimal number", option, text);
 }
 
 /* Takes the n arguments after an option; false if there are fewer, or if one of them is

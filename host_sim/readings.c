@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/types.h>
 
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 #define READINGS_LINE_MAX 512u
@@ -56,16 +57,10 @@ static int csv_columns(char *header, int col[CSV_NEEDED])
     return 0;
 }
 
-/* A whole field as a number within [lo, hi]; an empty field is not one. */
+/* A whole field as a number within [lo, hi] (hal_common/number.h); an empty field is not one. */
 static bool parse_num(const char *s, double lo, double hi, double *out)
 {
-    char *end = NULL;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || !isfinite(v) || v < lo || v > hi) {
-        return false;
-    }
-    *out = v;
-    return true;
+    return num_real(s, lo, hi, out) == NUM_OK;
 }
 
 /* One row; NULL, or what is wrong with it. A timeout has an empty range, every other

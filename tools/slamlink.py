@@ -69,6 +69,54 @@ def counts_image(cells, top):
     return (255 - (v * 255 + top // 2) // top).astype(np.uint8)[::-1]
 
 
+# ---- numbers in text ----------------------------------------------------------------------
+# The one rule for numbers written as text, the same as the C readers' (hal/common/include/
+# hal_common/number.h, where it is explained; tests/data/numbers.txt holds both to one table
+# of cases): decimal only, the whole text, no blanks around it, no hexadecimal, no inf or nan,
+# no digit separators. Python's own int() and float() take " 5", "1_000", "inf", and
+# int(x, 0) "0x10": every tool reads numbers through these two instead.
+
+_WHOLE = re.compile(r"[+-]?[0-9]+")
+_REAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+class NumberError(ValueError):
+    """Text that is not a number by the rule, or a number out of range; the message says
+    which, with the text shown escaped."""
+
+
+def shown(text, limit=40):
+    """Text for a message: at most `limit` characters, anything unprintable escaped."""
+    out = "".join(c if c.isprintable() else "\\x%02x" % ord(c) if ord(c) < 256 else
+                  "\\u%04x" % ord(c) for c in str(text)[:limit])
+    return out + ("..." if len(str(text)) > limit else "")
+
+
+def _range_check(v, text, lo, hi, what):
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise NumberError("%s: '%s' is out of range %s..%s" % (
+            what, shown(text), "" if lo is None else lo, "" if hi is None else hi))
+    return v
+
+
+def parse_int(text, lo=None, hi=None, what="value"):
+    """A whole decimal number within [lo, hi] (None: no limit); NumberError otherwise."""
+    if not isinstance(text, str) or _WHOLE.fullmatch(text) is None:
+        raise NumberError("%s: '%s' is not a whole decimal number" % (what, shown(text)))
+    return _range_check(int(text), text, lo, hi, what)
+
+
+def parse_real(text, lo=None, hi=None, what="value"):
+    """A decimal number within [lo, hi] (None: any finite one) as a float; NumberError
+    otherwise. One too large for a double is out of range; one too small reads as 0."""
+    if not isinstance(text, str) or _REAL.fullmatch(text) is None:
+        raise NumberError("%s: '%s' is not a decimal number" % (what, shown(text)))
+    v = float(text)
+    if not math.isfinite(v):
+        raise NumberError("%s: '%s' is out of range (beyond a double)" % (what, shown(text)))
+    return _range_check(v, text, lo, hi, what)
+
+
 # ---- the firmware's tables ------------------------------------------------------------
 # The configuration fields and the exploration modes are read from the firmware's own
 # tables (firmware/include/slam/config_fields.h, explore_modes.h) when this module is
@@ -504,15 +552,19 @@ def command(words):
         if name == "get":
             return frame(ctype, bytes([key]))
         typ = KEY_BY_ID[key][1]
+        lo, hi = TYPE_RANGE[typ]
         try:
             if words[1] in Q30_KEYS:
-                v = round(float(words[2]) * (1 << 30))
+                # As the C text configuration takes a factor: strictly between -2 and 2.
+                f = parse_real(words[2], what="set %s" % words[1])
+                if not -2.0 < f < 2.0:
+                    raise NumberError("set %s: '%s' must lie between -2 and 2"
+                                      % (words[1], shown(words[2])))
+                v = round(f * (1 << 30))
             else:
-                v = int(words[2], 0)
-        except ValueError:
-            raise CommandError("set %s: '%s' is not a %s" % (
-                words[1], words[2], "decimal factor" if words[1] in Q30_KEYS else "whole number"))
-        lo, hi = TYPE_RANGE[typ]
+                v = parse_int(words[2], what="set %s" % words[1])
+        except NumberError as e:
+            raise CommandError(str(e)) from None
         if not lo <= v <= hi:
             raise CommandError("set %s: %d does not fit its field (%d .. %d)" % (words[1], v, lo, hi))
         return frame(ctype, struct.pack("<BI", key, v & 0xFFFFFFFF))

@@ -425,6 +425,23 @@ def cmd_frame(args):
         raise Fatal("%s" % e)
 
 
+def real_arg(lo, hi):
+    """An argparse type: a decimal number in [lo, hi], by the tools' one rule."""
+    def parse(text):
+        try:
+            return slamlink.parse_real(text, lo, hi, what="value")
+        except slamlink.NumberError as e:
+            raise argparse.ArgumentTypeError(str(e).partition(": ")[2])
+    return parse
+
+
+def int_arg(text):
+    try:
+        return slamlink.parse_int(text, 1, 2**31 - 1, what="value")
+    except slamlink.NumberError as e:
+        raise argparse.ArgumentTypeError(str(e).partition(": ")[2])
+
+
 def main(argv=None):
     doc = (__doc__ % {"modes": ", ".join(slamlink.MODES)}).strip().splitlines()
     ap = argparse.ArgumentParser(prog="tools/telemetry.py", description=doc[0] + " " + doc[1],
@@ -439,7 +456,7 @@ def main(argv=None):
     p.add_argument("source")
     p.add_argument("--follow", action="store_true", help="keep reading a growing file")
     p.add_argument("--png", help="draw into this PNG file instead of a window")
-    p.add_argument("--every", type=float, default=5.0,
+    p.add_argument("--every", type=real_arg(0.01, 1e6), default=5.0,
                    help="with --png and --follow: rewrite the picture this often, s (default 5)")
     p = sub.add_parser("to-readings", help="a log as readings.csv for host_sim --replay")
     p.add_argument("log")
@@ -448,12 +465,13 @@ def main(argv=None):
     p = sub.add_parser("send", help="send a command to the robot and print its answer")
     p.add_argument("port")
     p.add_argument("words", nargs="+", metavar="COMMAND")
-    p.add_argument("--wait", type=float, default=3.0, help="seconds to wait for the answer")
+    p.add_argument("--wait", type=real_arg(0.0, 1e6), default=3.0,
+                   help="seconds to wait for the answer")
     p.add_argument("--out", help="with `map`: write the maps into this folder")
     p = sub.add_parser("frame", help="print a command's frame in hex")
     p.add_argument("words", nargs="+", metavar="COMMAND")
     for p in sub.choices.values():
-        p.add_argument("--baud", type=int, default=115200, help="serial speed (default 115200)")
+        p.add_argument("--baud", type=int_arg, default=115200, help="serial speed (default 115200)")
     args = ap.parse_args(argv)
     if args.command == "view" and args.every <= 0:
         ap.error("--every must be positive")

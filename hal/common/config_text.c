@@ -2,13 +2,12 @@
 /* slam_config_t as `key = value` text: the fields' names and words, parsing and writing. */
 #include "hal_common/config_text.h"
 
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "hal_common/number.h"
 #include "slam/config_fields.h"
 #include "slam/error.h"
 
@@ -136,23 +135,23 @@ int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *er
     if (f == NULL) {
         return -1;
     }
-    char *end = NULL;
-    errno = 0;
     if (f->type == T_Q30) {
-        double v = strtod(value, &end);
-        if (end == value || *end != '\0' || isnan(v)) {
+        double v;
+        num_status_t r = num_real(value, -2.0, 2.0, &v);
+        if (r == NUM_BAD) {
             return bad_value(key, value, "expected a decimal number such as 0.9901", err, n);
         }
-        if (!(v > -2.0 && v < 2.0)) { /* an infinity or ERANGE lands here too */
+        if (r == NUM_RANGE || v == -2.0 || v == 2.0) {
             return bad_value(key, value, "must lie between -2 and 2", err, n);
         }
         return store_int(cfg, f, lround(v * (double)FIX_Q30_ONE), value, err, n);
     }
-    long long v = strtoll(value, &end, 10);
-    if (end == value || *end != '\0') {
-        return bad_value(key, value, "expected a whole number", err, n);
+    long long v;
+    num_status_t r = num_int(value, type_lo[f->type], type_hi[f->type], &v);
+    if (r == NUM_BAD) {
+        return bad_value(key, value, "expected a whole number (decimal digits)", err, n);
     }
-    if (errno == ERANGE) {
+    if (r == NUM_RANGE) {
         return out_of_range(f, value, err, n);
     }
     return store_int(cfg, f, v, value, err, n);

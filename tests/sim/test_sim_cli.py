@@ -26,7 +26,7 @@ for args, what in [
     (["--seed", "99999999999999999999"], "--seed: '99999999999999999999' is out of range"),
     (["--duration", "1e9"], "--duration: '1e9' is out of range 0.01..1e+06"),
     (["--crop", "1", "2", "3", "1e7"], "--crop: '1e7' is out of range"),
-    (["--start", "1", "x", "0"], "--start: 'x' is not a number"),
+    (["--start", "1", "x", "0"], "--start: 'x' is not a decimal number"),
     (["--error", "noise=0.6"], "--error noise: '0.6' is out of range 0..0.5"),
     (["--crop", "0", "0", "1", "1"], "a crop takes part of a ROS map"),
     (["--start", "6", "2", "0"], "--start 6 2 is outside the room"),

@@ -137,7 +137,7 @@ check(waits == 0 and src.frames > 0,
 p = run_tool("frame", "set", "cruise_mm_s", "150")
 check(p.returncode == 0 and bytes.fromhex(p.stdout.strip()) == slamlink.command(["set", "cruise_mm_s", "150"]),
       "frame prints a command's bytes: %s" % p.stdout.strip())
-for words, what in ((["set", "cruise_mm_s", "x"], "whole number"), (["set", "nokey", "1"], "unknown key"),
+for words, what in ((["set", "cruise_mm_s", "x"], "whole decimal number"), (["set", "nokey", "1"], "unknown key"),
                     (["mode", "spiral"], "spiral"), (["fly"], "expected a command"),
                     (["set", "square_laps", "300"], "does not fit")):
     p = run_tool("frame", *words)
