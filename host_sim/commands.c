@@ -184,6 +184,7 @@ int commands_load(const char *path, commands_t *c)
             n = encode(end + 1, bytes, sizeof bytes, err, sizeof err);
         }
         if (n < 0) {
+            cfgtext_escape(err, sizeof err); /* it quotes the line's words */
             fprintf(stderr, "host_sim: %s:%u: %s\n", path, lineno, err);
             rc = EXIT_USAGE;
         } else {

@@ -311,6 +311,53 @@ static void test_mode_words_are_the_modes(void **state)
     }
 }
 
+/* A message quotes the file: control bytes in it are shown escaped, never sent to the
+ * terminal (an xterm takes ESC ] 0 ; ... BEL as a new title). */
+static void test_messages_escape_control_bytes(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        const char *says;
+    } cases[] = {
+        {"cell_um = \033]0;PWNED\007\n", "x.conf:1: cell_um = '\\x1b]0;PWNED\\x07': expected"},
+        {"\033[2J = 5\n", "x.conf:1: unknown key '\\x1b[2J'"},
+        {"no equals \r here\n", "x.conf:1: expected 'key = value', got 'no equals \\x0d here'"},
+        {"cal_left = \xc2\x9b" "1m\n", "cal_left = '\\xc2\\x9b1m'"}, /* C1 CSI in UTF-8 */
+        {"cal_left = \xff\n", "cal_left = '\\xff'"},
+        {"cal_left = caf\xc3\xa9\n", "cal_left = 'caf\xc3\xa9'"}, /* printable UTF-8 stays */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        slam_config_t c;
+        slam_config_default(&c);
+        char err[256] = "";
+        assert_int_equal(cfgtext_parse("x.conf", cases[i].text, strlen(cases[i].text), &c, NULL,
+                                       NULL, NULL, err, sizeof err),
+                         -1);
+        if (strstr(err, cases[i].says) == NULL) {
+            fail_msg("case %zu: '%s' does not say '%s'", i, err, cases[i].says);
+        }
+        for (const char *p = err; *p != '\0'; p++) {
+            assert_true((unsigned char)*p >= 0x20u && (unsigned char)*p != 0x7Fu);
+        }
+    }
+    /* Escaping is idempotent, and what is cut is cut at a whole escape. */
+    char s[32] = "a\033b";
+    cfgtext_escape(s, sizeof s);
+    assert_string_equal(s, "a\\x1bb");
+    cfgtext_escape(s, sizeof s);
+    assert_string_equal(s, "a\\x1bb");
+    char small[5] = "\033\033";
+    cfgtext_escape(small, sizeof small);
+    assert_string_equal(small, "\\x1b");
+    /* --set values go through cfgtext_set(), which escapes too. */
+    slam_config_t c;
+    slam_config_default(&c);
+    char err[128] = "";
+    assert_int_equal(cfgtext_set(&c, "cell_um", "\a5", err, sizeof err), -2);
+    assert_non_null(strstr(err, "'\\x075'"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -321,6 +368,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_not_text, setup, teardown),
         cmocka_unit_test_setup_teardown(test_rules_match_the_check, setup, teardown),
         cmocka_unit_test(test_mode_words_are_the_modes),
+        cmocka_unit_test(test_messages_escape_control_bytes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

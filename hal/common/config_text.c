@@ -129,7 +129,7 @@ static const field_t *known_field(const char *key, char *err, size_t n)
     return &fields[i];
 }
 
-int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
+static int set_text(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
 {
     const field_t *f = known_field(key, err, n);
     if (f == NULL) {
@@ -155,6 +155,15 @@ int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *er
         return out_of_range(f, value, err, n);
     }
     return store_int(cfg, f, v, value, err, n);
+}
+
+int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
+{
+    int rc = set_text(cfg, key, value, err, n);
+    if (rc != 0) {
+        cfgtext_escape(err, n);
+    }
+    return rc;
 }
 
 int cfgtext_set_raw(slam_config_t *cfg, const char *key, long long raw, char *err, size_t n)
@@ -231,9 +240,9 @@ int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t 
     return -1;
 }
 
-int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
-                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
-                  size_t errlen)
+static int parse_text(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                      cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                      size_t errlen)
 {
     slam_config_t work = *cfg;
     cfgtext_where_t seen;
@@ -308,6 +317,17 @@ int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t 
         *where = seen;
     }
     return 0;
+}
+
+int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                  size_t errlen)
+{
+    int rc = parse_text(name, text, len, cfg, other, ctx, where, err, errlen);
+    if (rc != 0) {
+        cfgtext_escape(err, errlen); /* a line of the file, a value or a key may be quoted */
+    }
+    return rc;
 }
 
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,

@@ -27,6 +27,7 @@ void room_fail(char *err, size_t errlen, const char *path, unsigned line, const 
     } else {
         snprintf(err, errlen, "%s: %s", path, msg);
     }
+    cfgtext_escape(err, errlen); /* messages quote the file's words */
 }
 
 int room_lines_open(room_lines_t *l, const char *path, const char *text, size_t len, char *err,

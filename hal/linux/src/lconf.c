@@ -194,6 +194,11 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
         if (v[0] == '\0') {
             return bad(k->name, v, "must not be empty", err, n);
         }
+        for (const char *p = v; *p != '\0'; p++) {
+            if ((unsigned char)*p < 0x20u || *p == 0x7F) { /* a name or path, never a control */
+                return bad(k->name, v, "holds a control character", err, n);
+            }
+        }
         if (strlen(v) >= k->size) {
             snprintf(why, sizeof why, "longer than %u characters", (unsigned)(k->size - 1u));
             return bad(k->name, v, why, err, n);

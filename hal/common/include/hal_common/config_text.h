@@ -119,4 +119,14 @@ char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, 
 /** Trim white space at both ends of @p s, in place; returns the new start. */
 char *cfgtext_trim(char *s);
 
+/**
+ * Make a message that quotes input safe to print: in place, every byte that is not
+ * printable ASCII or part of a printable UTF-8 character (control bytes, DEL, C1 controls,
+ * broken UTF-8) becomes "\xNN", so a file cannot retitle or drive the terminal that shows
+ * its error. The result is cut to fit @p cap bytes with its NUL, at a whole character or
+ * escape. Escaping twice changes nothing more. Every message of this library that quotes
+ * input is escaped so; the room loaders and host_sim use it for theirs.
+ */
+void cfgtext_escape(char *s, size_t cap);
+
 #endif /* HAL_COMMON_CONFIG_TEXT_H */
