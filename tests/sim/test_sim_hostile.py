@@ -43,4 +43,23 @@ for name, args, says in [
     check(says in p.stderr and clean(p.stderr),
           "N5 %s: the message shows the control bytes escaped: %s" % (name, p.stderr.strip()))
 
+# ---- N10: --calibration holds the odometry's factors, and at least one ------------------
+for name, text, says in [
+    ("cell.conf", "cal_left = 0.99\ncell_um = 100000\n",
+     "cell.conf:2: cell_um is not a calibration key"),
+    ("empty.conf", "", "empty.conf holds no calibration"),
+    ("comments.conf", "# measured later\n\n", "comments.conf holds no calibration"),
+]:
+    p = sim.run("--calibration", write(name, text), "--out", sim.out("never"), expect=2)
+    check(says in p.stderr and ("--calibration none" in p.stderr or "--config" in p.stderr),
+          "N10 --calibration %s: refused: %s" % (name, p.stderr.strip()))
+    check(not os.path.exists(sim.out("never")), "N10 --calibration %s: nothing written" % name)
+out = sim.out("cal")
+sim.run("--calibration", write("cal.conf", "cal_left = 0.99\ncal_base = 1.01\n"), "--duration", "1",
+        "--out", out)
+with open(os.path.join(out, "config.txt")) as f:
+    cfg = f.read()
+check("cal_left = 0.99000000" in cfg and "cal_base = 1.00999999" in cfg,
+      "N10: a calibration file of cal_* keys is taken")
+
 sim.done()
