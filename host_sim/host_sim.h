@@ -166,6 +166,7 @@ typedef struct {
     int explore;
     bool has_seed, has_cell, has_explore; /* given on the command line */
     const char *out;
+    bool has_out;  /* --out given: a replay's default is beside its log, not out/sim */
     bool ideal;
     bool paper;
     const char *errors[HOST_SIM_MAX_SETS];
@@ -405,8 +406,9 @@ typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
  * ranges above, a status of ok, far, near or timeout, a range only with an echo) and
  * handed to @p fn in order.
  * @param name  the file's name, for messages
- * @return 0, or -1 with "NAME:LINE: what is wrong" in err (an empty file, a NUL byte, a
- *         line of 512 characters or more, a wrong header, a malformed row)
+ * @return 0, or -1 with "NAME:LINE: what is wrong" in err (an empty file, a header and
+ *         no row, a NUL byte, a line of 512 characters or more, a last line without its
+ *         newline (a file cut short), a wrong header, a malformed row)
  */
 int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
                 size_t errlen);

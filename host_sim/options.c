@@ -35,7 +35,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: host_sim [options]\n"
-        "       host_sim --replay DIR/readings.csv [--config FILE] [--out DIR]\n"
+        "       host_sim --replay DIR/readings.csv [--config FILE] [--out OUT]\n"
         "\n"
         "Runs the robot's firmware in a simulated room and writes maps, trajectories,\n"
         "the sonar log, a score against ground truth and a picture.\n"
@@ -81,7 +81,8 @@ static void usage(FILE *f)
         "                       --config file, the options given (--paper, --seed, --cell,\n"
         "                       --explore), each --set\n"
         "outputs:\n"
-        "  --out DIR            output folder (default out/sim)\n"
+        "  --out DIR            output folder (default out/sim; for --replay, DIR/replay\n"
+        "                       beside the log; never a folder holding a run's metrics.json)\n"
         "  --trace FILE         also record the HAL trace of the run\n"
         "  --telemetry FILE     write the firmware's telemetry bytes (the UART) to FILE\n"
         "                       (watch: tools/telemetry.py view FILE --follow)\n"
@@ -269,6 +270,7 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--out needs a folder");
             }
             o->out = argv[i];
+            o->has_out = true;
         } else if (strcmp(a, "--ideal") == 0) {
             o->ideal = true;
         } else if (strcmp(a, "--paper") == 0) {

@@ -106,6 +106,7 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     char *line = NULL;
     size_t cap = 0;
     unsigned lineno = 0;
+    unsigned rows = 0u;
     int rc = 0;
     int col[CSV_NEEDED];
     ssize_t n;
@@ -113,6 +114,14 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     while ((n = getline(&line, &cap, in)) >= 0) {
         lineno++;
         size_t len = (size_t)n;
+        if (line[len - 1u] != '\n') {
+            /* Every line a log writes ends in a newline: a last line without one was cut
+             * while it was written, and a number cut short still reads as a number. */
+            snprintf(err, errlen, "%s:%u: the last line has no newline: the file was cut short",
+                     name, lineno);
+            rc = -1;
+            break;
+        }
         if (memchr(line, '\0', len) != NULL) {
             snprintf(err, errlen, "%s:%u: a NUL byte: not a readings.csv", name, lineno);
             rc = -1;
@@ -144,6 +153,7 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
             break;
         }
         fn(ctx, &row);
+        rows++;
     }
     if (rc == 0 && ferror(in)) {
         snprintf(err, errlen, "%s: read error: %s", name, strerror(errno));
@@ -151,6 +161,10 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     }
     if (rc == 0 && lineno == 0) {
         snprintf(err, errlen, "%s: empty: not a readings.csv", name);
+        rc = -1;
+    }
+    if (rc == 0 && rows == 0u) {
+        snprintf(err, errlen, "%s: a header and no reading: nothing to replay", name);
         rc = -1;
     }
     free(line);

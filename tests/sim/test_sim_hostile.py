@@ -7,6 +7,7 @@ Each part names the item it proves; the data-loss items (N3, N4) compare the ear
 byte for byte after the second run.
 """
 import os
+import subprocess
 
 from simtest import Sim, check
 
@@ -61,5 +62,41 @@ with open(os.path.join(out, "config.txt")) as f:
     cfg = f.read()
 check("cal_left = 0.99000000" in cfg and "cal_base = 1.00999999" in cfg,
       "N10: a calibration file of cal_* keys is taken")
+
+# ---- N4: a replay never writes over a simulation's outputs ------------------------------
+
+
+def snapshot(folder):
+    """Every file of a folder and its bytes."""
+    out = {}
+    for root, _, files in os.walk(folder):
+        for name in files:
+            path = os.path.join(root, name)
+            with open(path, "rb") as f:
+                out[os.path.relpath(path, folder)] = f.read()
+    return out
+
+
+# A simulation into out/sim (the default, run from a scratch folder), a second run's log.
+scratch = sim.out("cwd")
+os.makedirs(scratch)
+cmd = [sim.bin, "--no-plot", "--quiet", "--duration", "20"]
+subprocess.run(cmd, cwd=scratch, check=True)
+run2 = sim.out("run2")
+sim.run("--duration", "20", "--seed", "2", "--out", run2)
+default_out = os.path.join(scratch, "out", "sim")
+before = snapshot(default_out)
+p = subprocess.run([sim.bin, "--quiet", "--replay", os.path.join(run2, "readings.csv")], cwd=scratch,
+                   capture_output=True, text=True)
+check(p.returncode == 0 and snapshot(default_out) == before,
+      "N4: --replay without --out leaves out/sim byte for byte as the simulation wrote it")
+check(os.path.exists(os.path.join(run2, "replay", "om.pgm")),
+      "N4: ... and writes the replay beside its log, run2/replay/om.pgm")
+before2 = snapshot(run2)
+p = sim.run("--replay", os.path.join(run2, "readings.csv"), "--out", run2, expect=2)
+check("holds a simulation's outputs" in p.stderr and snapshot(run2) == before2,
+      "N4: --out naming a simulation's folder: exit 2, every file byte for byte as it was")
+p = sim.run("--replay", os.path.join(run2, "readings.csv"), "--out", default_out, expect=2)
+check(snapshot(default_out) == before, "N4: --out out/sim given: refused, nothing replaced")
 
 sim.done()
