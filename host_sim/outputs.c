@@ -262,11 +262,39 @@ static void resolved(const char *path, char *out, size_t n)
     }
 }
 
-int check_outputs(const options_t *o)
+/* --storage DIR must hold no slot yet: the simulated robot starts with blank storage, and
+ * its saves would replace the maps of an earlier run or a real robot's (a run that began
+ * from another run's storage would also no longer follow from its options alone). */
+static int check_storage(const char *dir)
 {
     static const char *const slots[] = {"slot0.bin", "slot1.bin", NULL};
+    if (check_out_dir("--storage", dir, slots) != 0) {
+        return -1;
+    }
+    char found[2][4200];
+    size_t n = 0u;
+    for (size_t i = 0; slots[i] != NULL; i++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/%s", dir, slots[i]);
+        struct stat st;
+        if (lstat(path, &st) == 0) {
+            snprintf(found[n++], sizeof found[0], "%s", path);
+        }
+    }
+    if (n > 0u) {
+        fprintf(stderr,
+                "host_sim: --storage %s holds map slots already (%s%s%s): a run would replace "
+                "them. Move them away (plot_run.py draws them), or give an empty folder\n",
+                dir, found[0], n > 1u ? ", " : "", n > 1u ? found[1] : "");
+        return -1;
+    }
+    return 0;
+}
+
+int check_outputs(const options_t *o)
+{
     if (check_out_dir("--out", o->out, out_names) != 0 ||
-        (o->storage != NULL && check_out_dir("--storage", o->storage, slots) != 0) ||
+        (o->storage != NULL && check_storage(o->storage) != 0) ||
         (o->trace != NULL && check_out_file("--trace", o->trace) != 0) ||
         (o->telemetry != NULL && check_out_file("--telemetry", o->telemetry) != 0)) {
         return -1;

@@ -99,4 +99,26 @@ check("holds a simulation's outputs" in p.stderr and snapshot(run2) == before2,
 p = sim.run("--replay", os.path.join(run2, "readings.csv"), "--out", default_out, expect=2)
 check(snapshot(default_out) == before, "N4: --out out/sim given: refused, nothing replaced")
 
+# ---- N3: --storage never wipes the slots already in its folder --------------------------
+store = sim.out("storage")
+sim.run("--duration", "130", "--seed", "2", "--out", sim.out("st1"), "--storage", store)
+before = snapshot(store)
+check(sorted(before) == ["slot0.bin", "slot1.bin"], "N3: a first run writes both slots")
+p = sim.run("--duration", "30", "--out", sim.out("st2"), "--storage", store, expect=2)
+check("holds map slots already" in p.stderr and "slot0.bin" in p.stderr and "slot1.bin" in p.stderr
+      and "Move them away" in p.stderr, "N3: a second run into it: exit 2, naming both slots and "
+      "how to go on")
+check(snapshot(store) == before and not os.path.exists(sim.out("st2")),
+      "N3: ... the slots byte for byte as the first run left them, nothing written")
+robot = sim.out("robot_storage")  # a copy of a Linux robot's storage: one slot, and its maps
+os.makedirs(robot)
+with open(os.path.join(robot, "slot1.bin"), "wb") as f:
+    f.write(before["slot1.bin"])
+with open(os.path.join(robot, "om.pgm"), "wb") as f:
+    f.write(b"P5\n1 1\n255\n\0")
+before = snapshot(robot)
+p = sim.run("--duration", "30", "--out", sim.out("st3"), "--storage", robot, expect=2)
+check("slot1.bin" in p.stderr and snapshot(robot) == before,
+      "N3: a robot's storage folder with one slot: refused, byte for byte as it was")
+
 sim.done()
