@@ -152,9 +152,10 @@ static int encode(char *args, uint8_t *out, size_t max, char *err, size_t errlen
 int commands_load(const char *path, commands_t *c)
 {
     *c = (commands_t){0};
-    FILE *f = fopen(path, "r");
+    char why[600];
+    FILE *f = cfgtext_open_file(path, why, sizeof why);
     if (f == NULL) {
-        fprintf(stderr, "host_sim: --commands %s: cannot open: %s\n", path, strerror(errno));
+        fprintf(stderr, "host_sim: --commands %s\n", why);
         return EXIT_USAGE;
     }
     char line[1024];

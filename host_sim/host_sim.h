@@ -122,6 +122,13 @@ const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
  */
 FILE *open_out(const char *dir, const char *name);
 
+/**
+ * Open a file in place for writing as it goes (--telemetry, a device, a FIFO): a FIFO that
+ * no program reads yet is refused at once rather than waited on.
+ * @return the file, or NULL with a message on stderr
+ */
+FILE *open_stream(const char *path);
+
 /** Close a file opened by open_out(); -1 with a message when the write failed. */
 int close_out(FILE *f, const char *dir, const char *name);
 
@@ -200,6 +207,10 @@ int parse_options(int argc, char **argv, options_t *o);
  * @return 0, or -1 with a message
  */
 int check_outputs(const options_t *o);
+
+/** Remove the temporary files of open_out() that runs now gone left in the run's folders
+ *  (--out, --storage, beside --trace): killed at once, they could not remove their own. */
+void outputs_sweep(const options_t *o);
 
 /** One --error NAME=VALUE onto the error levels; 0, or -1 with a message. */
 int apply_error(sim_errors_t *e, const char *nv);

@@ -111,7 +111,11 @@ static void usage(FILE *f)
         "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png, and\n"
         "umbmark.csv when the robot ran UMBmark\n"
-        "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
+        "Inputs are regular files: a FIFO, a device or a socket is refused. A FIFO given to\n"
+        "--telemetry or --trace needs its reader running already; without one, exit 1.\n"
+        "Exit status: 0 done, 1 failed while running (a pipe's reader gone, a disk full),\n"
+        "2 bad options or input, 128 + N stopped by signal N (SIGINT, SIGTERM, SIGHUP:\n"
+        "nothing written, the earlier outputs stay).\n");
 }
 
 __attribute__((format(printf, 1, 2))) static int fail_usage(const char *fmt, ...)

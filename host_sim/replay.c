@@ -75,9 +75,9 @@ int replay(const options_t *o)
     if (check_out_dir("--out", outdir, names) != 0) {
         return EXIT_USAGE;
     }
-    FILE *in = fopen(o->replay, "r");
+    FILE *in = cfgtext_open_file(o->replay, err, sizeof err);
     if (in == NULL) {
-        fprintf(stderr, "host_sim: %s: cannot open: %s\n", o->replay, strerror(errno));
+        fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
     }
     grid_init(&grid, &cfg);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Tests of the configuration as text: round trip, every kind of bad input, file errors. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, ftruncate, fileno */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -216,8 +218,23 @@ static void test_not_text(void **state)
                      0);
     assert_int_equal(c.om_max, 8u);
     c = keep;
+    /* An input is a regular file: /dev/zero (it never ends) and a FIFO (no writer: opening
+     * it would wait for ever) are refused at once; a large file at its stated limit. */
     assert_int_equal(cfgtext_load("/dev/zero", &c, NULL, NULL, NULL, err, sizeof err), -1);
-    assert_non_null(strstr(err, "/dev/zero: larger than 1048576 bytes"));
+    assert_non_null(strstr(err, "/dev/zero: is not a regular file"));
+    char fifo[64];
+    snprintf(fifo, sizeof fifo, "/tmp/slam-cfgtext-%ld.fifo", (long)getpid());
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    assert_int_equal(cfgtext_load(fifo, &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, ".fifo: is not a regular file (a FIFO"));
+    unlink(fifo);
+    FILE *big = fopen(path, "w");
+    assert_non_null(big);
+    assert_int_equal(ftruncate(fileno(big), (off_t)CFGTEXT_FILE_MAX + 1), 0);
+    fclose(big);
+    assert_int_equal(cfgtext_load(path, &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, ": larger than 1048576 bytes"));
     assert_int_equal(cfgtext_load("/tmp", &c, NULL, NULL, NULL, err, sizeof err), -1);
     assert_non_null(strstr(err, "/tmp: is a directory"));
     assert_memory_equal(&c, &keep, sizeof c);

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Tests of room loading against hostile input: endless files, NUL bytes, huge numbers,
  * crops that cannot be, start poses outside the room; and rooms parsed from memory. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, truncate */
 #include <math.h>
+#include <sys/stat.h>
 
 #include "host_test.h"
 
@@ -19,16 +21,33 @@ static const char *yaml_for(const char *tag, const char *image, const char *extr
 static void test_size_limits(void **state)
 {
     (void)state;
-    test_load_refused("/dev/zero", NULL, ": larger than 67108864 bytes");
+    /* Inputs are regular files: one that never ends, or a FIFO that no one writes (which
+     * would block for ever), is refused at once. */
+    test_load_refused("/dev/zero", NULL, ": is not a regular file");
     test_load_refused(HOST_TEST_DIR, NULL, ": is a directory");
+    const char *fifo = test_write("fifo.room", "");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    test_load_refused(fifo, NULL, ": is not a regular file (a FIFO");
+    unlink(fifo);
     const char *yaml = yaml_for("zero.yaml", "/dev/zero", "");
-    char want[600];
-    snprintf(want, sizeof want, "/dev/zero: larger than 134217728 bytes");
     room_t r;
     char err[400] = "";
     assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), -1);
-    assert_non_null(strstr(err, want));
+    assert_non_null(strstr(err, "/dev/zero: is not a regular file"));
     unlink(yaml);
+    /* Files larger than a kind's limit: a room, an image (sparse files, no disk used). */
+    const char *big = test_write("big.room", "");
+    assert_int_equal(truncate(big, (off_t)(64 << 20) + 1), 0);
+    test_load_refused(big, NULL, ": larger than 67108864 bytes");
+    const char *bigpgm = test_write("big.pgm", "");
+    assert_int_equal(truncate(bigpgm, (off_t)(128 << 20) + 1), 0);
+    yaml = yaml_for("bigpgm.yaml", bigpgm, "");
+    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, "big.pgm: larger than 134217728 bytes"));
+    unlink(yaml);
+    unlink(big);
+    unlink(bigpgm);
     /* An image whose header promises more pixels than the limit. */
     const char *pgm = test_write("huge.pgm", "P5\n9000 9000\n255\n");
     yaml = yaml_for("huge.yaml", pgm, "");

@@ -7,7 +7,9 @@ Each part names the item it proves; the data-loss items (N3, N4) compare the ear
 byte for byte after the second run.
 """
 import os
+import signal
 import subprocess
+import time
 
 from simtest import Sim, check
 
@@ -120,5 +122,87 @@ before = snapshot(robot)
 p = sim.run("--duration", "30", "--out", sim.out("st3"), "--storage", robot, expect=2)
 check("slot1.bin" in p.stderr and snapshot(robot) == before,
       "N3: a robot's storage folder with one slot: refused, byte for byte as it was")
+
+# ---- N6, N7: a run that is cut off leaves no temporary file and no folder of its own -----
+
+
+def hidden(folder):
+    return sorted(n for n in os.listdir(folder) if n.startswith(".")) if os.path.isdir(folder) else []
+
+
+# N6: the reader of --telemetry goes away (host_sim --telemetry /dev/stdout | head -c 1000).
+out = sim.out("n6")
+p = subprocess.Popen([sim.bin, "--no-plot", "--quiet", "--duration", "3600", "--out", out,
+                      "--telemetry", "/dev/stdout"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+first = p.stdout.read(1000)
+p.stdout.close()
+err = p.stderr.read().decode(errors="replace")
+rc = p.wait(timeout=600)
+check(len(first) == 1000 and rc == 1 and "writing /dev/stdout failed" in err,
+      "N6: the telemetry pipe's reader gone: exit 1 with a message (%d, %s)" % (rc, err.strip()))
+check(not os.path.exists(out), "N6: ... no temporary file left, and the folder it made removed")
+
+# N7: SIGINT or SIGTERM in the middle of a run, into a new folder and into an earlier run's.
+earlier = sim.out("n7")
+sim.run("--duration", "5", "--out", earlier)
+before = snapshot(earlier)
+for sig, folder in ((signal.SIGINT, sim.out("n7new")), (signal.SIGTERM, earlier)):
+    p = subprocess.Popen([sim.bin, "--no-plot", "--quiet", "--duration", "100000", "--out", folder],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 120
+    while not hidden(folder) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    check(len(hidden(folder)) >= 3, "N7: a run writes its logs under temporary names (%s)"
+          % ", ".join(hidden(folder)))
+    p.send_signal(sig)
+    _, err = p.communicate(timeout=600)
+    check(p.returncode == 128 + sig and b"stopped by signal %d" % sig in err,
+          "N7: stopped by signal %d: exit %d, says so" % (sig, p.returncode))
+    if folder == earlier:
+        check(hidden(folder) == [] and snapshot(folder) == before,
+              "N7: ... no temporary file left; the earlier run's files byte for byte as they were")
+    else:
+        check(not os.path.exists(folder), "N7: ... the folder it made is gone with its temporary files")
+
+# A run killed at once (SIGKILL) cannot clean up: the next run into that folder removes
+# what dead runs left, and never a live run's files.
+dead = subprocess.Popen(["true"])
+dead.wait()
+stale = os.path.join(earlier, ".om.pgm.tmp%d" % dead.pid)
+live = os.path.join(earlier, ".om.pgm.tmp%d" % os.getpid())
+other = os.path.join(earlier, ".notes.tmp%d" % dead.pid)
+for path in (stale, live, other):
+    with open(path, "w") as f:
+        f.write("x")
+sim.run("--duration", "2", "--out", earlier)
+check(not os.path.exists(stale) and os.path.exists(live) and os.path.exists(other),
+      "N7: a later run removes a dead run's temporary file, not a live run's nor another name")
+
+# ---- FIFOs: nothing waits for ever ------------------------------------------------------
+fifo = sim.out("fifo")
+os.mkfifo(fifo)
+for args, says in [
+    (["--room", fifo], "fifo: is not a regular file (a FIFO"),
+    (["--config", fifo], "fifo: is not a regular file"),
+    (["--calibration", fifo], "fifo: is not a regular file"),
+    (["--commands", fifo], "fifo: is not a regular file"),
+    (["--replay", fifo, "--config", os.path.join(earlier, "config.txt")], "fifo: is not a regular file"),
+]:
+    p = subprocess.run([sim.bin, "--no-plot", "--quiet", "--out", sim.out("never")] + args,
+                       capture_output=True, text=True, timeout=120)
+    check(p.returncode == 2 and says in p.stderr and not os.path.exists(sim.out("never")),
+          "an input FIFO without a writer (%s): refused at once, exit 2" % args[0])
+p = subprocess.run([sim.bin, "--no-plot", "--quiet", "--duration", "1", "--out", sim.out("nf"),
+                    "--telemetry", fifo], capture_output=True, text=True, timeout=120)
+check(p.returncode == 1 and "a FIFO that no program is reading" in p.stderr
+      and not os.path.exists(sim.out("nf")),
+      "--telemetry FIFO without a reader: exit 1 at once, says so, nothing left")
+reader = subprocess.Popen(["cat", fifo], stdout=subprocess.PIPE)
+time.sleep(0.2)  # let cat open it: host_sim does not wait for a reader
+p = subprocess.run([sim.bin, "--no-plot", "--quiet", "--duration", "5", "--out", sim.out("wf"),
+                    "--telemetry", fifo], capture_output=True, text=True, timeout=120)
+data = reader.communicate(timeout=60)[0]
+check(p.returncode == 0 and len(data) > 1000, "--telemetry FIFO with its reader running: written "
+      "(%d bytes)" % len(data))
 
 sim.done()

@@ -110,8 +110,17 @@ int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, v
                  cfgtext_where_t *where, char *err, size_t errlen);
 
 /**
- * A whole file into memory, with a NUL after its @p len bytes; refused when it is a
- * directory or holds more than @p limit bytes (never reading more than one byte beyond).
+ * Open an input file for reading: a regular file only. A directory, a FIFO, a device or a
+ * socket is refused, and opening never waits (a FIFO without a writer would block for
+ * ever, /dev/zero never ends): every input of these programs is a file read to its end.
+ * @return the file, or NULL with "PATH: reason" in err
+ */
+FILE *cfgtext_open_file(const char *path, char *err, size_t errlen);
+
+/**
+ * A whole file into memory, with a NUL after its @p len bytes; refused when it is not a
+ * regular file (cfgtext_open_file()) or holds more than @p limit bytes (never reading more
+ * than one byte beyond).
  * @return the text (free() it), or NULL with "PATH: reason" in err
  */
 char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, size_t errlen);
