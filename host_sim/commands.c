@@ -44,18 +44,40 @@ static int key_id(const char *name)
     return -1;
 }
 
+/* Room for one more line of n bytes, grown geometrically (doubling): a file of N lines
+ * costs O(log N) reallocations, not N (each a copy of everything so far). */
+static bool reserve(commands_t *c, size_t n)
+{
+    if (c->n == c->lines_cap) {
+        size_t cap = c->lines_cap != 0u ? 2u * c->lines_cap : 64u;
+        command_line_t *lines = realloc(c->lines, cap * sizeof *lines);
+        if (lines == NULL) {
+            return false;
+        }
+        c->lines = lines;
+        c->lines_cap = cap;
+        c->grows++;
+    }
+    if (c->nbytes + n > c->bytes_cap) {
+        size_t cap = c->bytes_cap != 0u ? 2u * c->bytes_cap : 1024u;
+        while (cap < c->nbytes + n) {
+            cap *= 2u;
+        }
+        uint8_t *bytes = realloc(c->bytes, cap);
+        if (bytes == NULL) {
+            return false;
+        }
+        c->bytes = bytes;
+        c->bytes_cap = cap;
+        c->grows++;
+    }
+    return true;
+}
+
 /* Adds bytes to the list; false when out of memory. */
 static bool add(commands_t *c, uint64_t tick, const uint8_t *b, size_t n)
 {
-    uint8_t *bytes = realloc(c->bytes, c->nbytes + n);
-    command_line_t *lines = realloc(c->lines, (c->n + 1u) * sizeof *lines);
-    if (bytes != NULL) {
-        c->bytes = bytes;
-    }
-    if (lines != NULL) {
-        c->lines = lines;
-    }
-    if (bytes == NULL || lines == NULL) {
+    if (!reserve(c, n)) {
         return false;
     }
     memcpy(c->bytes + c->nbytes, b, n);

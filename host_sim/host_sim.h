@@ -381,9 +381,10 @@ typedef struct {
 /** The --commands file: framed command bytes and when they arrive. */
 typedef struct {
     command_line_t *lines;
-    size_t n;
+    size_t n, lines_cap;
     uint8_t *bytes;
-    size_t nbytes;
+    size_t nbytes, bytes_cap;
+    size_t grows;     /* reallocations made while reading (tests bound them) */
     size_t next;      /* the next line to feed */
     size_t dropped;   /* bytes the UART had no room for */
 } commands_t;
