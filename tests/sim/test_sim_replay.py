@@ -32,7 +32,8 @@ check(bad + ":6:" in p.stderr and not os.path.exists(sim.out("never")), "a malfo
 cfg = os.path.join(run, "config.txt")
 header = lines[0]
 cases = [
-    ("/dev/null", None, "/dev/null: empty: not a readings.csv"),
+    ("/dev/null", None, "/dev/null: is not a regular file"),
+    ("empty.csv", "", "empty.csv: empty: not a readings.csv"),
     ("nul.csv", header + lines[1][:10] + "\0" + lines[1][10:], ":2: a NUL byte"),
     ("long.csv", header + "1," * 300 + "\n", ":2: line longer than 511 characters"),
     ("fields.csv", header + "1,90,1.0,ok,0\n", ":2: malformed reading: a column is missing"),
