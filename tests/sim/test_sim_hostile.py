@@ -222,4 +222,29 @@ for name in sorted(os.listdir(os.path.join(sim.src, "host_sim", "rooms"))):
         sim.run("--room", sim.room(name), "--duration", "1", "--out", sim.out("shipped"))
 check(True, "every shipped room is closed")
 
+# ---- configurations that drove the robot into a wall within 30 s: refused ---------------
+for kv, words in [
+    ("accel_mm_s2=10", "100..50000"),
+    ("mount_x_um=-1000000", "-100000..200000"),
+    ("mount_y_um=1000000", "-100000..100000"),
+    ("mount_y_um=-1000000", "-100000..100000"),
+    ("mount_yaw_mdeg=180000", "-20000..20000"),
+    ("mount_yaw_mdeg=-180000", "-20000..20000"),
+    ("sweep_first_mdeg=180000", "0..90000"),
+    ("sweep_last_mdeg=0", "90000..180000"),
+]:
+    p = sim.run("--set", kv, "--out", sim.out("never"), expect=2)
+    key = kv.split("=")[0]
+    check(("--set %s" % kv) in p.stderr and ("%s = " % key) in p.stderr and words in p.stderr,
+          "--set %s: refused, its valid range given: %s" % (kv, p.stderr.strip()))
+# The edges of what is taken still keep off the walls (the default room, 60 s, 2 seeds).
+for kv in ("accel_mm_s2=100", "mount_x_um=-100000", "mount_x_um=200000", "mount_y_um=100000",
+           "mount_y_um=-100000", "mount_yaw_mdeg=20000", "mount_yaw_mdeg=-20000",
+           "sweep_first_mdeg=90000", "sweep_last_mdeg=90000"):
+    for seed in (1, 2):
+        out = sim.out("edge")
+        sim.run("--set", kv, "--seed", seed, "--duration", "60", "--out", out)
+        touch = sim.metrics(out)["exploration"]["first_touch"]
+        check(touch is None, "--set %s, seed %d: 60 s without touching anything" % (kv, seed))
+
 sim.done()
