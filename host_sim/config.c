@@ -103,6 +103,15 @@ static int check_config(const cfg_origin_t *w, const slam_config_t *cfg)
     }
     char who[160];
     const char *by = origin(w, bad, who, sizeof who);
+    /* Not set by anyone: blame the option or line that set a field its rule compares it
+     * with (--set range_min_um=1000000 breaks confidence_radius_um's rule). */
+    for (const char *p = cfgtext_partners(bad); by == NULL && p != NULL && *p != '\0';) {
+        size_t n = strcspn(p, " ");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)n, p);
+        by = origin(w, name, who, sizeof who);
+        p += n + (p[n] == ' ' ? 1u : 0u);
+    }
     fprintf(stderr, "host_sim: %s: %s\n", by != NULL ? by : "configuration", err);
     return -1;
 }
@@ -191,7 +200,10 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     for (int k = 0; k < 3; k++) {
         char who[160];
         const char *by = origin(&w, start[k].key, who, sizeof who);
-        if (by != NULL && *start[k].field != start[k].value) {
+        /* A heading a whole turn away (360000 for 0) is the same heading. */
+        bool same = *start[k].field == start[k].value ||
+                    (k == 2 && ((int64_t)*start[k].field - start[k].value) % 360000 == 0);
+        if (by != NULL && !same) {
             fprintf(stderr,
                     "host_sim: %s: %s = %ld disagrees with the run's start pose (%.3f%s): "
                     "the start pose comes from the room file or --start\n",

@@ -155,11 +155,13 @@ static void test_file_errors_name_file_and_line(void **state)
         {"sweep_first_mdeg = 65000\n\nsweep_stops = 1\n",
          ":3: sweep_stops = 1 is out of its valid range: 1..16, and 1 only when "
          "sweep_first_mdeg equals sweep_last_mdeg"},
-        /* A bad value the file did not set is named as such. */
+        /* A bad value the file did not set is blamed on the line of the field its rule
+         * compares it with, and both values are given. */
         {"om_mode = 0\nom_max = 2\npost_threshold = 3\n",
-         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"},
-        {"top_speed_mm_s = 150\n", ": cruise_mm_s = 200 is out of its valid range: 1..5000, at "
-                                   "most top_speed_mm_s (not set in the file)"},
+         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0, "
+         "below 127 when it is 1 (om_max = 2, om_mode = 0)"},
+        {"top_speed_mm_s = 150\n", ":1: cruise_mm_s = 200 is out of its valid range: 1..5000, at "
+                                   "most top_speed_mm_s (top_speed_mm_s = 150)"},
         /* A core key twice. */
         {"wheel_base_um = 140000\n# again:\nwheel_base_um = 150000\n",
          ":3: wheel_base_um is given twice (first on line 1)"},
@@ -328,6 +330,25 @@ static void test_mode_words_are_the_modes(void **state)
     }
 }
 
+/* A rule that compares two fields names both, with their values, and in a file blames
+ * the line that set either when the other was not set there. */
+static void test_rule_messages_name_both_fields(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    char err[300] = "";
+    static const char text[] = "# sonar\nrange_min_um = 1000000\n";
+    assert_int_equal(cfgtext_parse("s.conf", text, sizeof text - 1u, &c, NULL, NULL, NULL, err,
+                                   sizeof err),
+                     -1);
+    assert_string_equal(err, "s.conf:2: confidence_radius_um = 1000000 is out of its valid range: "
+                             "1..10000000, above range_min_um (range_min_um = 1000000)");
+    assert_string_equal(cfgtext_partners("sweep_stops"), "sweep_first_mdeg sweep_last_mdeg");
+    assert_null(cfgtext_partners("wheel_base_um"));
+    assert_null(cfgtext_partners("no_such_key"));
+}
+
 /* A message quotes the file: control bytes in it are shown escaped, never sent to the
  * terminal (an xterm takes ESC ] 0 ; ... BEL as a new title). */
 static void test_messages_escape_control_bytes(void **state)
@@ -386,6 +407,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_rules_match_the_check, setup, teardown),
         cmocka_unit_test(test_mode_words_are_the_modes),
         cmocka_unit_test(test_messages_escape_control_bytes),
+        cmocka_unit_test(test_rule_messages_name_both_fields),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -247,4 +247,19 @@ for kv in ("accel_mm_s2=100", "mount_x_um=-100000", "mount_x_um=200000", "mount_
         touch = sim.metrics(out)["exploration"]["first_touch"]
         check(touch is None, "--set %s, seed %d: 60 s without touching anything" % (kv, seed))
 
+# ---- messages that blamed the wrong thing --------------------------------------------------
+p = sim.run("--set", "range_min_um=1000000", "--out", sim.out("never"), expect=2)
+check("--set range_min_um=1000000: confidence_radius_um = 1000000 is out of its valid range" in p.stderr
+      and "(range_min_um = 1000000)" in p.stderr,
+      "--set range_min_um=1000000: the message blames that option and shows both values")
+p = sim.run("--config", write("rmin.conf", "# sonar\nrange_min_um = 1000000\n"), "--out",
+            sim.out("never"), expect=2)
+check("rmin.conf:2: confidence_radius_um" in p.stderr,
+      "... and in a file, the line that set range_min_um")
+p = sim.run("--set", "start_heading_mdeg=360000", "--duration", "1", "--out", sim.out("heading"))
+check(p.returncode == 0, "--set start_heading_mdeg=360000: a whole turn from the room's 0 is its heading")
+p = sim.run("--set", "start_heading_mdeg=90000", "--out", sim.out("never"), expect=2)
+check("start_heading_mdeg = 90000 disagrees with the run's start pose (0.000 deg)" in p.stderr,
+      "--set start_heading_mdeg=90000: refused, the room's heading named")
+
 sim.done()

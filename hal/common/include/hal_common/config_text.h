@@ -66,9 +66,17 @@ unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key);
 const char *cfgtext_rule(const char *key);
 
 /**
- * slam_config_check() with a message that gives the key, its value and its valid range.
+ * The other fields the rule of @p key compares it with ("range_min_um" for
+ * confidence_radius_um), space-separated; NULL for none or an unknown key.
+ */
+const char *cfgtext_partners(const char *key);
+
+/**
+ * slam_config_check() with a message that gives the key, its value and its valid range,
+ * and the values of the fields its rule compares it with.
  * @param key  out (may be NULL): the first bad key, a static string
- * @return 0, or -1 with err set ("KEY = VALUE is out of its valid range: RULE")
+ * @return 0, or -1 with err set ("KEY = VALUE is out of its valid range: RULE", then
+ *         "(OTHER = VALUE, ...)" when a rule compares it with others)
  */
 int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t errlen);
 
