@@ -192,6 +192,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     if (!clean) {
         fprintf(err, APP_NAME ": a thread did not stop; the maps are written as the tick "
                      "left them\n");
+        status = APP_EXIT_SAFETY; /* a stalled thread, whatever ended the run (README) */
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
     if (clean) {
