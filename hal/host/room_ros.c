@@ -233,7 +233,7 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
             return -1;
         }
         return 0;
-    default:
+    default: {
         num_status_t nr = num_real(val, -HUGE_VAL, HUGE_VAL, &v);
         if (nr == NUM_RANGE) {
             v = val[0] == '-' ? -HUGE_VAL : HUGE_VAL; /* a number, far out of range */
@@ -260,6 +260,7 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
             *(k == YK_OCC ? &y->occupied_thresh : &y->free_thresh) = v;
         }
         return 0;
+    }
     }
 }
 
