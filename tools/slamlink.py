@@ -2,6 +2,7 @@
 """The robot's link in Python: telemetry frames in, command frames out, as
 firmware/include/slam/telemetry.h describes them (tools/telemetry.py is the program)."""
 import ast
+import binascii
 import collections
 import math
 import os
@@ -326,8 +327,22 @@ def config_fields(grid=None):
     return fields
 
 
+def grid_side_max():
+    """The most cells a grid has along a side: the bound grid.h's #error states (it
+    refuses SLAM_GRID_A or SLAM_GRID_B above it), and the most a tool believes a HELLO or
+    a map record. Anything larger is a forgery or noise, and would cost gigabytes."""
+    where = "firmware/include/slam/grid.h"
+    m = re.search(r"#\s*if\s+SLAM_GRID_A\s*<\s*(\d+)\s*\|\|\s*SLAM_GRID_B\s*<\s*\d+\s*\|\|"
+                  r"\s*SLAM_GRID_A\s*>\s*(\d+)", _header("grid.h"))
+    if m is None:
+        raise TableError("%s: no '#if SLAM_GRID_A < N || ... > M' to take the grid's limits from"
+                         % where)
+    return int(m.group(1)), int(m.group(2))
+
+
 FIELDS = config_fields()
 MODES = tuple(m[1] for m in explore_modes())
+GRID_SIDE_MIN, GRID_SIDE_MAX = grid_side_max()
 
 # The configuration keys GET and SET address: (id, name, type as stored, live), by id.
 KEYS = sorted((f.id, f.name, "I32" if f.type == "Q30" else f.type, f.live) for f in FIELDS)
@@ -355,7 +370,14 @@ CRC_TABLE = _crc_table()
 
 
 def crc16(data):
-    """CRC-16/CCITT-FALSE, as the firmware computes it."""
+    """CRC-16/CCITT-FALSE, as the firmware computes it: the polynomial 0x1021 from 0xFFFF,
+    which is what binascii.crc_hqx() computes in C (CRC_TABLE is the same in Python, for
+    the tests that hold the two together)."""
+    return binascii.crc_hqx(data, 0xFFFF)
+
+
+def crc16_table(data):
+    """crc16() a byte at a time through CRC_TABLE, as the firmware's byte table does."""
     crc = 0xFFFF
     for b in data:
         crc = ((crc << 8) & 0xFFFF) ^ CRC_TABLE[((crc >> 8) ^ b) & 0xFF]
@@ -371,39 +393,52 @@ def frame(ftype, payload=b""):
 
 class Decoder:
     """Feeds bytes, yields (type, payload) of every frame whose CRC checks out; frames
-    whose CRC fails are counted in `bad`, bytes outside any frame in `skipped`."""
+    whose CRC fails are counted in `bad`, bytes outside any frame in `skipped`.
+
+    Its work is bounded by what it is fed, whatever the bytes: each sync it tries costs
+    one CRC over at most 257 bytes, done in C (binascii), and a position is never looked
+    at twice (`pos` walks forward; consumed bytes are dropped once per feed). `steps`
+    counts the syncs tried, for the tests that bound the work. (Adversarial bytes, a sync
+    whose length byte is 255 at every other position, once cost a Python loop of 257
+    bytes per sync: about 100 KB/s.)"""
 
     def __init__(self):
         self.buf = bytearray()
         self.bad = 0
         self.skipped = 0
+        self.steps = 0
 
     def feed(self, data):
-        self.buf += data
+        buf = self.buf
+        buf += data
         out = []
+        pos = 0
+        end = len(buf)
         while True:
-            i = self.buf.find(SYNC)
+            i = buf.find(SYNC, pos)
             if i < 0:
-                keep = 1 if self.buf[-1:] == SYNC[:1] else 0
-                self.skipped += len(self.buf) - keep
-                del self.buf[:len(self.buf) - keep]
+                keep = 1 if buf[-1:] == SYNC[:1] else 0
+                self.skipped += end - keep - pos
+                pos = end - keep
                 break
-            self.skipped += i
-            del self.buf[:i]
-            if len(self.buf) < 6:
+            self.skipped += i - pos
+            pos = i
+            if end - pos < 6:
                 break
-            n = self.buf[3]
-            if len(self.buf) < 6 + n:
+            n = buf[pos + 3]
+            if end - pos < 6 + n:
                 break
-            body = bytes(self.buf[2:4 + n])
-            crc = self.buf[4 + n] | self.buf[5 + n] << 8
+            self.steps += 1
+            body = bytes(buf[pos + 2:pos + 4 + n])
+            crc = buf[pos + 4 + n] | buf[pos + 5 + n] << 8
             if crc != crc16(body):
                 self.bad += 1
                 self.skipped += 1
-                del self.buf[:1]
+                pos += 1
                 continue
             out.append((body[0], body[2:]))
-            del self.buf[:6 + n]
+            pos += 6 + n
+        del buf[:pos]
         return out
 
 
@@ -412,10 +447,15 @@ _STATUS_NAMES = ("ticks", "pings", "echoes", "timeouts", "om_hits", "overruns", 
 
 
 def decode(ftype, p):
-    """A frame as a dict; None when its length is not its type's (a malformed frame)."""
+    """A frame as a dict; None when its length is not its type's, or a field a tool would
+    trust holds what no robot sends (a malformed frame): a HELLO's grid must be
+    GRID_SIDE_MIN..GRID_SIDE_MAX cells a side (65535 x 65535 would be 8 GiB of maps), a
+    map row must lie within such a grid."""
     n = len(p)
     if ftype == HELLO and n in (19, 39, 42):
         v, a, b, cell, ox, oy, om_max, tm_max = struct.unpack("<BHHIiiBB", p[:19])
+        if not (GRID_SIDE_MIN <= a <= GRID_SIDE_MAX and GRID_SIDE_MIN <= b <= GRID_SIDE_MAX):
+            return None
         d = dict(type="hello", version=v, a=a, b=b, cell_um=cell, origin_x_um=ox,
                  origin_y_um=oy, om_max=om_max, tm_max=tm_max, om_mode=OM_COUNT)
         if n >= 39:
@@ -434,6 +474,8 @@ def decode(ftype, p):
                     range_um=rng, x_um=x, y_um=y, heading=h)
     if ftype == MAP_ROW and n >= 5:
         which, row, first = struct.unpack("<BHH", p[:5])
+        if row >= GRID_SIDE_MAX or first + n - 5 > GRID_SIDE_MAX:
+            return None
         return dict(type="map_row", map=which, row=row, first=first, cells=bytes(p[5:]))
     if ftype == STATUS and n in (32, 42):
         d = dict(zip(_STATUS_NAMES, struct.unpack("<%dI" % (n // 4), p[:n // 4 * 4])))
