@@ -15,14 +15,14 @@ usage() {
 }
 
 # What each group needs (Debian bookworm package names).
-pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2"
+pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2 python3-hypothesis"
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib python3-serial"
 pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
 pkgs_flash="openocd gdb-multiarch"
 pkgs_linux="cmake make gcc pkg-config libgpiod-dev libcmocka-dev"
 # make compare only: OctoMap beside the firmware's mapper, both counted by callgrind.
 pkgs_compare="cmake make gcc g++ liboctomap-dev valgrind python3 python3-numpy"
-pkgs_fuzz="cmake make clang libclang-rt-dev libcmocka-dev python3"
+pkgs_fuzz="cmake make clang libclang-rt-dev libcmocka-dev python3 python3-hypothesis"
 
 want=""
 [ $# -eq 0 ] && set -- all
