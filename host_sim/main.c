@@ -516,7 +516,7 @@ int main(int argc, char **argv)
         outputs_discard();
     }
     release(&held);
-    if (stopped()) {
+    if (rc != 0 && stopped()) { /* a signal after the outputs were committed changes nothing */
         return 128 + (int)stop_signal;
     }
     return rc;
