@@ -176,6 +176,8 @@ typedef struct {
     bool has_out;  /* --out given: a replay's default is beside its log, not out/sim */
     bool ideal;
     bool paper;
+    int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
+    bool has_sonar; /* given on the command line */
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -187,6 +189,8 @@ typedef struct {
     const char *telemetry;
     const char *commands;
     const char *storage;
+    const char *link; /* --link PATH: the UART live on a pseudo-terminal (viewers.h) */
+    const char *bag;  /* --bag FILE: the run as a ROS bag (viewers.h) */
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
@@ -306,6 +310,9 @@ typedef struct {
     double touch_t, touch_x, touch_y, touch_th, touch_bearing, touch_pos_err, touch_th_err;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
+    /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
+     * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
+    uint32_t walls_lowered[2];
     FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
 } run_t;
 

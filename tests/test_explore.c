@@ -27,7 +27,7 @@ static void full_clear_sweep(void)
 {
     for (int s = 0; s < 12; s++) {
         tick(s < 6 ? s : 11 - s, 3000.0);
-        tick(0, -2.0);
+        quiet_tick();
     }
 }
 
@@ -35,8 +35,8 @@ static void full_clear_sweep(void)
 static unsigned wait_while(uint8_t s, unsigned n)
 {
     unsigned t = 0;
-    while (ex.state == s && t++ < n) {
-        tick(0, -2.0);
+    while (ex.machine.state == s && t++ < n) {
+        quiet_tick();
     }
     return t;
 }
@@ -57,16 +57,16 @@ static void test_look_then_forward(void **state)
     (void)state;
     setup_mode(EXPLORE_RANDOM);
     for (int t = 0; t < 50; t++) {
-        tick(0, -2.0); /* no readings yet: stand and look */
+        quiet_tick(); /* no readings yet: stand and look */
         assert_int_equal(target[0], 0);
-        assert_int_equal(ex.state, EXPLORE_LOOK);
+        assert_int_equal(ex.machine.state, EXPLORE_LOOK);
     }
     full_clear_sweep();
     /* Then a pass over the memory and the map that began after the sweep, a slice a tick. */
     unsigned t = wait_while(EXPLORE_LOOK, 100u);
     assert_true(t >= 2u && t <= 20u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
-    tick(0, -2.0);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
+    quiet_tick();
     assert_int_equal(target[0], 200);
     assert_int_equal(target[1], 200);
 }
@@ -79,18 +79,18 @@ static void test_reading_ticks_only_note(void **state)
     setup_mode(EXPLORE_RANDOM);
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    tick(0, -2.0);
+    quiet_tick();
     assert_int_equal(target[0], 200);
-    uint8_t slot = ex.next_point;
+    uint8_t slot = ex.memory.next_point;
     explore_t before = ex;
     tick(2, 200.0); /* 0.2 m, 11° right: in the way */
     assert_int_equal(target[0], 200);
     assert_int_equal(target[1], 200);
-    assert_int_equal(ex.pt_seen[slot], before.pt_seen[slot]);
-    assert_int_equal(ex.state, before.state);
-    tick(0, -2.0);
-    assert_int_equal(ex.pt_seen[slot], ex.now);
-    assert_int_equal(ex.next_point, (slot + 1u) % EXPLORE_POINTS);
+    assert_int_equal(ex.memory.pt_seen[slot], before.memory.pt_seen[slot]);
+    assert_int_equal(ex.machine.state, before.machine.state);
+    quiet_tick();
+    assert_int_equal(ex.memory.pt_seen[slot], ex.machine.now);
+    assert_int_equal(ex.memory.next_point, (slot + 1u) % EXPLORE_POINTS);
 }
 
 static void test_obstacle_ahead_turns_away(void **state)
@@ -99,24 +99,24 @@ static void test_obstacle_ahead_turns_away(void **state)
     setup_mode(EXPLORE_RANDOM);
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
     /* Servo 101°: 11° to the right, 0.2 m from the sonar. */
     tick(2, 200.0);
     wait_while(EXPLORE_FORWARD, 40u);
-    assert_int_equal(ex.state, EXPLORE_TURN);
-    assert_int_equal(ex.avoidances, 1u);
-    int32_t turn = fix_bam_diff(ex.target_heading, pose().heading);
+    assert_int_equal(ex.machine.state, EXPLORE_TURN);
+    assert_int_equal(ex.count.avoidances, 1u);
+    int32_t turn = fix_bam_diff(ex.moves.target_heading, pose().heading);
     /* The paper's way: away from the right, to the left, by 90..180°. */
     assert_true(turn >= (int32_t)fix_bam_from_mdeg(89000) && turn <= INT32_MAX);
-    tick(0, -2.0);
+    quiet_tick();
     assert_true(target[0] < 0 && target[1] > 0); /* counter-clockwise */
     wait_while(EXPLORE_TURN, 2000u);
-    assert_int_equal(ex.state, EXPLORE_LOOK);
-    assert_true(angle_off(ex.target_heading, pose().heading) < fix_bam_from_mdeg(3000));
+    assert_int_equal(ex.machine.state, EXPLORE_LOOK);
+    assert_true(angle_off(ex.moves.target_heading, pose().heading) < fix_bam_from_mdeg(3000));
     /* The obstacle is behind now: looking finds the way clear. */
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
 }
 
 /* The robot slows down as the nearest point ahead comes closer: cruise from 0.7 m ahead
@@ -134,9 +134,9 @@ static void test_slows_down_near_an_obstacle(void **state)
         wait_while(EXPLORE_LOOK, 100u);
         tick(1, cases[c].range_mm); /* 7° to the left */
         for (int t = 0; t < 20; t++) {
-            tick(0, -2.0);
+            quiet_tick();
         }
-        assert_int_equal(ex.state, EXPLORE_FORWARD);
+        assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
         printf("point %.0f mm ahead: %d mm/s\n", cases[c].range_mm, target[0]);
         assert_true(target[0] >= cases[c].lo && target[0] <= cases[c].hi);
         assert_int_equal(target[0], target[1]);
@@ -158,18 +158,18 @@ static void test_hears_little_slows_down(void **state)
         full_clear_sweep();
         wait_while(EXPLORE_LOOK, 100u);
         for (unsigned k = 0; k < cases[c].lost; k++) {
-            tick((int)(k % 6u), -1.0); /* no echo */
+            tick((int)(k % 6u), EW_TIMEOUT); /* no echo */
             for (int t = 0; t < 5; t++) {
-                tick(0, -2.0);
+                quiet_tick();
             }
         }
         printf("%u of the last 12 pings lost: %d mm/s\n", cases[c].lost, target[0]);
-        assert_int_equal(ex.state, EXPLORE_FORWARD);
+        assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
         assert_int_equal(target[0], cases[c].speed);
         assert_int_equal(target[1], cases[c].speed);
     }
     full_clear_sweep();
-    tick(0, -2.0);
+    quiet_tick();
     assert_int_equal(target[0], 200);
 }
 
@@ -181,11 +181,11 @@ static void test_corridor_and_memory(void **state)
     /* Servo 155°: 65° to the right; 0.3 m away the point is 0.13 m ahead of the sonar
      * but 0.27 m to the side: outside the 0.13 m corridor. */
     tick(5, 300.0);
-    tick(0, -2.0);
+    quiet_tick();
     assert_false(explore_blocked(&ex, &p));
     /* Servo 83°: 7° to the left, 0.25 m: ahead and inside. */
     tick(1, 250.0);
-    tick(0, -2.0);
+    quiet_tick();
     assert_true(explore_blocked(&ex, &p));
     /* Seen from a pose facing the other way, it is behind: no block. */
     odom_pose_t back = {p.x_um, p.y_um, p.heading + FIX_BAM_HALF};
@@ -194,28 +194,28 @@ static void test_corridor_and_memory(void **state)
     odom_pose_t away = {p.x_um - 200000, p.y_um, p.heading};
     assert_false(explore_blocked(&ex, &away));
     /* A point is forgotten after EXPLORE_MEMORY_TICKS... */
-    ex.now += EXPLORE_MEMORY_TICKS - 1u;
+    ex.machine.now += EXPLORE_MEMORY_TICKS - 1u;
     assert_true(explore_blocked(&ex, &p));
-    ex.now += 2u;
+    ex.machine.now += 2u;
     assert_false(explore_blocked(&ex, &p));
     /* ...or when EXPLORE_POINTS newer points have taken its place. */
     tick(1, 250.0);
-    tick(0, -2.0);
+    quiet_tick();
     assert_true(explore_blocked(&ex, &p));
     for (unsigned i = 0; i < EXPLORE_POINTS - 1u; i++) {
         tick(5, 300.0);
-        tick(0, -2.0);
+        quiet_tick();
     }
     assert_true(explore_blocked(&ex, &p));
     tick(5, 300.0);
-    tick(0, -2.0);
+    quiet_tick();
     assert_false(explore_blocked(&ex, &p));
     /* The point is the reading's own, taken in its tick: the background loop may map an
      * older reading (and change the mapper's last outcome) before the next tick. */
     tick(1, 250.0);
     mapper.last = MAPPER_TIMEOUT;
     mapper.last_x_um = p.x_um - 1000000;
-    tick(0, -2.0);
+    quiet_tick();
     assert_true(explore_blocked(&ex, &p));
 }
 
@@ -258,7 +258,7 @@ static void test_map_corridor(void **state)
         setup_mode(EXPLORE_RANDOM);
         full_clear_sweep();
         wait_while(EXPLORE_LOOK, 100u);
-        assert_int_equal(ex.state, EXPLORE_FORWARD);
+        assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
         px = py = 0.0;
         uint8_t om = (uint8_t)(GRID_EVIDENCE_ZERO + cases[c].hits * grid.hit);
         om_at(cases[c].x1, cases[c].y1, om);
@@ -266,11 +266,11 @@ static void test_map_corridor(void **state)
         world_held[0] = cases[c].hits == 0u ? (int32_t)(cases[c].x1 * 1e6) : LOC_AHEAD_NONE;
         world_held[1] = (int32_t)(cases[c].y1 * 1e6);
         for (int t = 0; t < 10; t++) {
-            tick(0, -2.0);
+            quiet_tick();
             px = 0.0; /* stand at the origin for the test */
         }
-        printf("case %zu: state %u\n", c, ex.state);
-        assert_int_equal(ex.state == EXPLORE_TURN, cases[c].stops);
+        printf("case %zu: state %u\n", c, ex.machine.state);
+        assert_int_equal(ex.machine.state == EXPLORE_TURN, cases[c].stops);
     }
 }
 
@@ -280,9 +280,9 @@ static void drive_to(double x_um)
     setup_mode(EXPLORE_RANDOM);
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
     while (px < x_um) {
-        tick(0, -2.0);
+        quiet_tick();
     }
 }
 
@@ -290,15 +290,15 @@ static void drive_to(double x_um)
 static void stall_once(void)
 {
     stalled = true;
-    tick(0, -2.0);
+    quiet_tick();
     stalled = false;
 }
 
 static unsigned stand_out(unsigned n)
 {
     unsigned t = 0;
-    while (ex.state == EXPLORE_HOLD && t++ < n) {
-        tick(0, -2.0);
+    while (ex.machine.state == EXPLORE_HOLD && t++ < n) {
+        quiet_tick();
     }
     return t;
 }
@@ -313,25 +313,25 @@ static void test_stall_backs_off_along_the_trail(void **state)
     drive_to(300000.0);
     pth = EW_PI / 2.0;
     while (py < 100000.0) {
-        tick(0, -2.0);
+        quiet_tick();
     }
     double sx = px;
     double sy = py;
     stall_once();
     /* It stands a while first (the wheels at rest), then backs off. */
-    assert_int_equal(ex.state, EXPLORE_HOLD);
-    assert_int_equal(ex.stalls, 1u);
-    tick(0, -2.0);
+    assert_int_equal(ex.machine.state, EXPLORE_HOLD);
+    assert_int_equal(ex.count.stalls, 1u);
+    quiet_tick();
     assert_int_equal(target[0], 0);
     assert_int_equal(target[1], 0);
     unsigned held = stand_out(1000u) + 1u;
     printf("stood %u ticks\n", held);
     assert_true(held >= 100u && held < 1000u);
-    assert_int_equal(ex.state, EXPLORE_BACK);
+    assert_int_equal(ex.machine.state, EXPLORE_BACK);
     unsigned t = 0;
     double worst = 0.0;
-    while (ex.state == EXPLORE_BACK && t++ < 3000u) {
-        tick(0, -2.0);
+    while (ex.machine.state == EXPLORE_BACK && t++ < 3000u) {
+        quiet_tick();
         /* Never off the way in: within 25 mm of the L-shaped path, (0, 0) to (sx, 0) to
          * (sx, sy). */
         double a = hypot(px - (px < 0.0 ? 0.0 : (px > sx ? sx : px)), py);
@@ -340,16 +340,16 @@ static void test_stall_backs_off_along_the_trail(void **state)
         worst = off > worst ? off : worst;
     }
     printf("backed off to (%.0f, %.0f) µm, at most %.1f mm off the path\n", px, py, worst / 1000.0);
-    assert_int_equal(ex.state, EXPLORE_TURN);
+    assert_int_equal(ex.machine.state, EXPLORE_TURN);
     assert_true(worst < 25000.0);
     assert_true(hypot(px - sx, py - sy) >= EXPLORE_BACK_UM - 1000.0);
     assert_true(px < sx); /* round the corner, along the first leg */
 
     setup_mode(EXPLORE_SQUARE);
     stalled = true;
-    tick(0, -2.0);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
-    assert_int_equal(ex.stalls, 0u);
+    quiet_tick();
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.count.stalls, 0u);
 }
 
 /* One wheel stalled while the other turned: nothing touched (that stops both), a wheel or
@@ -361,34 +361,34 @@ static void test_one_wheel_stall_stands_and_looks(void **state)
     (void)state;
     drive_to(200000.0);
     double sx = px;
-    uint8_t next = ex.next_point;
-    ex.one_wheel = true;
+    uint8_t next = ex.memory.next_point;
+    ex.moves.one_wheel = true;
     stall_once();
-    ex.one_wheel = false;
-    assert_int_equal(ex.state, EXPLORE_HOLD);
-    assert_int_equal(ex.next_point, next); /* no obstacle remembered */
+    ex.moves.one_wheel = false;
+    assert_int_equal(ex.machine.state, EXPLORE_HOLD);
+    assert_int_equal(ex.memory.next_point, next); /* no obstacle remembered */
     stand_out(1000u);
-    assert_int_equal(ex.state, EXPLORE_LOOK);
+    assert_int_equal(ex.machine.state, EXPLORE_LOOK);
     assert_true(fabs(px - sx) < 1.0); /* it never moved */
 
     /* Both wheels: back off; stalled again while backing, stand again, then back on. */
-    for (unsigned t = 0; ex.state != EXPLORE_FORWARD && t < 3000u; t++) {
-        tick(t % 6u == 0u ? (int)(t / 6u % 6u) : 0, t % 6u == 0u ? -1.0 : -2.0);
+    for (unsigned t = 0; ex.machine.state != EXPLORE_FORWARD && t < 3000u; t++) {
+        tick(t % 6u == 0u ? (int)(t / 6u % 6u) : 0, t % 6u == 0u ? EW_TIMEOUT : EW_NO_READING);
     }
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
     while (px < sx + 100000.0) {
-        tick(0, -2.0);
+        quiet_tick();
     }
     stall_once();
-    assert_int_equal(ex.state, EXPLORE_HOLD);
+    assert_int_equal(ex.machine.state, EXPLORE_HOLD);
     stand_out(1000u);
-    assert_int_equal(ex.state, EXPLORE_BACK);
-    tick(0, -2.0);
+    assert_int_equal(ex.machine.state, EXPLORE_BACK);
+    quiet_tick();
     stall_once();
-    assert_int_equal(ex.state, EXPLORE_HOLD);
+    assert_int_equal(ex.machine.state, EXPLORE_HOLD);
     stand_out(1000u);
-    assert_int_equal(ex.state, EXPLORE_BACK);
-    assert_int_equal(ex.stalls, 3u);
+    assert_int_equal(ex.machine.state, EXPLORE_BACK);
+    assert_int_equal(ex.count.stalls, 3u);
 }
 
 /* No echo from any stop for a second (an echo line stuck high, pings lost): the robot
@@ -401,11 +401,11 @@ static void test_deaf_robot_stands(void **state)
     tick(2, 3000.0); /* one echo, far ahead */
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_FORWARD);
+    assert_int_equal(ex.machine.state, EXPLORE_FORWARD);
     unsigned moving = 0;
     unsigned still = 0;
     for (unsigned t = 0; t < 600u; t++) {
-        tick(t % 6u == 0u ? (int)(t / 6u % 6u) : 0, t % 6u == 0u ? -1.0 : -2.0);
+        tick(t % 6u == 0u ? (int)(t / 6u % 6u) : 0, t % 6u == 0u ? EW_TIMEOUT : EW_NO_READING);
         if (t < 80u) {
             moving += target[0] > 0 && target[1] > 0;
         } else if (t >= 120u && t < 380u) {
@@ -420,12 +420,12 @@ static void test_deaf_robot_stands(void **state)
     /* Deaf again after an echo: stands again, and an echo ends it at once. */
     tick(2, 3000.0);
     for (unsigned t = 0; t < 150u; t++) {
-        tick(0, -2.0);
+        quiet_tick();
     }
     assert_true(target[0] == 0 && target[1] == 0);
     tick(2, 3000.0);
-    tick(0, -2.0);
-    tick(0, -2.0);
+    quiet_tick();
+    quiet_tick();
     assert_true(target[0] > 0 && target[1] > 0);
 }
 
@@ -446,11 +446,11 @@ static void decide_all(void)
 {
     full_clear_sweep();
     wait_while(EXPLORE_LOOK, 100u);
-    assert_int_equal(ex.state, EXPLORE_DECIDE);
+    assert_int_equal(ex.machine.state, EXPLORE_DECIDE);
     unsigned t = wait_while(EXPLORE_DECIDE, 400u);
     printf("TM decision: %u ticks\n", t);
     assert_true(t <= 200u); /* standing still two seconds at most */
-    assert_int_equal(ex.state, EXPLORE_TURN);
+    assert_int_equal(ex.machine.state, EXPLORE_TURN);
 }
 
 /* TM mode in an arena visited everywhere but two ways, 90° (visits v90 along it) and
@@ -468,7 +468,7 @@ static bam32_t tm_decides(uint8_t v90, uint8_t v180, bool wall_at_90)
         paint_ray(90.0, grid.om, ew_om_occupied(), 0.28, 0.32);
     }
     decide_all();
-    return ex.target_heading;
+    return ex.moves.target_heading;
 }
 
 static void test_tm_mode_heads_for_the_least_visited(void **state)
@@ -497,14 +497,14 @@ static void test_tm_avoidance_turns_left(void **state)
         memset(grid.tm, 30, sizeof grid.tm);
         paint_ray(-90.0, grid.tm, 0u, 0.03, 1.2); /* the least visited way is to the right */
         for (int s = 0; s < 6; s++) {
-            tick(s, s == 2 ? 200.0 : -1.0); /* and something is ahead */
-            tick(0, -2.0);
+            tick(s, s == 2 ? 200.0 : EW_TIMEOUT); /* and something is ahead */
+            quiet_tick();
         }
         wait_while(EXPLORE_LOOK, 100u);
-        assert_int_equal(ex.state, EXPLORE_DECIDE);
+        assert_int_equal(ex.machine.state, EXPLORE_DECIDE);
         wait_while(EXPLORE_DECIDE, 400u);
-        assert_int_equal(ex.state, EXPLORE_TURN);
-        int32_t turn = fix_bam_diff(ex.target_heading, pose().heading);
+        assert_int_equal(ex.machine.state, EXPLORE_TURN);
+        int32_t turn = fix_bam_diff(ex.moves.target_heading, pose().heading);
         assert_true(turn > 0 && turn <= (int32_t)fix_bam_from_mdeg(150500));
     }
 }
@@ -514,17 +514,17 @@ static void test_square_returns_to_the_start(void **state)
     (void)state;
     setup_mode(EXPLORE_SQUARE);
     int t = 0;
-    while (ex.state != EXPLORE_STOP && t++ < 20000) {
-        tick(t % 6, t % 6 == 0 ? 100.0 : -2.0); /* readings do not matter to the square */
+    while (ex.machine.state != EXPLORE_STOP && t++ < 20000) {
+        tick(t % 6, t % 6 == 0 ? 100.0 : EW_NO_READING); /* readings do not matter to the square */
     }
-    assert_int_equal(ex.state, EXPLORE_STOP);
-    assert_int_equal(ex.turns, 3u);
+    assert_int_equal(ex.machine.state, EXPLORE_STOP);
+    assert_int_equal(ex.count.turns, 3u);
     /* An ideal robot ends near where it began: each turn stops within 1° of its corner
      * (17 mm off over a 1 m leg), each leg within a tick's travel (2 mm). */
     printf("square: ends %.1f mm from the start\n", hypot(px, py) / 1000.0);
     assert_true(hypot(px, py) < 3.0 * 17500.0 + 4.0 * 2000.0);
     assert_true(fabs(remainder(pth - 1.5 * EW_PI, 2.0 * EW_PI)) < EW_PI / 180.0); /* facing -y */
-    tick(0, -2.0);
+    quiet_tick();
     assert_int_equal(target[0], 0);
     assert_int_equal(target[1], 0);
 }
@@ -543,16 +543,16 @@ static uint64_t random_run(uint32_t seed)
     uint64_t h = 1469598103934665603ull;
     double closest = HUGE_VAL;
     for (int t = 0; t < 30000; t++) {
-        uint8_t before = ex.state;
+        uint8_t before = ex.machine.state;
         world_tick();
-        if (ex.state == EXPLORE_TURN && before != EXPLORE_TURN) {
-            h = (h ^ ex.target_heading) * 1099511628211ull;
+        if (ex.machine.state == EXPLORE_TURN && before != EXPLORE_TURN) {
+            h = (h ^ ex.moves.target_heading) * 1099511628211ull;
         }
         double c = clearance();
         closest = c < closest ? c : closest;
     }
-    printf("seed %u: %u turns, closest %.0f mm\n", seed, ex.turns, closest / 1000.0);
-    assert_true(ex.turns > 10u);
+    printf("seed %u: %u turns, closest %.0f mm\n", seed, ex.count.turns, closest / 1000.0);
+    assert_true(ex.count.turns > 10u);
     assert_true(closest > 90000.0 + 30000.0); /* the body (90 mm) kept 30 mm clear */
     return h;
 }

@@ -31,7 +31,7 @@ static unsigned run_until(bool (*cond)(void), unsigned n, double *closest)
 
 static bool following(void)
 {
-    return ex.state == EXPLORE_FOLLOW;
+    return ex.machine.state == EXPLORE_FOLLOW;
 }
 
 /* A long wall 0.25 m to the right: the robot follows it at follow_um, never nearer than
@@ -43,11 +43,11 @@ static void test_follows_a_wall_on_the_right(void **state)
     add_wall(-1.0, -0.25, 12.0, -0.25);
     double closest = HUGE_VAL;
     run_until(following, 3000u, &closest);
-    assert_int_equal(ex.state, EXPLORE_FOLLOW);
+    assert_int_equal(ex.machine.state, EXPLORE_FOLLOW);
     double lo = HUGE_VAL;
     double hi = 0.0;
     run_until(NULL, 1000u, &closest); /* settle */
-    while (px < 8e6 && ex.state == EXPLORE_FOLLOW) {
+    while (px < 8e6 && ex.machine.state == EXPLORE_FOLLOW) {
         world_tick();
         double d = py + 250000.0; /* the axle above the wall */
         lo = d < lo ? d : lo;
@@ -62,7 +62,7 @@ static void test_follows_a_wall_on_the_right(void **state)
 
 static bool heading_north(void)
 {
-    return ex.state == EXPLORE_FOLLOW && fabs(remainder(pth - EW_PI / 2.0, 2.0 * EW_PI)) < 0.1 &&
+    return ex.machine.state == EXPLORE_FOLLOW && fabs(remainder(pth - EW_PI / 2.0, 2.0 * EW_PI)) < 0.1 &&
            py > 0.0;
 }
 
@@ -122,15 +122,15 @@ static void test_opening_is_passed_at_its_middle(void **state)
     double closest = HUGE_VAL;
     unsigned t = run_until(passed, 20000u, &closest);
     printf("through at x %.0f mm after %u ticks, closest %.0f mm, doors %u\n", px / 1000.0, t,
-           closest / 1000.0, ex.doors);
+           closest / 1000.0, ex.count.doors);
     assert_true(passed());
     assert_true(px > 1.5e6 && px < 1.86e6);
     assert_true(closest > 40000.0);
-    assert_true(ex.doors >= 1u);
+    assert_true(ex.count.doors >= 1u);
     run_until(following, 1000u, &closest);
     run_until(NULL, 1000u, &closest);
     printf("then at (%.0f, %.0f) mm heading %.0f°\n", px / 1000.0, py / 1000.0, pth * 180.0 / EW_PI);
-    assert_int_equal(ex.state, EXPLORE_FOLLOW);
+    assert_int_equal(ex.machine.state, EXPLORE_FOLLOW);
     assert_true(py < -0.25e6 && px < 1.5e6); /* west, along the far side */
     assert_true(closest > 40000.0);
 }
@@ -144,7 +144,7 @@ static void test_a_whole_wall_has_no_opening(void **state)
     double closest = HUGE_VAL;
     run_until(NULL, 6000u, &closest);
     assert_true(py > -0.25e6);
-    assert_int_equal(ex.doors, 0u);
+    assert_int_equal(ex.count.doors, 0u);
 }
 
 /* Along a wall driven before (TM ahead), the robot leaves it and seeks the frontier. */
@@ -163,7 +163,7 @@ static void test_leaves_a_wall_driven_before(void **state)
     bool left = false;
     for (unsigned t = 0; t < 4000u && !left; t++) {
         world_tick();
-        left = ex.state == EXPLORE_SEEK || ex.state == EXPLORE_DECIDE;
+        left = ex.machine.state == EXPLORE_SEEK || ex.machine.state == EXPLORE_DECIDE;
     }
     printf("left the wall at x %.0f mm\n", px / 1000.0);
     assert_true(left);
@@ -174,13 +174,13 @@ static void test_leaves_a_wall_driven_before(void **state)
 static void explored(uint32_t ba, uint32_t bb)
 {
     uint32_t k = bb * EXPLORE_BLOCKS_A + ba;
-    ex.explored[k >> 3] = (uint8_t)(ex.explored[k >> 3] | (1u << (k & 7u)));
+    ex.seek.explored[k >> 3] = (uint8_t)(ex.seek.explored[k >> 3] | (1u << (k & 7u)));
 }
 
 static bool is_dead(uint32_t ba, uint32_t bb)
 {
     uint32_t k = bb * EXPLORE_BLOCKS_A + ba;
-    return (ex.dead[k >> 3] & (1u << (k & 7u))) != 0u;
+    return (ex.seek.dead[k >> 3] & (1u << (k & 7u))) != 0u;
 }
 
 /* SEEK: the nearest block next to an explored one, in sight; one hidden behind an
@@ -207,26 +207,26 @@ static void test_seeks_the_nearest_frontier_in_sight(void **state)
         }
     }
     /* Following, with the way ahead driven before: the robot leaves the wall and seeks. */
-    ex.state = EXPLORE_FOLLOW;
-    ex.retrace = 100u;
+    ex.machine.state = EXPLORE_FOLLOW;
+    ex.walls.retrace = 100u;
     unsigned t = 0;
-    while (ex.state != EXPLORE_FACE && t++ < 2000u) {
-        tick(0, -2.0);
+    while (ex.machine.state != EXPLORE_FACE && t++ < 2000u) {
+        quiet_tick();
         px = py = pth = 0.0; /* stand still */
     }
-    uint32_t ta = ex.target % EXPLORE_BLOCKS_A;
-    uint32_t tb = ex.target / EXPLORE_BLOCKS_A;
+    uint32_t ta = ex.seek.target % EXPLORE_BLOCKS_A;
+    uint32_t tb = ex.seek.target / EXPLORE_BLOCKS_A;
     printf("sought in %u ticks: block (%u, %u), from (%u, %u)\n", t, ta, tb, ba, bb);
-    assert_int_equal(ex.state, EXPLORE_FACE);
+    assert_int_equal(ex.machine.state, EXPLORE_FACE);
     assert_true(is_dead(ba, bb - 3u));
     assert_int_equal(ta, ba - 3u); /* west, beside the robot's row */
     assert_true(tb + 1u >= bb && tb <= bb + 1u);
     /* FACE turns toward it, then the robot looks. */
     t = 0;
-    while (ex.state == EXPLORE_FACE && t++ < 2000u) {
-        tick(0, -2.0);
+    while (ex.machine.state == EXPLORE_FACE && t++ < 2000u) {
+        quiet_tick();
     }
-    assert_int_equal(ex.state, EXPLORE_LOOK);
+    assert_int_equal(ex.machine.state, EXPLORE_LOOK);
     double bx = (double)grid.origin_x_um + ((ta << EXPLORE_BLOCK_SHIFT) + 8u) * 50000.0;
     double by = (double)grid.origin_y_um + ((tb << EXPLORE_BLOCK_SHIFT) + 8u) * 50000.0;
     double want = atan2(by - py, bx - px);
@@ -244,13 +244,13 @@ static void test_free_cells_explore_their_block(void **state)
     grid.om[grid_index(c)] = ew_om_free();
     assert_int_equal(grid_state(&grid, grid_index(c)), GRID_FREE);
     uint32_t k = (c.b >> EXPLORE_BLOCK_SHIFT) * EXPLORE_BLOCKS_A + (c.a >> EXPLORE_BLOCK_SHIFT);
-    assert_true((ex.explored[k >> 3] & (1u << (k & 7u))) == 0u);
-    for (unsigned t = 0; t < 20u * SLAM_GRID_CELLS / 8u && (ex.explored[k >> 3] & (1u << (k & 7u))) == 0u;
+    assert_true((ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u);
+    for (unsigned t = 0; t < 20u * SLAM_GRID_CELLS / 8u && (ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u;
          t++) {
-        tick(0, -2.0);
+        quiet_tick();
         px = py = pth = 0.0;
     }
-    assert_true((ex.explored[k >> 3] & (1u << (k & 7u))) != 0u);
+    assert_true((ex.seek.explored[k >> 3] & (1u << (k & 7u))) != 0u);
 }
 
 int main(void)

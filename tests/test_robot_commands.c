@@ -137,11 +137,11 @@ static void test_set_applies_once_the_robot_stands(void **state)
     assert_int_equal(r.key, 40u);
     assert_int_equal(r.value, 120u);
     assert_int_equal(robot.cfg.cruise_mm_s, 120u);
-    assert_int_equal(robot.explore.cruise_mm_s, 200); /* not yet: the robot is moving */
+    assert_int_equal(robot.explore.cfg.cruise_mm_s, 200); /* not yet: the robot is moving */
     assert_true(robot.hold & ROBOT_HOLD_COMMAND);
     run(200);
     assert_int_equal(robot.hold, 0u);
-    assert_int_equal(robot.explore.cruise_mm_s, 120);
+    assert_int_equal(robot.explore.cfg.cruise_mm_s, 120);
     /* The pose was kept; the square begins again where the robot stood. */
     assert_true(robot.pose.x_um >= before.x_um);
     run(300);
@@ -179,7 +179,7 @@ static void test_mode_and_calibration_run(void **state)
     send(TELEM_CMD_MODE, &random, 1u);
     run(400);
     assert_int_equal(replies().acks, 1u);
-    assert_int_equal(robot.explore.mode, EXPLORE_RANDOM);
+    assert_int_equal(robot.explore.cfg.mode, EXPLORE_RANDOM);
     assert_int_equal(robot.cfg.explore_mode, EXPLORE_RANDOM);
     assert_true(robot.pose.x_um > 10000 || robot.pose.heading != 0u);
 
@@ -212,7 +212,7 @@ static void test_mode_and_calibration_run(void **state)
     run(200);
     assert_false(robot.umbmark.on);
     assert_true(robot.loc.on);
-    assert_int_equal(robot.explore.mode, EXPLORE_TM);
+    assert_int_equal(robot.explore.cfg.mode, EXPLORE_TM);
 }
 
 static void test_send_map_restarts_the_rows(void **state)

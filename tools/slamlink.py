@@ -118,6 +118,27 @@ def parse_real(text, lo=None, hi=None, what="value"):
     return _range_check(v, text, lo, hi, what)
 
 
+def arg_real(lo, hi):
+    """parse_real() as an argparse type: a decimal number in [lo, hi]."""
+    return _arg(parse_real, lo, hi)
+
+
+def arg_int(lo, hi):
+    """parse_int() as an argparse type: a whole decimal number in [lo, hi]."""
+    return _arg(parse_int, lo, hi)
+
+
+def _arg(parse, lo, hi):
+    import argparse
+
+    def typed(text):
+        try:
+            return parse(text, lo, hi, what="value")
+        except NumberError as e:
+            raise argparse.ArgumentTypeError(str(e).partition(": ")[2])
+    return typed
+
+
 # ---- the firmware's tables ------------------------------------------------------------
 # The configuration fields and the exploration modes are read from the firmware's own
 # tables (firmware/include/slam/config_fields.h, explore_modes.h) when this module is

@@ -141,7 +141,7 @@ void robot_tick(robot_t *r)
         }
     } else {
         bool stalled = motion_stalled(&r->motion);
-        r->explore.one_wheel = stalled && motion_one_wheel(&r->motion);
+        r->explore.moves.one_wheel = stalled && motion_one_wheel(&r->motion);
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick.ahead,
                      stalled, target_mm_s);
     }

@@ -42,18 +42,11 @@ static void robot_reconfigure(robot_t *r, bool reseed)
     here.start_y_um = r->pose.y_um;
     here.start_heading_mdeg = fix_bam_to_mdeg(r->pose.heading);
     if (!reseed) {
-        here.explore_seed = r->explore.rng; /* the random stream goes on */
+        here.explore_seed = r->explore.machine.rng; /* the random stream goes on */
     }
-    explore_t *e = &r->explore;
-    uint32_t turns = e->turns, avoidances = e->avoidances, stalls = e->stalls;
-    uint32_t leaves = e->leaves, doors = e->doors, seeks = e->seeks;
-    explore_init(e, &here);
-    e->turns = turns;
-    e->avoidances = avoidances;
-    e->stalls = stalls;
-    e->leaves = leaves;
-    e->doors = doors;
-    e->seeks = seeks;
+    explore_count_t count = r->explore.count;
+    explore_init(&r->explore, &here);
+    r->explore.count = count;
     /* Into or out of the UMBmark test: the pose correction starts afresh (the hits it
      * held back are dropped), off while the test runs and puts odometry back at every run. */
     bool was = r->umbmark.on;

@@ -85,7 +85,7 @@ bool umbmark_step(umbmark_t *u, const odom_pose_t *p, int32_t target_mm_s[2])
         begin_leg(u, u->start.x_um, u->start.y_um);
         return true;
     case UMB_LEG: {
-        /* Along the leg, as explore.c measures its legs: differences modulo 2^32, exact
+        /* Along the leg, as the square mode measures its legs: differences modulo 2^32, exact
          * within 2 km; the projection fits 32 bits as long as the side does. */
         int32_t dx = (int32_t)((uint32_t)p->x_um - (uint32_t)u->leg_x_um);
         int32_t dy = (int32_t)((uint32_t)p->y_um - (uint32_t)u->leg_y_um);

@@ -13,6 +13,8 @@
 
 #define EW_PI 3.14159265358979323846
 #define EW_WALLS 16
+#define EW_TIMEOUT (-1.0)    /* tick()'s range_mm: the ping timed out, no echo */
+#define EW_NO_READING (-2.0) /* tick()'s range_mm: no reading completes in this tick */
 
 /* The robot's state and the world. Positions in µm, the heading in radians. */
 static slam_config_t cfg;
@@ -77,13 +79,13 @@ static void setup_mode(uint8_t mode)
 }
 
 /* One tick; a reading at a stop (servo 65 + 18·stop degrees) when range_mm >= 0, a
- * timeout when range_mm == -1, none when -2. The mapper places the reading's point and
- * counts TM, as robot_tick() does. */
+ * timeout when range_mm is EW_TIMEOUT, none when EW_NO_READING. The mapper places the
+ * reading's point and counts TM, as robot_tick() does. */
 static void tick(int stop, double range_mm)
 {
     sweep_out_t sw = {0};
     odom_pose_t p = pose();
-    if (range_mm > -1.5) {
+    if (range_mm != EW_NO_READING) {
         sw.reading_ready = true;
         sw.reading.stop = (uint8_t)stop;
         sw.reading.servo_mdeg = 65000 + 18000 * stop;
@@ -95,6 +97,12 @@ static void tick(int stop, double range_mm)
     mapper_tick(&mapper, &grid, &p, &sw);
     explore_step(&ex, &p, &sw, &mapper, &grid, world_held, stalled, target);
     move();
+}
+
+/* A tick in which no reading completes. */
+static void quiet_tick(void)
+{
+    tick(0, EW_NO_READING);
 }
 
 static void add_wall(double x1_m, double y1_m, double x2_m, double y2_m)
@@ -152,7 +160,7 @@ static double clearance(void)
 static void world_tick(void)
 {
     if (world_ticks++ % 6u != 5u) {
-        tick(0, -2.0);
+        quiet_tick();
         return;
     }
     int stop = world_seq < 6u ? (int)world_seq : (int)(11u - world_seq);
@@ -161,7 +169,7 @@ static void world_tick(void)
     double sy = py + cfg.mount_x_um * sin(pth);
     double dir = pth + (90.0 - (65.0 + 18.0 * stop)) * EW_PI / 180.0;
     double r = ray_to_walls(sx, sy, dir);
-    tick(stop, r < 4e6 ? r / 1000.0 : -1.0);
+    tick(stop, r < 4e6 ? r / 1000.0 : EW_TIMEOUT);
 }
 
 #endif /* TEST_EXPLORE_WORLD_H */

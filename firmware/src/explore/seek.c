@@ -1,0 +1,263 @@
+/* SPDX-License-Identifier: MIT */
+/* Walls mode: the frontier at the scale of blocks of cells, and crossing to it. */
+#include "walls.h"
+
+#define EXPLORE_FREE_STEPS 8u        /* cells (or skipped blocks) the rolling scan reads a tick */
+#define EXPLORE_SEEK_BLOCKS 4u       /* blocks weighed a tick */
+#define EXPLORE_SIGHT_CELLS 8u       /* cells of a line of sight walked a tick */
+#define EXPLORE_SEEK_REACH_UM 4000000 /* frontier blocks further than 4 m are not sought */
+#define EXPLORE_TARGET_TICKS 6000u   /* a block not reached within a minute is given up */
+#define EXPLORE_STEER_TARGET_MM_S 20 /* the steer toward a target while crossing */
+#define EXPLORE_SEEK_ROUNDS 4u       /* sets of four candidates tried in one search */
+#define EXPLORE_NONE 0xFFFFu
+
+static bool bit(const uint8_t *map, uint32_t k)
+{
+    return (map[k >> 3] & (1u << (k & 7u))) != 0u;
+}
+
+static void set_bit(uint8_t *map, uint32_t k)
+{
+    map[k >> 3] = (uint8_t)(map[k >> 3] | (1u << (k & 7u)));
+}
+
+static uint32_t block_of(uint32_t a, uint32_t b)
+{
+    return (b >> EXPLORE_BLOCK_SHIFT) * EXPLORE_BLOCKS_A + (a >> EXPLORE_BLOCK_SHIFT);
+}
+
+void explore_seek_init(explore_t *e)
+{
+    e->seek.target = EXPLORE_NONE;
+}
+
+void explore_seek_here(explore_t *e, grid_cell_t here)
+{
+    explore_seek_t *s = &e->seek;
+    uint32_t k = block_of(here.a, here.b);
+    set_bit(s->explored, k);
+    if (s->target != EXPLORE_NONE && k == s->target) {
+        s->target = EXPLORE_NONE; /* reached */
+        s->reached = true;
+    }
+}
+
+/*
+ * The rolling scan: a block with a known free cell (grid_state(), which says free where
+ * the robot has been, and where beams have passed once OM holds free-space evidence) is
+ * explored. A few cells a tick, skipping the rest of a block row once its block is known.
+ */
+void explore_seek_scan(explore_t *e, const grid_t *g)
+{
+    explore_seek_t *s = &e->seek;
+    uint32_t i = s->free_scan;
+    for (uint32_t n = 0; n < EXPLORE_FREE_STEPS; n++) {
+        if (i >= SLAM_GRID_CELLS) {
+            i = 0u;
+        }
+        uint32_t a = i % SLAM_GRID_A;
+        uint32_t k = block_of(a, i / SLAM_GRID_A);
+        if (bit(s->explored, k)) {
+            uint32_t next = (a | ((1u << EXPLORE_BLOCK_SHIFT) - 1u)) + 1u; /* next block */
+            i += next - a;
+            if (next >= SLAM_GRID_A) {
+                i -= next - SLAM_GRID_A; /* the row's end: on to the next row */
+            }
+            continue;
+        }
+        if (grid_state(g, i) == GRID_FREE) {
+            set_bit(s->explored, k);
+        }
+        i++;
+    }
+    s->free_scan = i;
+}
+
+/* A block's centre, in cells of the grid. */
+static void block_centre(uint32_t k, int32_t *a, int32_t *b)
+{
+    *a = (int32_t)((k % EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+    *b = (int32_t)((k / EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+}
+
+/* An unexplored block, not given up, next to an explored one. */
+static bool frontier(const explore_seek_t *s, uint32_t k)
+{
+    if (bit(s->explored, k) || bit(s->dead, k)) {
+        return false;
+    }
+    uint32_t ba = k % EXPLORE_BLOCKS_A;
+    uint32_t bb = k / EXPLORE_BLOCKS_A;
+    return (ba > 0u && bit(s->explored, k - 1u)) ||
+           (ba + 1u < EXPLORE_BLOCKS_A && bit(s->explored, k + 1u)) ||
+           (bb > 0u && bit(s->explored, k - EXPLORE_BLOCKS_A)) ||
+           (bb + 1u < EXPLORE_BLOCKS_B && bit(s->explored, k + EXPLORE_BLOCKS_A));
+}
+
+/* Begin the line of sight to candidate i: from the robot's cell centre to the block's. */
+static void sight_begin(explore_search_t *r)
+{
+    int32_t ta;
+    int32_t tb;
+    block_centre(r->block[r->i], &ta, &tb);
+    int32_t dx = ta - (int32_t)r->a;
+    int32_t dy = tb - (int32_t)r->b;
+    uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
+    len = len < 1u ? 1u : len;
+    r->sight.fx = ((int32_t)r->a << 16) + 0x8000;
+    r->sight.fy = ((int32_t)r->b << 16) + 0x8000;
+    r->sight.dx = (int32_t)((dx * 65536) / (int32_t)len);
+    r->sight.dy = (int32_t)((dy * 65536) / (int32_t)len);
+    r->sight.left = len;
+}
+
+/* A few cells of the line of sight; false when an occupied cell blocks it. */
+static bool sight_walk(explore_search_t *r, const grid_t *g)
+{
+    for (uint32_t n = 0; n < EXPLORE_SIGHT_CELLS && r->sight.left > 0u; n++) {
+        uint32_t k = explore_ray_next(&r->sight);
+        r->sight.left--;
+        if (k == EXPLORE_NO_CELL || grid_state(g, k) == GRID_OCCUPIED) {
+            return false;
+        }
+    }
+    return true;
+}
+
+void explore_seek(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+{
+    grid_cell_t c;
+    if (grid_cell_of(g, pose->x_um, pose->y_um, &c) != 0) {
+        explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
+        return;
+    }
+    explore_search_t *r = &e->search;
+    r->a = c.a;
+    r->b = c.b;
+    r->next = 0u;
+    r->n = 0u;
+    r->i = 0u;
+    r->rounds = 0u;
+    e->seek.target = EXPLORE_NONE;
+    explore_enter(e, EXPLORE_SEEK);
+}
+
+/* Weigh a few blocks: the frontier blocks within reach, the four nearest kept. */
+static void weigh_blocks(explore_t *e)
+{
+    explore_search_t *r = &e->search;
+    uint32_t reach = EXPLORE_SEEK_REACH_UM / e->cfg.cell_um;
+    for (uint32_t n = 0; n < EXPLORE_SEEK_BLOCKS && r->next < EXPLORE_BLOCKS; n++) {
+        uint32_t k = r->next++;
+        if (!frontier(&e->seek, k)) {
+            continue;
+        }
+        int32_t ta;
+        int32_t tb;
+        block_centre(k, &ta, &tb);
+        int32_t dx = ta - (int32_t)r->a;
+        int32_t dy = tb - (int32_t)r->b;
+        uint32_t d2 = (uint32_t)(dx * dx + dy * dy);
+        if (d2 > reach * reach) {
+            continue;
+        }
+        /* Insert into the nearest four, nearest first. */
+        uint8_t at = r->n < EXPLORE_SEEK_CANDIDATES ? r->n : EXPLORE_SEEK_CANDIDATES;
+        while (at > 0u && r->d2[at - 1u] > d2) {
+            if (at < EXPLORE_SEEK_CANDIDATES) {
+                r->block[at] = r->block[at - 1u];
+                r->d2[at] = r->d2[at - 1u];
+            }
+            at--;
+        }
+        if (at < EXPLORE_SEEK_CANDIDATES) {
+            r->block[at] = (uint16_t)k;
+            r->d2[at] = d2;
+            r->n = (uint8_t)(r->n < EXPLORE_SEEK_CANDIDATES ? r->n + 1u : r->n);
+        }
+    }
+    if (r->next >= EXPLORE_BLOCKS && r->n > 0u) {
+        sight_begin(r);
+    }
+}
+
+/*
+ * SEEK, a tick at a time: the nearest frontier blocks within reach (the four nearest are
+ * kept), then, nearest first, a straight line to each through the map: the first one no
+ * occupied cell hides becomes the target and the robot turns to face it. Without one,
+ * the ways to the left are weighed by TM as before.
+ */
+void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+{
+    explore_search_t *r = &e->search;
+    explore_seek_t *s = &e->seek;
+    if (r->next < EXPLORE_BLOCKS) {
+        weigh_blocks(e);
+        return;
+    }
+    if (r->i < r->n) {
+        if (!sight_walk(r, g)) {
+            /* Out of sight: behind a wall seen, most likely outside the room. It is not
+             * sought again; if it lies in a room beyond an opening, the robot explores
+             * it by passing the opening. */
+            set_bit(s->dead, r->block[r->i]);
+            if (++r->i < r->n) {
+                sight_begin(r);
+            } else if (++r->rounds < EXPLORE_SEEK_ROUNDS) {
+                r->next = 0u; /* the next nearest four */
+                r->n = 0u;
+                r->i = 0u;
+            }
+            return;
+        }
+        if (r->sight.left > 0u) {
+            return;
+        }
+        /* In sight: the target. */
+        uint32_t k = r->block[r->i];
+        int32_t ta;
+        int32_t tb;
+        block_centre(k, &ta, &tb);
+        s->target = (uint16_t)k;
+        s->target_since = e->machine.now;
+        s->target_x_um = g->origin_x_um + ta * (int32_t)g->cell_um;
+        s->target_y_um = g->origin_y_um + tb * (int32_t)g->cell_um;
+        e->count.seeks++;
+        explore_face(e, s->target_x_um, s->target_y_um, EXPLORE_FORWARD);
+        return;
+    }
+    (void)pose;
+    e->count.leaves++;
+    explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
+}
+
+int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *g)
+{
+    explore_seek_t *s = &e->seek;
+    if (s->target == EXPLORE_NONE) {
+        if (s->reached) {
+            s->reached = false;
+            explore_seek(e, pose, g);
+        }
+        return 0;
+    }
+    if (e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
+        set_bit(s->dead, s->target);
+        explore_seek(e, pose, g);
+        return 0;
+    }
+    explore_frame_t f = explore_pass_frame(e, pose);
+    int32_t side;
+    int32_t ahead = fix_frame_point(&f, s->target_x_um, s->target_y_um, &side);
+    if (ahead <= 0) {
+        explore_seek(e, pose, g);
+        return 0;
+    }
+    if (side > ahead / 16) {
+        return -EXPLORE_STEER_TARGET_MM_S;
+    }
+    if (side < -ahead / 16) {
+        return EXPLORE_STEER_TARGET_MM_S;
+    }
+    return 0;
+}
