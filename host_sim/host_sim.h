@@ -178,6 +178,9 @@ typedef struct {
     bool paper;
     int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
     bool has_sonar; /* given on the command line */
+    bool has_sonar1;              /* --sonar1: a second, fixed sonar (HAL instance 1) */
+    double sonar1_x, sonar1_y, sonar1_deg; /* its mount: m ahead, m left, deg from the heading */
+    bool bumpers;                 /* --bumpers: the front bump switches */
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;

@@ -62,6 +62,11 @@ static void usage(FILE *f)
         "                       answer reflects on and may come back as a long, wrong\n"
         "                       range) or pessimistic (the lowest measured limits); default\n"
         "                       %s; hal/host/README.md gives the sources. --error refines it\n"
+        "  --sonar1 X Y DEG     fit a second sonar (HAL instance 1, off by default), fixed\n"
+        "                       X m ahead of and Y m left of the axle, its beam DEG from\n"
+        "                       the heading (90: looking left); the firmware does not use\n"
+        "                       it yet\n"
+        "  --bumpers            fit two bump switches (HAL bump 0 front left, 1 front right)\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
@@ -304,6 +309,21 @@ int parse_options(int argc, char **argv, options_t *o)
                                   "pessimistic)", argv[i]);
             }
             o->has_sonar = true;
+        } else if (strcmp(a, "--sonar1") == 0) {
+            if (!take(argc, argv, &i, 3)) {
+                return fail_usage("--sonar1 needs X Y DEG");
+            }
+            double *v[3] = {&o->sonar1_x, &o->sonar1_y, &o->sonar1_deg};
+            const double lim[3] = {1.0, 1.0, 360.0};
+            for (int k = 0; k < 3; k++) {
+                num_t r = parse_double(argv[i - 2 + k], -lim[k], lim[k], v[k]);
+                if (r != NUM_OK) {
+                    return bad_number("--sonar1", argv[i - 2 + k], r, -lim[k], lim[k]);
+                }
+            }
+            o->has_sonar1 = true;
+        } else if (strcmp(a, "--bumpers") == 0) {
+            o->bumpers = true;
         } else if (strcmp(a, "--ideal") == 0) {
             o->ideal = true;
         } else if (strcmp(a, "--paper") == 0) {

@@ -193,8 +193,8 @@ static int choose_config(options_t *o, scenario_t *sc)
 }
 
 /* The robot as built matches the firmware's nominal configuration; the error levels make
- * the real one differ. */
-static void build_params(const slam_config_t *cfg, sim_params_t *p)
+ * the real one differ. The sensors beyond the paper's are fitted when asked for. */
+static void build_params(const options_t *o, const slam_config_t *cfg, sim_params_t *p)
 {
     sim_params_default(p);
     p->wheel_diameter_m = cfg->wheel_diameter_left_um * 1e-6;
@@ -205,12 +205,17 @@ static void build_params(const slam_config_t *cfg, sim_params_t *p)
     p->sonar_y_m = cfg->mount_y_um * 1e-6;
     p->servo_pulse_0_us = cfg->servo_pulse_0deg_us;
     p->servo_pulse_180_us = cfg->servo_pulse_180deg_us;
+    if (o->has_sonar1) {
+        p->extra_sonars = 1u;
+        p->extra_sonar[0] = (sim_sonar_mount_t){o->sonar1_x, o->sonar1_y, o->sonar1_deg, -1};
+    }
+    p->bumps = o->bumpers ? 2u : 0u; /* front left, front right */
 }
 
 /* The simulated robot in the room, at the start pose chosen. 0, or EXIT_USAGE. */
 static int build_world(const options_t *o, scenario_t *sc)
 {
-    build_params(&sc->cfg, &sc->params);
+    build_params(o, &sc->cfg, &sc->params);
     /* The world starts the robot at the room's start pose: the one chosen above. */
     sc->room.start_x = sc->sx;
     sc->room.start_y = sc->sy;

@@ -87,6 +87,23 @@ static void test_current_once_every_reading_before_is_done(void **state)
     assert_int_equal(queue.posted, 5u);
 }
 
+/* A lost reading is never finished: once the loop has caught up with every reading the
+ * ring took, the next one is current again, and the tick may adopt the correction. */
+static void test_current_again_after_a_drop(void **state)
+{
+    (void)state;
+    readq_reading_t rd = reading(0);
+    readq_reading_t out;
+    for (unsigned i = 0; i < READQ_SLOTS; i++) {
+        (void)readq_post(&queue, &rd);
+    }
+    assert_int_equal(queue.dropped, 1u);
+    while (readq_take(&queue, &out)) {
+        readq_done(&queue);
+    }
+    assert_int_equal(readq_post(&queue, &rd), READQ_CURRENT);
+}
+
 /* The queue is in use when the pose correction is configured or OM holds free-space
  * evidence; the paper's OM without correction maps every reading in the tick. */
 static void test_deferred_by_configuration(void **state)
@@ -110,6 +127,7 @@ int main(void)
         cmocka_unit_test_setup(test_full_queue_drops_and_counts, setup),
         cmocka_unit_test_setup(test_readings_come_out_in_order, setup),
         cmocka_unit_test_setup(test_current_once_every_reading_before_is_done, setup),
+        cmocka_unit_test_setup(test_current_again_after_a_drop, setup),
         cmocka_unit_test_setup(test_deferred_by_configuration, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -21,12 +21,15 @@ void readq_init(readq_t *q, const slam_config_t *cfg)
 readq_post_t readq_post(readq_t *q, const readq_reading_t *rd)
 {
     /* Finished up to this one: then what the loop published last is for this reading. A
-     * full ring means seven readings unfinished, so a lost reading is late too. */
+     * full ring means seven readings unfinished, so a lost reading is late too. Only what
+     * the ring takes is posted: a lost reading is never finished, and counting it would
+     * leave every later reading late. */
     readq_post_t out = q->drained == q->posted ? READQ_CURRENT : READQ_LATE;
     uint8_t next = (uint8_t)((q->head + 1u) % READQ_SLOTS);
     if (next != q->tail) {
         q->slot[q->head] = *rd;
         q->head = next;
+        q->posted++;
     } else {
         count(&q->dropped);
         out = READQ_DROPPED;
@@ -34,7 +37,6 @@ readq_post_t readq_post(readq_t *q, const readq_reading_t *rd)
     if (out != READQ_CURRENT) {
         count(&q->late);
     }
-    q->posted++;
     return out;
 }
 

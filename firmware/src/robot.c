@@ -50,7 +50,7 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
     if (!sweep_waiting(s)) {
         return SWEEP_ECHO_PENDING;
     }
-    switch (hal_sonar_poll(echo_us)) {
+    switch (hal_sonar_poll(HAL_SONAR_SWEPT, echo_us)) {
     case HAL_SONAR_ECHO:
         return SWEEP_ECHO_DONE;
     case HAL_SONAR_TIMEOUT:
@@ -81,9 +81,9 @@ void robot_tick(robot_t *r)
     sweep_echo_t echo = poll_sonar(&r->sweep, &echo_us);
     sweep_step(&r->sweep, echo, echo_us, &r->last);
     if (r->last.servo_cmd) {
-        hal_servo_set_pulse(r->last.servo_pulse_us);
+        (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, r->last.servo_pulse_us);
     }
-    if (r->last.trigger && hal_sonar_trigger() != HAL_OK) {
+    if (r->last.trigger && hal_sonar_trigger(HAL_SONAR_SWEPT) != HAL_OK) {
         r->ping_errors++;
     }
 

@@ -2,9 +2,10 @@
 /*
  * The HAL's answers for what a backend does not have: no map storage (size 0 and
  * HAL_ENOSYS, as hal.h documents), no command input (hal_uart_read() never receives a
- * byte), and no way to tell whether the UART has a listener (hal_uart_has_reader(): it
- * may). Each definition is weak, so a backend that has the feature defines the call and
- * its definition wins; one that lacks it links this library and leaves the call out.
+ * byte), no bump switches (count 0, HAL_ENOSYS), and no way to tell whether the UART has
+ * a listener (hal_uart_has_reader(): it may). Each definition is weak, so a backend that
+ * has the feature defines the call and its definition wins; one that lacks it links this
+ * library and leaves the call out.
  *
  * A backend's definition wins whichever side of this library it is linked on when it sits
  * in an object file the link takes anyway: a source of the program, or the archive member
@@ -63,5 +64,17 @@ __attribute__((weak)) int hal_storage_read(uint8_t slot, uint32_t offset, void *
     (void)offset;
     (void)data;
     (void)len;
+    return HAL_ENOSYS;
+}
+
+__attribute__((weak)) uint8_t hal_bump_count(void)
+{
+    return 0u;
+}
+
+__attribute__((weak)) int hal_bump_read(uint8_t bump, bool *pressed)
+{
+    (void)bump;
+    (void)pressed;
     return HAL_ENOSYS;
 }

@@ -22,6 +22,7 @@ static struct {
     size_t rx_head, rx_tail;
     FILE *trace;
     uint64_t trace_ticks;
+    bool untraced_said;  /* the firmware was told the trace misses what it used */
     bool recording;      /* a tick is under way and a trace records its HAL calls */
     trace_tick_t rec;    /* what the firmware saw in the tick under way */
     uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
@@ -83,6 +84,7 @@ void hal_host_trace(FILE *f)
     }
     if (hh.trace != f) {
         hh.trace_ticks = 0u;
+        hh.untraced_said = false;
     }
     hh.trace = f;
 }
@@ -108,7 +110,7 @@ void hal_host_step(void)
             hh.recording = false;
             hh.rec.duty[0] = sim_motor_duty(hh.sim, HAL_WHEEL_LEFT);
             hh.rec.duty[1] = sim_motor_duty(hh.sim, HAL_WHEEL_RIGHT);
-            hh.rec.servo_us = sim_servo_pulse(hh.sim);
+            hh.rec.servo_us = sim_servo_pulse_on(hh.sim, HAL_SERVO_SWEEP);
             trace_write_tick(hh.trace, &hh.rec);
             hh.trace_ticks++;
         }
@@ -169,41 +171,96 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     }
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+/* A trace (version 1) records the paper's servo and sonar, instance 0, the only ones the
+ * firmware uses: a tick that uses another instance or a bump switch makes a trace that
+ * will not replay, and is said so once. */
+static void untraced(const char *what, unsigned instance)
 {
-    if (hh.sim != NULL) {
-        sim_servo_set_pulse(hh.sim, pulse_us);
+    if (hh.recording && !hh.untraced_said) {
+        fprintf(stderr,
+                "hal_host: warning: the HAL trace records servo and sonar 0 only; the firmware "
+                "used %s %u, so the trace will not replay it\n",
+                what, instance);
+        hh.untraced_said = true;
     }
 }
 
-int hal_sonar_trigger(void)
+uint8_t hal_servo_count(void)
 {
+    return hh.sim != NULL ? sim_servo_count(hh.sim) : 1u;
+}
+
+uint8_t hal_sonar_count(void)
+{
+    return hh.sim != NULL ? sim_sonar_count(hh.sim) : 1u;
+}
+
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
+{
+    if (servo >= hal_servo_count()) {
+        return HAL_EINVAL;
+    }
+    if (servo != HAL_SERVO_SWEEP) {
+        untraced("servo", servo);
+    }
+    return hh.sim != NULL ? sim_servo_set_pulse_on(hh.sim, servo, pulse_us) : HAL_OK;
+}
+
+int hal_sonar_trigger(uint8_t sonar)
+{
+    if (sonar >= hal_sonar_count()) {
+        return HAL_EINVAL;
+    }
     if (hh.sim == NULL) {
         return HAL_EIO;
     }
-    int rc = sim_sonar_trigger(hh.sim);
-    if (hh.recording) {
+    int rc = sim_sonar_trigger_on(hh.sim, sonar);
+    if (sonar != HAL_SONAR_SWEPT) {
+        untraced("sonar", sonar);
+    } else if (hh.recording) {
         hh.rec.trig = rc == HAL_OK ? 'o' : 'b';
     }
     return rc;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
+    if (sonar >= hal_sonar_count()) {
+        return HAL_EINVAL;
+    }
     if (hh.sim == NULL) {
         return HAL_SONAR_IDLE;
     }
     uint32_t width = 0u;
-    hal_sonar_status_t st = sim_sonar_poll(hh.sim, &width);
+    int st = sim_sonar_poll_on(hh.sim, sonar, &width);
     if (st == HAL_SONAR_ECHO) {
         *echo_us = width;
     }
-    if (hh.recording) {
+    if (sonar != HAL_SONAR_SWEPT) {
+        untraced("sonar", sonar);
+    } else if (hh.recording) {
         static const char code[] = {'i', 'b', 'e', 't'};
         hh.rec.poll = code[st];
         hh.rec.echo_us = st == HAL_SONAR_ECHO ? width : 0u;
     }
     return st;
+}
+
+uint8_t hal_bump_count(void)
+{
+    return hh.sim != NULL ? sim_bump_count(hh.sim) : 0u;
+}
+
+int hal_bump_read(uint8_t bump, bool *pressed)
+{
+    if (hh.sim == NULL) {
+        return HAL_ENOSYS;
+    }
+    int rc = sim_bump_read(hh.sim, bump, pressed);
+    if (rc == HAL_OK) {
+        untraced("bump switch", bump);
+    }
+    return rc;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

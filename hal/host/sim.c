@@ -44,7 +44,7 @@ sim_truth_t sim_truth(const sim_t *s)
         .x = b->x,
         .y = b->y,
         .th = b->th,
-        .servo_deg = s->servo.deg,
+        .servo_deg = s->servo[0].deg,
         .wheel_mps = {b->omega[0] * b->r_act[0], b->omega[1] * b->r_act[1]},
         .collisions = b->collisions,
         .ticks_missed = s->faults.ticks_missed,
@@ -68,8 +68,10 @@ void sim_step(sim_t *s)
 {
     double turns[2];
     double common = sim_body_step(s, turns);
-    double servo_before = s->servo.deg;
-    sim_servo_step(&s->servo);
+    double servo_before = s->servo[0].deg;
+    for (uint32_t i = 0; i < s->p.servos; i++) {
+        sim_servo_step(&s->servo[i]);
+    }
     if (s->faults.episodes) {
         sim_faults_step(s, turns, common, servo_before);
     }

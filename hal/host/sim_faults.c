@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The simulated faults: stuck echo, servo stall, stopped encoder, lost ticks. */
+/* The simulated faults: stuck echo, servo stall (of sonar and servo 0), stopped encoder, lost ticks. */
 #include "sim_internal.h"
 
 /* An episode lasts this long, uniform, s. */
@@ -38,7 +38,7 @@ void sim_faults_step(sim_t *s, const double turns[2], double common, double serv
         s->body.enc[w] -= (turns[w] - common) * s->body.counts_per_rad;
     }
     if (s->time_us < ft->until_us[SIM_FAULT_SERVO]) {
-        s->servo.deg = servo_before;
+        s->servo[0].deg = servo_before;
     }
     const double rates[3] = {s->e.echo_stuck_per_s, s->e.servo_stall_per_s,
                              s->e.encoder_stop_per_s};

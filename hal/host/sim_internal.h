@@ -24,8 +24,9 @@
 #define SIM_DEG (HOST_PI / 180.0)
 #define SIM_DT_S ((double)HAL_TICK_PERIOD_US * 1e-6) /* the control period, s */
 
-/* Independent random streams, so changing one error level leaves the others' draws. */
-enum { SIM_STREAM_WHEELS = 1, SIM_STREAM_SONAR = 2, SIM_STREAM_FAULTS = 3 };
+/* Independent random streams, so changing one error level leaves the others' draws.
+ * Sonar 0 draws from SIM_STREAM_SONAR, sonar i > 0 from SIM_STREAM_SONARS + i. */
+enum { SIM_STREAM_WHEELS = 1, SIM_STREAM_SONAR = 2, SIM_STREAM_FAULTS = 3, SIM_STREAM_SONARS = 16 };
 
 /* The fault episodes, each with its own stream (SIM_STREAM_FAULTS + its number). */
 enum { SIM_FAULT_ECHO, SIM_FAULT_SERVO, SIM_FAULT_ENCODER, SIM_FAULT_TICK, SIM_FAULTS };
@@ -77,11 +78,20 @@ typedef struct {
 } sim_servo_t;
 
 /*
- * One HC-SR04 on the servo (sim_sonar.c): what the model derives from its parameters, the
+ * One HC-SR04 (sim_sonar.c): its mount, what the model derives from its parameters, the
  * ping under way, and the scratch space of the cone. Everything a sonar needs is here, so
  * a robot with several is an array of these.
  */
 typedef struct {
+    /* The mount: sonar 0 on servo 0 at (sonar_x_m, sonar_y_m); the others a row of
+       sim_params_t.extra_sonar. */
+    unsigned index;          /* the instance */
+    double mx, my;           /* the sensor (a servo's axis) ahead of and left of the axle, m */
+    int servo;               /* the servo it turns on, or -1: fixed */
+    double yaw_deg;          /* its beam from the heading with the servo at 90°, deg */
+    bool turned;             /* yaw_deg is not 0: the beam turns by yc, ys too */
+    double yc, ys;           /* cos, sin of yaw_deg */
+
     /* Derived once from sim_params_t and sim_errors_t (sim_sonar_init()). */
     double cos_limit[SIM_LIMIT_BINS + 1u]; /* a surface answers when |cos incidence| is at
                                               least this, by the path (sim_sonar_limit()) */
@@ -134,8 +144,9 @@ struct sim {
     sim_params_t p;
     sim_errors_t e;
     sim_body_t body;
-    sim_servo_t servo;
-    sim_sonar_t sonar;
+    sim_servo_t servo[SIM_SERVOS_MAX]; /* p.servos of them */
+    sim_sonar_t sonar[SIM_SONARS_MAX]; /* nsonars of them */
+    unsigned nsonars;                  /* 1 + p.extra_sonars */
     sim_faults_t faults;
     uint64_t time_us;
     uint64_t ticks;
@@ -156,10 +167,11 @@ void sim_body_place(sim_t *s, double x, double y, double th);
  */
 double sim_body_step(sim_t *s, double turns[2]);
 
-/* sim_servo.c: the servo at 90°, its pulse in the middle. */
+/* sim_servo.c: every servo at 90°, its pulse in the middle. */
 void sim_servo_init(sim_t *s);
 
-/* sim_sonar.c: derived values, stream and scratch; -1 when out of memory (free it anyway). */
+/* sim_sonar.c: every sonar's mount, derived values, stream and scratch; -1 when out of
+ * memory (free them anyway). */
 int sim_sonar_init(sim_t *s, uint64_t seed);
 void sim_sonar_free(sim_t *s);
 
@@ -172,32 +184,34 @@ typedef struct {
     double nx, ny;   /* a raster surface's unit normal (either side) */
 } sim_surface_t;
 
-/* sim_multipath.c: the lines of a small room's segments when multipath is on; -1 when out
- * of memory (sim_sonar_free() frees them). */
-int sim_multipath_init(sim_t *s);
+/* sim_multipath.c: a sonar's lines of a small room's segments when multipath is on; -1
+ * when out of memory (sim_sonar_free() frees them). */
+int sim_multipath_init(const sim_t *s, sim_sonar_t *so);
 
 /*
- * The first surface along a ray within max_m: among the cone's candidates (sonar.cand,
- * nseg segments then ncirc circles) when @p cone, else among every object (through the
- * index of a large room); and the raster's pixels.
+ * The first surface along a ray within max_m: among sonar @p so's cone candidates
+ * (so->cand, nseg segments then ncirc circles) when @p cone, else among every object
+ * (through the index of a large room); and the raster's pixels.
  */
-sim_surface_t sim_surface(const sim_t *s, double ox, double oy, double dx, double dy,
-                          double max_m, bool cone, size_t nseg, size_t ncirc);
+sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy,
+                          double dx, double dy, double max_m, bool cone, size_t nseg,
+                          size_t ncirc);
 
 /*
- * The echo of a ray of the cone from the sensor (sx, sy) along (dx, dy) whose first
- * surface @p first it met beyond the incidence it answers at: the range the echo stands
- * for (half its path), or infinity when the sound is lost. @p bx, by: the beam's axis.
+ * The echo of a ray of sonar @p so's cone from the sensor (sx, sy) along (dx, dy) whose
+ * first surface @p first it met beyond the incidence it answers at: the range the echo
+ * stands for (half its path), or infinity when the sound is lost. @p bx, by: the beam's
+ * axis.
  */
-double sim_multipath(const sim_t *s, double sx, double sy, double bx, double by, double dx,
-                     double dy, const sim_surface_t *first);
+double sim_multipath(const sim_t *s, const sim_sonar_t *so, double sx, double sy, double bx,
+                     double by, double dx, double dy, const sim_surface_t *first);
 
 /* sim_faults.c: the fault streams. */
 void sim_faults_init(sim_t *s, uint64_t seed);
 
 /*
  * The episodes of the faults in this period: a stopped encoder takes back the turn it was
- * given, a stalled servo goes back to @p servo_before; then new episodes may begin.
+ * given, a stalled servo 0 goes back to @p servo_before; then new episodes may begin.
  */
 void sim_faults_step(sim_t *s, const double turns[2], double common, double servo_before);
 

@@ -30,7 +30,7 @@ struct sim_line {
     double tx, ty, u0, u1;
 };
 
-int sim_multipath_init(sim_t *s)
+int sim_multipath_init(const sim_t *s, sim_sonar_t *so)
 {
     const room_t *r = s->room;
     if (s->e.multipath == 0u || r->index != NULL || r->nsegs == 0u) {
@@ -50,7 +50,7 @@ int sim_multipath_init(sim_t *s)
         l[i].u0 = l[i].tx * g->x1 + l[i].ty * g->y1;
         l[i].u1 = l[i].tx * g->x2 + l[i].ty * g->y2;
     }
-    s->sonar.lines = l;
+    so->lines = l;
     return 0;
 }
 
@@ -72,12 +72,13 @@ static inline double line_hit(const struct sim_line *l, double ox, double oy, do
     return t;
 }
 
-sim_surface_t sim_surface(const sim_t *s, double ox, double oy, double dx, double dy,
-                          double max_m, bool cone, size_t nseg, size_t ncirc)
+sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy,
+                          double dx, double dy, double max_m, bool cone, size_t nseg,
+                          size_t ncirc)
 {
     const room_t *r = s->room;
-    const uint32_t *cand = s->sonar.cand;
-    const struct sim_line *lines = s->sonar.lines;
+    const uint32_t *cand = so->cand;
+    const struct sim_line *lines = so->lines;
     sim_surface_t h = {HOST_INF, 1.0, UINT32_MAX, 0.0, 0.0};
     double t = HOST_INF;
     if (cone) {
@@ -164,10 +165,9 @@ static double heard_at(const sim_sonar_t *so, double sx, double sy, double bx, d
                : -1.0;
 }
 
-double sim_multipath(const sim_t *s, double sx, double sy, double bx, double by, double dx,
-                     double dy, const sim_surface_t *first)
+double sim_multipath(const sim_t *s, const sim_sonar_t *so, double sx, double sy, double bx,
+                     double by, double dx, double dy, const sim_surface_t *first)
 {
-    const sim_sonar_t *so = &s->sonar;
     const double max = s->p.sonar_max_m;
     double ox = sx;
     double oy = sy;
@@ -199,7 +199,7 @@ double sim_multipath(const sim_t *s, double sx, double sy, double bx, double by,
         if (heard < 0.0 && path >= max && bounce + 1u == s->e.multipath) {
             return HOST_INF; /* the last leg can neither be answered nor heard */
         }
-        h = sim_surface(s, ox, oy, dx, dy, 2.0 * max - path, false, 0u, 0u);
+        h = sim_surface(s, so, ox, oy, dx, dy, 2.0 * max - path, false, 0u, 0u);
         if (heard >= 0.0 && heard <= h.t) {
             return 0.5 * (path + heard); /* passes the receiver before the next surface */
         }

@@ -27,6 +27,11 @@ void sim_params_default(sim_params_t *p)
         .sonar_timeout_us = 38000.0,
         .sound_mps = 343.0,
         .sonar_ring_us = 60000.0,
+        .servos = 1u,
+        .extra_sonars = 0u,
+        .extra_sonar = {{.x_m = 0.0, .y_m = 0.06, .yaw_deg = 90.0, .servo = -1}},
+        .bumps = 0u,
+        .bump = {{0.0, 90.0}, {-90.0, 0.0}, {90.0, 180.0}, {-180.0, -90.0}},
     };
 }
 
@@ -139,6 +144,38 @@ static bool curve_ok(const sim_grazing_curve_t *c)
     return true;
 }
 
+/* The fitted rows of the instance tables: mounts near the robot, servos it has, arcs. */
+static bool mounts_ok(const sim_params_t *p)
+{
+    if (p->extra_sonars > SIM_SONARS_MAX - 1u) {
+        return false;
+    }
+    for (uint32_t i = 0; i < p->extra_sonars; i++) {
+        const sim_sonar_mount_t *m = &p->extra_sonar[i];
+        if (!in(m->x_m, -10.0, 10.0) || !in(m->y_m, -10.0, 10.0) ||
+            !in(m->yaw_deg, -360.0, 360.0) || m->servo < -1 ||
+            (m->servo >= 0 && (uint32_t)m->servo >= p->servos)) {
+            return false;
+        }
+    }
+    return true;
+}
+
+static bool bumps_ok(const sim_params_t *p)
+{
+    if (p->bumps > SIM_BUMPS_MAX) {
+        return false;
+    }
+    for (uint32_t i = 0; i < p->bumps; i++) {
+        const sim_bump_t *b = &p->bump[i];
+        if (!in(b->from_deg, -360.0, 360.0) || !in(b->to_deg, -360.0, 360.0) ||
+            !(b->from_deg < b->to_deg)) {
+            return false;
+        }
+    }
+    return true;
+}
+
 int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **field)
 {
     const struct {
@@ -166,6 +203,9 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
              2.0 * p->sonar_max_m / p->sound_mps * 1e6 < p->sonar_timeout_us,
          "p.sonar_timeout_us"},
         {in(p->sonar_ring_us, 0.0, 1e7), "p.sonar_ring_us"},
+        {p->servos >= 1u && p->servos <= SIM_SERVOS_MAX, "p.servos"},
+        {mounts_ok(p), "p.extra_sonar"},
+        {bumps_ok(p), "p.bump"},
         {in(e->wheel_ratio_ed, 0.5, 2.0), "e.wheel_ratio_ed"},
         {in(e->wheel_base_eb, 0.5, 2.0), "e.wheel_base_eb"},
         {in(e->slip_per_mps2, 0.0, 1.0), "e.slip_per_mps2"},

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* The simulated HC-SR04: the cone cast into the room, what comes back and when. */
+/* The simulated HC-SR04s: each one's cone cast into the room, what comes back and when. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,7 +11,9 @@
  * sound_mps and sonar_ring_us; sim_errors_t's sonar_noise_m, sonar_dropout, sonar_ghost,
  * the incidence limit (grazing_deg or grazing_curve) and multipath (the echo_stuck fault
  * is sim_faults.c's, the mirror paths sim_multipath.c's). What the model derives from
- * them lives in sim_sonar_t (sim_internal.h), set by sim_sonar_init().
+ * them lives in sim_sonar_t (sim_internal.h), set by sim_sonar_init(). Sonar 0 is the
+ * paper's, on servo 0 at (sonar_x_m, sonar_y_m); the others sit where the rows of
+ * sim_params_t.extra_sonar put them, each with a random stream and a ping of its own.
  */
 
 /* Every this many rays of the cone (the edges among them) follow their mirror path when
@@ -58,11 +60,32 @@ static void limit_table(sim_sonar_t *so, const sim_errors_t *e, double max_m)
     }
 }
 
-int sim_sonar_init(sim_t *s, uint64_t seed)
+/* Sonar i's mount: the paper's, or a row of the instance table. */
+static void sonar_mount(const sim_params_t *p, unsigned i, sim_sonar_t *so)
+{
+    so->index = i;
+    if (i == 0u) {
+        so->mx = p->sonar_x_m;
+        so->my = p->sonar_y_m;
+        so->servo = 0;
+        so->yaw_deg = 0.0;
+    } else {
+        const sim_sonar_mount_t *m = &p->extra_sonar[i - 1u];
+        so->mx = m->x_m;
+        so->my = m->y_m;
+        so->servo = (int)m->servo;
+        so->yaw_deg = m->yaw_deg;
+    }
+    so->turned = so->yaw_deg != 0.0;
+    so->yc = cos(so->yaw_deg * SIM_DEG);
+    so->ys = sin(so->yaw_deg * SIM_DEG);
+}
+
+static int sonar_init(sim_t *s, sim_sonar_t *so, unsigned i, uint64_t seed)
 {
     const sim_params_t *p = &s->p;
     const room_t *room = s->room;
-    sim_sonar_t *so = &s->sonar;
+    sonar_mount(p, i, so);
     size_t nobj = room->nsegs + room->ncircles + 1u;
     so->cand = malloc(nobj * sizeof *so->cand);
     if (room->index != NULL) {
@@ -70,10 +93,10 @@ int sim_sonar_init(sim_t *s, uint64_t seed)
         so->stamp = calloc(nobj, sizeof *so->stamp);
     }
     if (so->cand == NULL || (room->index != NULL && (so->near == NULL || so->stamp == NULL)) ||
-        sim_multipath_init(s) != 0) {
+        sim_multipath_init(s, so) != 0) {
         return -1;
     }
-    sim_rng_seed(&so->rng, seed, SIM_STREAM_SONAR);
+    sim_rng_seed(&so->rng, seed, i == 0u ? SIM_STREAM_SONAR : SIM_STREAM_SONARS + (uint64_t)i);
     limit_table(so, &s->e, p->sonar_max_m);
     double half = 0.5 * p->sonar_cone_deg * SIM_DEG;
     double step = SIM_SONAR_RAYS > 1 ? 2.0 * half / (SIM_SONAR_RAYS - 1) : 0.0;
@@ -84,28 +107,51 @@ int sim_sonar_init(sim_t *s, uint64_t seed)
     /* The sound of one traced ray stands for its share of the cone, and comes back as
        wide: half the angle between two traced rays either side. */
     so->catch_tan = tan(0.5 * SIM_MULTIPATH_STRIDE * step);
-    for (unsigned i = 0; i < SIM_BEAM_CACHE; i++) {
-        so->beam[i].deg = (double)NAN; /* matches no angle */
+    for (unsigned k = 0; k < SIM_BEAM_CACHE; k++) {
+        so->beam[k].deg = (double)NAN; /* matches no angle */
+    }
+    return 0;
+}
+
+int sim_sonar_init(sim_t *s, uint64_t seed)
+{
+    s->nsonars = 1u + s->p.extra_sonars;
+    for (unsigned i = 0; i < s->nsonars; i++) {
+        if (sonar_init(s, &s->sonar[i], i, seed) != 0) {
+            return -1;
+        }
     }
     return 0;
 }
 
 void sim_sonar_free(sim_t *s)
 {
-    free(s->sonar.cand);
-    free(s->sonar.near);
-    free(s->sonar.stamp);
-    free(s->sonar.lines);
+    for (unsigned i = 0; i < SIM_SONARS_MAX; i++) {
+        free(s->sonar[i].cand);
+        free(s->sonar[i].near);
+        free(s->sonar[i].stamp);
+        free(s->sonar[i].lines);
+    }
+}
+
+uint8_t sim_sonar_count(const sim_t *s)
+{
+    return (uint8_t)s->nsonars;
 }
 
 sim_ping_t sim_last_ping(const sim_t *s)
 {
-    return s->sonar.ping;
+    return s->sonar[0].ping;
+}
+
+sim_ping_t sim_last_ping_on(const sim_t *s, uint8_t sonar)
+{
+    return sonar < s->nsonars ? s->sonar[sonar].ping : (sim_ping_t){.kind = SIM_PING_NONE};
 }
 
 void sim_ping_counts(const sim_t *s, uint32_t counts[SIM_PING_KINDS])
 {
-    memcpy(counts, s->sonar.counts, sizeof s->sonar.counts);
+    memcpy(counts, s->sonar[0].counts, sizeof s->sonar[0].counts);
 }
 
 /* ---- the cone ------------------------------------------------------------------------------ */
@@ -127,19 +173,30 @@ static unsigned beam_at(sim_sonar_t *so, double servo_deg)
     return bi;
 }
 
-/* The cone now: from the sensor on its mount, along the beam of the servo's actual angle. */
-static cone_t cone_now(sim_t *s)
+/* The cone now: from the sensor on its mount, along the beam of its servo's actual angle
+ * (turned by its yaw), or of its yaw alone when it is fixed. */
+static cone_t cone_now(sim_t *s, sim_sonar_t *so)
 {
     const sim_params_t *p = &s->p;
-    sim_sonar_t *so = &s->sonar;
     double ch = s->body.hc;
     double sh = s->body.hs;
-    double ox = s->body.x + p->sonar_x_m * ch - p->sonar_y_m * sh;
-    double oy = s->body.y + p->sonar_x_m * sh + p->sonar_y_m * ch;
-    unsigned bi = beam_at(so, s->servo.deg);
+    double ox = s->body.x + so->mx * ch - so->my * sh;
+    double oy = s->body.y + so->mx * sh + so->my * ch;
+    double c = so->yc; /* the beam's rotation from the heading */
+    double sn = so->ys;
+    if (so->servo >= 0) {
+        unsigned bi = beam_at(so, s->servo[so->servo].deg);
+        c = so->beam[bi].c;
+        sn = so->beam[bi].s;
+        if (so->turned) {
+            double tc = c * so->yc - sn * so->ys;
+            sn = sn * so->yc + c * so->ys;
+            c = tc;
+        }
+    }
     /* Beam axis (Eq. 3) and the cone's edges, by rotating unit vectors. */
-    double bx = ch * so->beam[bi].c - sh * so->beam[bi].s;
-    double by = sh * so->beam[bi].c + ch * so->beam[bi].s;
+    double bx = ch * c - sh * sn;
+    double by = sh * c + ch * sn;
     double lx = bx * so->cone_c - by * so->cone_s; /* left edge */
     double ly = by * so->cone_c + bx * so->cone_s;
     double rx = bx * so->cone_c + by * so->cone_s; /* right edge */
@@ -223,11 +280,11 @@ static void cone_candidates(const room_t *r, sim_sonar_t *so, const cone_t *k, s
 }
 
 /* The first hit along one ray among the cone's candidates. */
-static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, double oy,
-                       double dx, double dy, double *cosi)
+static double cone_ray(const sim_t *s, const sim_sonar_t *so, size_t nseg, size_t ncirc,
+                       double ox, double oy, double dx, double dy, double *cosi)
 {
     const room_t *r = s->room;
-    const uint32_t *cand = s->sonar.cand;
+    const uint32_t *cand = so->cand;
     double best = HOST_INF;
     for (size_t i = 0; i < nseg; i++) {
         best = room_hit_segment(&r->segs[cand[i]], ox, oy, dx, dy, best, cosi);
@@ -260,7 +317,8 @@ typedef struct {
  * the receiver's width) and is not followed. Returns the nearest such echo's range, or
  * infinity.
  */
-static double graze_echoes(const sim_t *s, const cone_t *k, graze_t *gz, int n, double best)
+static double graze_echoes(const sim_t *s, const sim_sonar_t *so, const cone_t *k, graze_t *gz,
+                           int n, double best)
 {
     double mp = HOST_INF;
     for (int i = 1; i < n; i++) { /* nearest first: a handful, insertion sort */
@@ -272,7 +330,7 @@ static double graze_echoes(const sim_t *s, const cone_t *k, graze_t *gz, int n, 
         gz[j] = g;
     }
     for (int i = 0; i < n && gz[i].first.t < sim_dmin(best, mp); i++) {
-        mp = sim_dmin(mp, sim_multipath(s, k->ox, k->oy, k->bx, k->by, gz[i].dx, gz[i].dy,
+        mp = sim_dmin(mp, sim_multipath(s, so, k->ox, k->oy, k->bx, k->by, gz[i].dx, gz[i].dy,
                                         &gz[i].first));
     }
     return mp;
@@ -290,11 +348,10 @@ static double graze_echoes(const sim_t *s, const cone_t *k, graze_t *gz, int n, 
  *              m; infinity for none
  * @return whether the echo came by a mirror path
  */
-static bool cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc, double *geo,
-                      double *echo)
+static bool cone_cast(const sim_t *s, const sim_sonar_t *so, const cone_t *k, size_t nseg,
+                      size_t ncirc, double *geo, double *echo)
 {
     const room_t *r = s->room;
-    const sim_sonar_t *so = &s->sonar;
     const double ox = k->ox;
     const double oy = k->oy;
     const double max = k->max;
@@ -324,11 +381,11 @@ static bool cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc
         double ci = 1.0;
         double d;
         if (traced) { /* the surface too, for its mirror */
-            gz[ngz].first = sim_surface(s, ox, oy, dx, dy, max, true, nseg, ncirc);
+            gz[ngz].first = sim_surface(s, so, ox, oy, dx, dy, max, true, nseg, ncirc);
             d = gz[ngz].first.t;
             ci = gz[ngz].first.cosi;
         } else {
-            d = cone_ray(s, nseg, ncirc, ox, oy, dx, dy, &ci);
+            d = cone_ray(s, so, nseg, ncirc, ox, oy, dx, dy, &ci);
         }
         if (d <= max) {
             g = sim_dmin(g, d);
@@ -345,7 +402,7 @@ static bool cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc
             dx = nx;
         }
     }
-    double mp = ngz > 0 ? graze_echoes(s, k, gz, ngz, e) : HOST_INF;
+    double mp = ngz > 0 ? graze_echoes(s, so, k, gz, ngz, e) : HOST_INF;
     *geo = g;
     *echo = sim_dmin(e, mp);
     return mp < e;
@@ -368,11 +425,11 @@ static ping_draws_t ping_draws(sim_sonar_t *so)
 /*
  * What the sensor makes of the cone: a dropout, a ghost at a random range, the nearest
  * echo (a surface's, or a mirror path's when @p mirrored) with range noise, or a timeout
- * (grazing, or nothing in range); a stuck echo line times out whatever came. Sets
- * ping->kind; returns the range the echo stands for, m (0 without one).
+ * (grazing, or nothing in range); a stuck echo line (sonar 0's: the fault's) times out
+ * whatever came. Sets ping->kind; returns the range the echo stands for, m (0 without one).
  */
-static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo, bool mirrored,
-                        const ping_draws_t *u)
+static double ping_fate(const sim_t *s, const sim_sonar_t *so, sim_ping_t *pg, double geo,
+                        double echo, bool mirrored, const ping_draws_t *u)
 {
     const sim_params_t *p = &s->p;
     double max = p->sonar_max_m;
@@ -392,7 +449,7 @@ static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo,
     } else {
         pg->kind = isfinite(geo) ? SIM_PING_GRAZING : SIM_PING_NOTHING;
     }
-    if (sim_fault_on(s, SIM_FAULT_ECHO)) {
+    if (so->index == 0u && sim_fault_on(s, SIM_FAULT_ECHO)) {
         pg->kind = SIM_PING_STUCK; /* the line is high before the echo could come */
     }
     return range;
@@ -405,9 +462,8 @@ static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo,
  * trigger. A trigger sooner than that hears the next return still to come (the first, the
  * echo itself, has come by then unless a ghost or a late echo ended the last reading).
  */
-static double late_echo_us(const sim_t *s)
+static double late_echo_us(const sim_t *s, const sim_sonar_t *so)
 {
-    const sim_sonar_t *so = &s->sonar;
     uint64_t since = s->time_us - so->ring_from_us;
     if (so->ring_us == 0u || (double)since >= s->p.sonar_ring_us) {
         return HOST_INF;
@@ -423,15 +479,14 @@ static double late_echo_us(const sim_t *s)
  * sound starts ringing from the nearest surface that returns it, whatever the sensor made
  * of it (a dropout loses the echo, not the sound).
  */
-static void ping_schedule(sim_t *s, sim_ping_t *pg, double echo, double range)
+static void ping_schedule(sim_t *s, sim_sonar_t *so, sim_ping_t *pg, double echo, double range)
 {
     const sim_params_t *p = &s->p;
-    sim_sonar_t *so = &s->sonar;
     so->out = true;
     so->echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_MULTIPATH ||
                pg->kind == SIM_PING_GHOST;
     double width = so->echo ? 2.0 * range / p->sound_mps * 1e6 : HOST_INF;
-    double late = late_echo_us(s);
+    double late = late_echo_us(s, so);
     if (late < width && late < p->sonar_timeout_us) {
         pg->kind = SIM_PING_LATE;
         so->echo = true;
@@ -449,17 +504,32 @@ static void ping_schedule(sim_t *s, sim_ping_t *pg, double echo, double range)
     so->ring_us = isfinite(echo) ? (uint32_t)lround(2.0 * echo / p->sound_mps * 1e6) : 0u;
 }
 
-/* One ping: cast the cone now, decide what comes back and when. */
-static void sonar_ping(sim_t *s)
+/* The servo angle of a ping: its servo's, or the one that would point a fixed sonar so. */
+static double ping_servo_deg(const sim_t *s, const sim_sonar_t *so)
 {
-    sim_sonar_t *so = &s->sonar;
-    const cone_t cone = cone_now(s);
+    return so->servo >= 0 ? s->servo[so->servo].deg : 90.0 - so->yaw_deg;
+}
+
+/* The beam's world direction at a ping, rad (Eq. 3, turned by the mount's yaw). */
+static double ping_bearing(const sim_t *s, const sim_sonar_t *so)
+{
+    double rel_deg = 90.0 - ping_servo_deg(s, so);
+    if (so->turned && so->servo >= 0) {
+        rel_deg += so->yaw_deg;
+    }
+    return sim_wrap_pi(s->body.th + rel_deg * SIM_DEG);
+}
+
+/* One ping: cast the cone now, decide what comes back and when. */
+static void sonar_ping(sim_t *s, sim_sonar_t *so)
+{
+    const cone_t cone = cone_now(s, so);
     size_t nseg = 0u;
     size_t ncirc = 0u;
     cone_candidates(s->room, so, &cone, &nseg, &ncirc);
     double geo = HOST_INF;
     double echo = HOST_INF;
-    bool mirrored = cone_cast(s, &cone, nseg, ncirc, &geo, &echo);
+    bool mirrored = cone_cast(s, so, &cone, nseg, ncirc, &geo, &echo);
     const ping_draws_t u = ping_draws(so);
 
     sim_ping_t *pg = &so->ping;
@@ -467,31 +537,38 @@ static void sonar_ping(sim_t *s)
         .x = s->body.x,
         .y = s->body.y,
         .th = s->body.th,
-        .servo_deg = s->servo.deg,
-        .bearing = sim_wrap_pi(s->body.th + (90.0 - s->servo.deg) * SIM_DEG),
+        .servo_deg = ping_servo_deg(s, so),
+        .bearing = ping_bearing(s, so),
         .true_range_m = isfinite(geo) ? geo : -1.0,
         .time_us = s->time_us,
     };
-    double range = ping_fate(s, pg, geo, echo, mirrored, &u);
-    ping_schedule(s, pg, echo, range);
+    double range = ping_fate(s, so, pg, geo, echo, mirrored, &u);
+    ping_schedule(s, so, pg, echo, range);
     so->counts[pg->kind]++;
 }
 
 /* ---- the wire: trigger and echo ------------------------------------------------------------- */
 
-int sim_sonar_trigger(sim_t *s)
+int sim_sonar_trigger_on(sim_t *s, uint8_t sonar)
 {
-    if (s->sonar.out && s->time_us < s->sonar.ready_us) {
+    if (sonar >= s->nsonars) {
+        return HAL_EINVAL;
+    }
+    sim_sonar_t *so = &s->sonar[sonar];
+    if (so->out && s->time_us < so->ready_us) {
         return HAL_EBUSY;
     }
     /* A finished but unread result is overwritten, as the sensor would. */
-    sonar_ping(s);
+    sonar_ping(s, so);
     return HAL_OK;
 }
 
-hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us)
+int sim_sonar_poll_on(sim_t *s, uint8_t sonar, uint32_t *echo_us)
 {
-    sim_sonar_t *so = &s->sonar;
+    if (sonar >= s->nsonars) {
+        return HAL_EINVAL;
+    }
+    sim_sonar_t *so = &s->sonar[sonar];
     if (!so->out) {
         return HAL_SONAR_IDLE;
     }
@@ -504,4 +581,14 @@ hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us)
         return HAL_SONAR_ECHO;
     }
     return HAL_SONAR_TIMEOUT;
+}
+
+int sim_sonar_trigger(sim_t *s)
+{
+    return sim_sonar_trigger_on(s, 0u);
+}
+
+hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us)
+{
+    return (hal_sonar_status_t)sim_sonar_poll_on(s, 0u, echo_us);
 }

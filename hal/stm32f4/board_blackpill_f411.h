@@ -60,7 +60,8 @@
 #define BOARD_PORT_A 0u
 #define BOARD_PORT_B 1u
 
-/** Every pin the port drives or reads, configured once by hal_init(). */
+/** Every pin the port drives or reads but those of the instance tables below (servos,
+ *  sonars, bump switches), which their drivers configure from their rows. */
 #define BOARD_PINS                                                                              \
     {                                                                                           \
         /* port, pin, mode, alternate function, pull, output type, speed */                    \
@@ -75,9 +76,6 @@
         {BOARD_PORT_B, 14, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 R */   \
         {BOARD_PORT_B, 15, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 R */   \
         {BOARD_PORT_B, 10, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* STBY */ \
-        {BOARD_PORT_B, 8, STM32_PIN_AF, 3, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},  /* TIM10_CH1 */ \
-        {BOARD_PORT_A, 8, STM32_PIN_AF, 1, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},  /* TIM1_CH1 */ \
-        {BOARD_PORT_A, 5, STM32_PIN_AF, 1, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* TIM2_CH1 */ \
         {BOARD_PORT_A, 9, STM32_PIN_AF, 7, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* USART1_TX */ \
         {BOARD_PORT_A, 10, STM32_PIN_AF, 7, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0}, /* USART1_RX */ \
     }
@@ -105,19 +103,20 @@
 #define BOARD_MOTOR_STBY_PORT BOARD_PORT_B
 #define BOARD_MOTOR_STBY_PIN 10u
 
-/* ---- servo and sonar --------------------------------------------------------------------- */
+/* ---- servos, sonars and bump switches: one row per instance -------------------------------- */
 
-#define BOARD_SERVO_TIM STM32_TIM10_BASE
-#define BOARD_SERVO_CH 1u
+/* The rows' fields are board_generic_f405.h's. The trigger timer needs one-pulse mode: on
+ * the F411 TIM1-5 or 9. */
+#define BOARD_SERVOS(X) \
+    X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
 
-#define BOARD_TRIG_TIM STM32_TIM1_BASE /* needs one-pulse mode: on the F411 TIM1-5, 9 */
-#define BOARD_TRIG_CH 1u
+#define BOARD_SONARS(X) \
+    X(0, BOARD_PORT_A, 8, 1, TIM1, 1, BOARD_PORT_A, 5, 1, TIM2, 1, TIM2) /* PA8, PA5 */
+
+/* None wired. */
+#define BOARD_BUMPS(X)
+
 #define BOARD_TRIG_PULSE_US 12u /* HC-SR04 wants at least 10 µs */
-
-/** The echo timer: 32-bit, its CH1 pin on the echo; CH2 is used internally. */
-#define BOARD_ECHO_TIM STM32_TIM2_BASE
-#define BOARD_ECHO_IRQ STM32_IRQ_TIM2
-#define BOARD_ECHO_IRQHandler TIM2_IRQHandler
 
 /* ---- time, telemetry, storage ------------------------------------------------------------ */
 
@@ -142,7 +141,7 @@
 
 /* ---- interrupt priorities (0x00 highest .. 0xF0) ------------------------------------------ */
 
-#define BOARD_PRIO_ECHO 0x40u /* a capture is short and must not wait for the tick */
+#define BOARD_PRIO_ECHO 0x40u /* the sonars' captures: short, must not wait for the tick */
 #define BOARD_PRIO_TICK 0x80u
 #define BOARD_PRIO_UART 0xC0u /* telemetry waits for the tick */
 

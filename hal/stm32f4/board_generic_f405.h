@@ -57,7 +57,8 @@
 #define BOARD_PORT_B 1u
 #define BOARD_PORT_C 2u
 
-/** Every pin the port drives or reads, configured once by hal_init(). */
+/** Every pin the port drives or reads but those of the instance tables below (servos,
+ *  sonars, bump switches), which their drivers configure from their rows. */
 #define BOARD_PINS                                                                              \
     {                                                                                           \
         /* port, pin, mode, alternate function, pull, output type, speed */                    \
@@ -72,9 +73,6 @@
         {BOARD_PORT_C, 2, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 R */    \
         {BOARD_PORT_C, 3, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 R */    \
         {BOARD_PORT_C, 4, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* STBY */  \
-        {BOARD_PORT_B, 8, STM32_PIN_AF, 3, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},  /* TIM10_CH1 */ \
-        {BOARD_PORT_A, 2, STM32_PIN_AF, 3, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},  /* TIM9_CH1 */ \
-        {BOARD_PORT_A, 0, STM32_PIN_AF, 2, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* TIM5_CH1 */ \
         {BOARD_PORT_B, 6, STM32_PIN_AF, 7, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* USART1_TX */ \
         {BOARD_PORT_B, 7, STM32_PIN_AF, 7, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* USART1_RX */ \
     }
@@ -102,19 +100,34 @@
 #define BOARD_MOTOR_STBY_PORT BOARD_PORT_C
 #define BOARD_MOTOR_STBY_PIN 4u
 
-/* ---- servo and sonar --------------------------------------------------------------------- */
+/* ---- servos, sonars and bump switches: one row per instance -------------------------------- */
 
-#define BOARD_SERVO_TIM STM32_TIM10_BASE
-#define BOARD_SERVO_CH 1u
+/*
+ * hal.h addresses servos and sonars by instance, and each instance is one row here: row 0
+ * is the paper's (the sweep servo, the swept sonar); a board adds a sensor by adding a row
+ * numbered 1, 2, ... (firmware/README.md, "Adding a sonar instance"). Rows are numbered from
+ * 0 without a gap; a duplicate or a gap fails the build. Pins are set up from the rows.
+ *
+ * Servo: a 50 Hz PWM output at 1 µs a count, on a channel of a timer of its own.
+ *   X(index, pin port, pin, AF, timer, channel)
+ * Sonar (HC-SR04): a trigger timer in one-pulse mode (on the F405 TIM1-5, 8, 9 or 12), and
+ * an echo timer in PWM-input mode whose CH1 or CH2 pin takes the echo, the other channel
+ * capturing the width; 32-bit (TIM2, TIM5) or 16-bit (an echo is shorter than 65 ms), each
+ * with an interrupt no other driver uses (IRQ: its name in stm32f4_irq.h).
+ *   X(index, trigger port, pin, AF, timer, channel, echo port, pin, AF, timer, channel, IRQ)
+ * Bump switch: a GPIO input with the pull-up on, closed to ground when pressed.
+ *   X(index, port, pin)
+ */
+#define BOARD_SERVOS(X) \
+    X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
 
-#define BOARD_TRIG_TIM STM32_TIM9_BASE /* needs one-pulse mode: TIM1-5, 8, 9, 12 */
-#define BOARD_TRIG_CH 1u
+#define BOARD_SONARS(X) \
+    X(0, BOARD_PORT_A, 2, 3, TIM9, 1, BOARD_PORT_A, 0, 2, TIM5, 1, TIM5) /* PA2, PA0 */
+
+/* None wired. Two on PC8 and PC9 would be X(0, BOARD_PORT_C, 8) X(1, BOARD_PORT_C, 9). */
+#define BOARD_BUMPS(X)
+
 #define BOARD_TRIG_PULSE_US 12u /* HC-SR04 wants at least 10 µs */
-
-/** The echo timer: 32-bit, its CH1 pin on the echo; CH2 is used internally. */
-#define BOARD_ECHO_TIM STM32_TIM5_BASE
-#define BOARD_ECHO_IRQ STM32_IRQ_TIM5
-#define BOARD_ECHO_IRQHandler TIM5_IRQHandler
 
 /* ---- time, telemetry, storage ------------------------------------------------------------ */
 
@@ -138,7 +151,7 @@
 
 /* ---- interrupt priorities (0x00 highest .. 0xF0) ------------------------------------------ */
 
-#define BOARD_PRIO_ECHO 0x40u /* a capture is short and must not wait for the tick */
+#define BOARD_PRIO_ECHO 0x40u /* the sonars' captures: short, must not wait for the tick */
 #define BOARD_PRIO_TICK 0x80u
 #define BOARD_PRIO_UART 0xC0u /* telemetry waits for the tick */
 

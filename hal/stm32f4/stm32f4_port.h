@@ -8,7 +8,7 @@
  * Which files an image links decides what it is: the robot image links them all with
  * main.c; the self-test image links the start-up, clock, tick, watchdog and critical
  * section with the replay HAL (hal/cortex_m/selftest) instead of the time base, wheel,
- * sonar, UART and storage drivers.
+ * sonar, bump, UART and storage drivers.
  */
 #ifndef STM32F4_PORT_H
 #define STM32F4_PORT_H
@@ -130,11 +130,13 @@ void stm32_uart_pump(void);
 /** Write a string by polling, for fault reports only (interrupts may be off). */
 void stm32_uart_write_blocking(const char *s);
 
-/* ---- wheels and sonar (wheels.c, sonar.c) --------------------------------------------- */
+/* ---- wheels, servos and sonars, bump switches (wheels.c, sonar.c, bump.c) -------------- */
 
-/** Both set up with their outputs off. wheels.c also defines cm_safe_outputs(), which a
- *  fault calls: PWM 0, direction pins low, driver in standby. */
+/** Each set up with its outputs off, servos and sonars from the board's instance rows.
+ *  wheels.c also defines cm_safe_outputs(), which a fault calls: PWM 0, direction pins low,
+ *  driver in standby. */
 void stm32_wheels_init(void);
 void stm32_sonar_init(void);
+void stm32_bump_init(void);
 
 #endif /* STM32F4_PORT_H */

@@ -244,14 +244,18 @@ _Static_assert(offsetof(stm32_tim_t, OR) == 0x50, "TIM_OR");
 #define STM32_TIM_SMCR_SMS_ENCODER3 (3u << 0) /* count on TI1 and TI2 edges */
 #define STM32_TIM_SMCR_SMS_RESET (4u << 0)    /* trigger input resets the counter */
 #define STM32_TIM_SMCR_TS_TI1FP1 (5u << 4)
+#define STM32_TIM_SMCR_TS_TI2FP2 (6u << 4)
 
 #define STM32_TIM_DIER_CC2IE (1u << 2)
+#define STM32_TIM_DIER_CCIE(ch) (1u << (ch)) /* channel 1..4 */
 
 #define STM32_TIM_SR_UIF (1u << 0)
 #define STM32_TIM_SR_CC1IF (1u << 1)
 #define STM32_TIM_SR_CC2IF (1u << 2)
 #define STM32_TIM_SR_CC1OF (1u << 9)
 #define STM32_TIM_SR_CC2OF (1u << 10)
+#define STM32_TIM_SR_CCIF(ch) (1u << (ch))        /* channel 1..4 */
+#define STM32_TIM_SR_CCOF(ch) (1u << ((ch) + 8u)) /* channel 1..4 */
 
 #define STM32_TIM_EGR_UG (1u << 0)
 

@@ -12,6 +12,7 @@ STM32_START_UP int hal_init(void)
     stm32_time_init();
     stm32_wheels_init(); /* motors off, driver enabled */
     stm32_sonar_init();  /* no servo pulse until the firmware commands one */
+    stm32_bump_init();
     stm32_uart_init();
     /* A slow clock is not an error: the banner reports it (stm32_clocks). */
     return HAL_OK;

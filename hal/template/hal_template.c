@@ -4,9 +4,10 @@
  * a copy of this file (see README, "Porting to a new board"); each function says what the
  * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
  *
- * Map storage (hal_storage_*), hal_uart_read() and hal_uart_has_reader() are optional: link
- * hal_unsupported (hal/defaults) and a board without them answers "no storage", "nothing
- * received" and "a listener may be there".
+ * Map storage (hal_storage_*), hal_uart_read(), hal_uart_has_reader() and the bump
+ * switches (hal_bump_*) are optional: link hal_unsupported (hal/defaults) and a board
+ * without them answers "no storage", "nothing received", "a listener may be there" and
+ * "no switches".
  * A board that has them defines them here, and its definitions replace the defaults.
  */
 #include "hal/hal.h"
@@ -50,22 +51,34 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     (void)duty;
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+uint8_t hal_servo_count(void)
+{
+    /* Instance 0 sweeps the paper's sonar; a board with more lists them in a table. */
+    return 1u;
+}
+
+uint8_t hal_sonar_count(void)
+{
+    return 1u;
+}
+
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {
     /* 50 Hz servo PWM with this high time. */
     (void)pulse_us;
+    return servo < hal_servo_count() ? HAL_OK : HAL_EINVAL;
 }
 
-int hal_sonar_trigger(void)
+int hal_sonar_trigger(uint8_t sonar)
 {
     /* A 10 µs trigger pulse; the echo's width is captured by hardware or an edge ISR. */
-    return HAL_ENOSYS;
+    return sonar < hal_sonar_count() ? HAL_ENOSYS : HAL_EINVAL;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
     (void)echo_us;
-    return HAL_SONAR_IDLE;
+    return sonar < hal_sonar_count() ? HAL_SONAR_IDLE : HAL_EINVAL;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

@@ -12,6 +12,8 @@ void fake_hal_reset(void)
     memset(&fake_hal, 0, sizeof fake_hal);
     memset(fake_hal.storage, 0xFF, sizeof fake_hal.storage); /* never written: erased */
     fake_hal.sonar_next = HAL_SONAR_BUSY;
+    fake_hal.servos = 1u;
+    fake_hal.sonars = 1u;
     fake_hal.storage_size = FAKE_HAL_STORAGE_SIZE;
     fake_hal.storage_cut_after = -1;
 }
@@ -56,20 +58,56 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     fake_hal.motor[wheel] = duty;
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+uint8_t hal_servo_count(void)
 {
-    fake_hal.calls_servo++;
-    fake_hal.servo_pulse_us = pulse_us;
+    return fake_hal.servos;
 }
 
-int hal_sonar_trigger(void)
+uint8_t hal_sonar_count(void)
 {
+    return fake_hal.sonars;
+}
+
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
+{
+    if (servo >= fake_hal.servos || servo > 8u) {
+        fake_hal.calls_bad_instance++;
+        return HAL_EINVAL;
+    }
+    if (servo != HAL_SERVO_SWEEP) {
+        fake_hal.calls_other_instance++;
+        fake_hal.servo_pulse_other_us[servo - 1u] = pulse_us;
+        return HAL_OK;
+    }
+    fake_hal.calls_servo++;
+    fake_hal.servo_pulse_us = pulse_us;
+    return HAL_OK;
+}
+
+int hal_sonar_trigger(uint8_t sonar)
+{
+    if (sonar >= fake_hal.sonars) {
+        fake_hal.calls_bad_instance++;
+        return HAL_EINVAL;
+    }
+    if (sonar != HAL_SONAR_SWEPT) {
+        fake_hal.calls_other_instance++;
+        return HAL_OK;
+    }
     fake_hal.calls_trigger++;
     return fake_hal.trigger_result;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
+    if (sonar >= fake_hal.sonars) {
+        fake_hal.calls_bad_instance++;
+        return HAL_EINVAL;
+    }
+    if (sonar != HAL_SONAR_SWEPT) {
+        fake_hal.calls_other_instance++;
+        return HAL_SONAR_IDLE;
+    }
     fake_hal.calls_poll++;
     hal_sonar_status_t s = fake_hal.sonar_next;
     if (s == HAL_SONAR_ECHO) {
@@ -79,6 +117,25 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
         fake_hal.sonar_next = HAL_SONAR_IDLE; /* reported once */
     }
     return s;
+}
+
+uint8_t hal_bump_count(void)
+{
+    return fake_hal.bumps;
+}
+
+int hal_bump_read(uint8_t bump, bool *pressed)
+{
+    fake_hal.calls_bump++;
+    if (fake_hal.bumps == 0u) {
+        return HAL_ENOSYS;
+    }
+    if (bump >= fake_hal.bumps || bump >= 8u || pressed == NULL) {
+        fake_hal.calls_bad_instance++;
+        return HAL_EINVAL;
+    }
+    *pressed = fake_hal.bump_pressed[bump];
+    return HAL_OK;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

@@ -20,9 +20,14 @@
 typedef struct {
     /* Set by the test. */
     uint16_t encoder[2];              /**< what hal_encoder_count() returns */
-    hal_sonar_status_t sonar_next;    /**< what the next hal_sonar_poll() returns */
+    hal_sonar_status_t sonar_next;    /**< what the next hal_sonar_poll() of sonar 0 returns */
     uint32_t sonar_echo_us;           /**< width returned with HAL_SONAR_ECHO */
-    int trigger_result;               /**< what hal_sonar_trigger() returns */
+    int trigger_result;               /**< what hal_sonar_trigger() of sonar 0 returns */
+    uint8_t servos;                   /**< what hal_servo_count() returns (fake_hal_reset(): 1) */
+    uint8_t sonars;                   /**< what hal_sonar_count() returns (1); sonars past 0 are
+                                           idle and take every ping */
+    uint8_t bumps;                    /**< what hal_bump_count() returns (0: HAL_ENOSYS) */
+    bool bump_pressed[8];             /**< what hal_bump_read() says of each switch */
     size_t storage_size;              /**< what hal_storage_size() returns */
     size_t uart_room;                 /**< bytes hal_uart_write() takes per call (0: all) */
     bool uart_no_reader;              /**< hal_uart_has_reader() answers false */
@@ -32,12 +37,16 @@ typedef struct {
 
     /* Recorded from the firmware. */
     int16_t motor[2];                 /**< last duty per wheel */
-    uint16_t servo_pulse_us;          /**< last servo command */
+    uint16_t servo_pulse_us;          /**< last command of servo 0 */
+    uint16_t servo_pulse_other_us[8]; /**< last command of servo 1, 2, ... ([servo - 1]) */
     unsigned calls_encoder;
     unsigned calls_motor;
-    unsigned calls_servo;
-    unsigned calls_trigger;
-    unsigned calls_poll;
+    unsigned calls_servo;             /**< hal_servo_set_pulse() of servo 0 */
+    unsigned calls_trigger;           /**< hal_sonar_trigger() of sonar 0 */
+    unsigned calls_poll;              /**< hal_sonar_poll() of sonar 0 */
+    unsigned calls_other_instance;    /**< servo and sonar calls of an instance past 0 */
+    unsigned calls_bad_instance;      /**< calls refused with HAL_EINVAL (no such instance) */
+    unsigned calls_bump;
     unsigned calls_watchdog;
     unsigned calls_storage_write;
     unsigned calls_storage_commit;

@@ -3,6 +3,7 @@
  * optional calls it leaves out, and the core runs on a HAL that has nothing yet. */
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -34,6 +35,26 @@ static void test_defaults_answer_as_hal_h_says(void **state)
     assert_int_equal(buf[0], 1u); /* nothing received, nothing written */
 }
 
+static void test_instances_beyond_the_board_are_refused(void **state)
+{
+    (void)state;
+    uint32_t echo = 7u;
+    bool pressed = true;
+    assert_int_equal(hal_servo_count(), 1u);
+    assert_int_equal(hal_sonar_count(), 1u);
+    assert_int_equal(hal_servo_set_pulse(HAL_SERVO_SWEEP, 1500u), HAL_OK);
+    assert_int_equal(hal_servo_set_pulse(1u, 1500u), HAL_EINVAL);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_ENOSYS);
+    assert_int_equal(hal_sonar_trigger(1u), HAL_EINVAL);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &echo), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(1u, &echo), HAL_EINVAL);
+    assert_int_equal(echo, 7u);
+    /* No bump switches: hal/defaults answers for the template. */
+    assert_int_equal(hal_bump_count(), 0u);
+    assert_int_equal(hal_bump_read(0u, &pressed), HAL_ENOSYS);
+    assert_true(pressed);
+}
+
 static void test_core_runs_on_the_template(void **state)
 {
     (void)state;
@@ -56,6 +77,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults_answer_as_hal_h_says),
+        cmocka_unit_test(test_instances_beyond_the_board_are_refused),
         cmocka_unit_test(test_core_runs_on_the_template),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -103,7 +103,7 @@ static void test_wires_reach_the_world(void **state)
     hal_motor_set(HAL_WHEEL_RIGHT, -4000);
     assert_int_equal(sim_motor_duty(world, HAL_WHEEL_LEFT), 700);
     assert_int_equal(sim_motor_duty(world, HAL_WHEEL_RIGHT), -1000);
-    hal_servo_set_pulse(2000);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 2000);
     assert_int_equal(sim_servo_pulse(world), 2000);
     for (int k = 0; k < 50; k++) {
         hal_host_step();
@@ -120,20 +120,20 @@ static void test_wires_reach_the_world(void **state)
     assert_int_equal(sim_motor_duty(world, HAL_WHEEL_RIGHT), 0);
     /* The sonar through the HAL. */
     uint32_t w = 99u;
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
-    assert_int_equal(hal_sonar_trigger(), HAL_EBUSY);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_BUSY);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_EBUSY);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_BUSY);
     hal_host_step();
     hal_host_step();
     hal_host_step();
     hal_host_step();
-    hal_sonar_status_t st = hal_sonar_poll(&w);
+    hal_sonar_status_t st = hal_sonar_poll(HAL_SONAR_SWEPT, &w);
     assert_true(st == HAL_SONAR_ECHO || st == HAL_SONAR_TIMEOUT);
     if (st == HAL_SONAR_ECHO) {
         assert_int_equal(w, sim_last_ping(world).echo_us);
     }
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
     hal_irq_state_t irq = hal_critical_enter();
     hal_critical_exit(irq);
     hal_watchdog_kick();

@@ -21,9 +21,10 @@
 
 #define MS 1000000ull
 
-/* The fake's line offsets, in wiring.h's order. */
+/* The fake's line offsets, in wiring.h's order; then, when a test wires them, sonar 1 and
+ * two bump switches. */
 enum { L_A = 1, L_B = 2, R_A = 3, R_B = 4, TRIG = 5, ECHO = 6, L_IN1 = 7, L_IN2 = 8,
-       R_IN1 = 9, R_IN2 = 10, STBY = 11 };
+       R_IN1 = 9, R_IN2 = 10, STBY = 11, TRIG1 = 12, ECHO1 = 13, BUMP0 = 14, BUMP1 = 15 };
 
 static char root[TMPTREE_PATH_MAX];
 static lconf_t cfg;
@@ -106,7 +107,7 @@ static void test_init_requests_every_line_with_the_motors_stopped(void **state)
     assert_int_equal(hal_storage_size(), 8192);
     assert_int_equal(hal_encoder_count(HAL_WHEEL_LEFT), 0);
     uint32_t w;
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
     assert_int_equal(hal_init(), HAL_OK); /* a second call changes nothing */
     assert_int_equal(fake_gpio_requested_count(), 11);
 }
@@ -139,7 +140,7 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 {
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
-        st = hal_sonar_poll(w);
+        st = hal_sonar_poll(HAL_SONAR_SWEPT, w);
         if (st == HAL_SONAR_BUSY) {
             wait_ms(1);
         }
@@ -150,11 +151,11 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 static void test_sonar_pulse_and_echo_width(void **state)
 {
     (void)state;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     written();
     assert_int_equal(fake_gpio_rises(TRIG), 1);
     assert_int_equal(fake_gpio_value(TRIG), 0);
-    assert_int_equal(hal_sonar_trigger(), HAL_EBUSY);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_EBUSY);
     written();
     assert_int_equal(fake_gpio_rises(TRIG), 1); /* no second pulse */
 
@@ -163,25 +164,25 @@ static void test_sonar_pulse_and_echo_width(void **state)
     uint32_t w = 0;
     assert_int_equal(poll_until_done(&w), HAL_SONAR_ECHO);
     assert_int_equal(w, 5831);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_IDLE);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_IDLE);
     lhal_stats_t st;
     lhal_stats(&st);
-    assert_int_equal(st.sonar.pings, 1);
-    assert_int_equal(st.sonar.echoes, 1);
+    assert_int_equal(st.sonar[0].pings, 1);
+    assert_int_equal(st.sonar[0].echoes, 1);
 }
 
 static void test_sonar_times_out_on_the_backend_clock(void **state)
 {
     (void)state;
     uint32_t w;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     advance_ns(30 * MS); /* within sonar_timeout_us + 5 ms */
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_BUSY);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_BUSY);
     advance_ns(5 * MS);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_TIMEOUT);
     lhal_stats_t st;
     lhal_stats(&st);
-    assert_int_equal(st.sonar.no_response, 1);
+    assert_int_equal(st.sonar[0].no_response, 1);
 }
 
 static void test_sonar_reports_a_stuck_echo_line(void **state)
@@ -189,12 +190,12 @@ static void test_sonar_reports_a_stuck_echo_line(void **state)
     (void)state;
     fake_gpio_edge(ECHO, 1000, true);
     lhal_stats_t st;
-    WAIT_UNTIL((lhal_stats(&st), st.sonar.stray == 1u));
+    WAIT_UNTIL((lhal_stats(&st), st.sonar[0].stray == 1u));
     uint32_t w;
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
-    assert_int_equal(hal_sonar_poll(&w), HAL_SONAR_TIMEOUT);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_TIMEOUT);
     lhal_stats(&st);
-    assert_int_equal(st.sonar.stuck_high, 1);
+    assert_int_equal(st.sonar[0].stuck_high, 1);
 }
 
 static void test_motor_direction_duty_and_standby(void **state)
@@ -234,15 +235,15 @@ static void test_motor_direction_duty_and_standby(void **state)
 static void test_servo_starts_at_its_first_command_and_clamps(void **state)
 {
     (void)state;
-    hal_servo_set_pulse(1500);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 1500);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/period"), "20000000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "1500000\n");
     assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
-    hal_servo_set_pulse(3000);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 3000);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "2600000\n");
-    hal_servo_set_pulse(100);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 100);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/duty_cycle"), "400000\n");
 }
@@ -252,7 +253,7 @@ static void test_shutdown_stops_and_releases_everything(void **state)
     (void)state;
     hal_motor_set(HAL_WHEEL_LEFT, 800);
     hal_motor_set(HAL_WHEEL_RIGHT, -800);
-    hal_servo_set_pulse(1000);
+    (void)hal_servo_set_pulse(HAL_SERVO_SWEEP, 1000);
     written();
     assert_string_equal(pwm("pwmchip1/pwm0/enable"), "1\n");
     assert_true(lhal_shutdown());
@@ -393,18 +394,31 @@ static void start_watching_idle(uint32_t idle_ms)
     assert_int_equal(hal_tick_start(tick_cb, &ticks), HAL_OK);
 }
 
+/* Waits until each thread went round twice after the clock moved (the second round
+ * starts after the first stamped the moved clock), so no beat is two moves old when the
+ * clock moves again, however long a loaded machine keeps a thread waiting; or until a
+ * fault, after which the threads may stop. */
+static void all_threads_saw_the_clock(void)
+{
+    lhal_stats_t st;
+    lhal_stats(&st);
+    const uint32_t events = st.events_rounds;
+    const uint32_t output = st.output_rounds;
+    const unsigned seen = atomic_load(&ticks);
+    WAIT_UNTIL((lhal_stats(&st), atomic_load(&ticks) >= seen + 2u &&
+                st.events_rounds >= events + 2u && st.output_rounds >= output + 2u) ||
+               lhal_fault(NULL, 0) != LHAL_FAULT_NONE);
+}
+
 static void test_watchdog_watches_the_background_loop(void **state)
 {
     (void)state;
     start_watching_idle(500u);
-    /* Ticks go on (each stamps the moved clock, so the tick is never 100 ms old), but
+    /* The threads go on (each stamps the moved clock, so none is ever 100 ms old), but
      * nobody kicks. */
     for (int step = 1; step <= 6 && lhal_fault(NULL, 0) == LHAL_FAULT_NONE; step++) {
         advance_ns(90 * MS);
-        /* Counted after the move: the second tick from here starts after the first one
-         * stamped the moved clock. */
-        unsigned seen = atomic_load(&ticks);
-        WAIT_UNTIL(atomic_load(&ticks) >= seen + 2u || lhal_fault(NULL, 0) != LHAL_FAULT_NONE);
+        all_threads_saw_the_clock();
         if (step <= 5) {
             assert_int_equal(lhal_fault(NULL, 0), LHAL_FAULT_NONE); /* <= 450 ms */
         }
@@ -422,8 +436,7 @@ static void test_kicks_keep_the_background_watchdog_quiet(void **state)
     for (int step = 0; step < 12; step++) {
         advance_ns(90 * MS);
         hal_watchdog_kick();
-        unsigned seen = atomic_load(&ticks);
-        WAIT_UNTIL(atomic_load(&ticks) >= seen + 2u);
+        all_threads_saw_the_clock();
     }
     assert_int_equal(lhal_fault(NULL, 0), LHAL_FAULT_NONE); /* > 1 s of kicked running */
 }
@@ -489,6 +502,106 @@ static void test_missing_chip_fails_init(void **state)
     assert_non_null(strstr(lhal_error(), "gpio_chip: cannot open GPIO chip 'fakechip0'"));
 }
 
+static void test_instances_beyond_the_robot_are_refused(void **state)
+{
+    (void)state;
+    uint32_t w = 7u;
+    bool pressed = true;
+    assert_int_equal(hal_servo_count(), 1u);
+    assert_int_equal(hal_sonar_count(), 1u);
+    assert_int_equal(hal_bump_count(), 0u);
+    assert_int_equal(hal_servo_set_pulse(1u, 1500u), HAL_EINVAL);
+    assert_int_equal(hal_sonar_trigger(1u), HAL_EINVAL);
+    assert_int_equal(hal_sonar_poll(1u, &w), HAL_EINVAL);
+    assert_int_equal(hal_sonar_poll(255u, &w), HAL_EINVAL);
+    assert_int_equal(w, 7u);
+    assert_int_equal(hal_bump_read(0u, &pressed), HAL_ENOSYS);
+    assert_true(pressed);
+    written();
+    assert_int_equal(fake_gpio_rises(TRIG), 0);
+}
+
+/* The shared robot with sonar 1 (its own trigger and echo lines), servo 1 on
+ * ROOT/pwmchip1/pwm1 and two bump switches, one of them pressed from the start. */
+static int setup_instances(void **state)
+{
+    setup(state);
+    cfg.sonar1_trigger = TRIG1;
+    cfg.sonar1_echo = ECHO1;
+    tmptree_pwm_channel(root, 1u, 1u);
+    cfg.servo1_pwm = (lconf_pwm_t){1, 1};
+    cfg.bump[0] = BUMP0;
+    cfg.bump[1] = BUMP1;
+    fake_gpio_level(BUMP0, true);
+    fake_gpio_level(BUMP1, false);
+    lhal_configure(&cfg);
+    assert_int_equal(hal_init(), HAL_OK);
+    return 0;
+}
+
+static void test_sonar_1_servo_1_and_bump_switches(void **state)
+{
+    (void)state;
+    assert_int_equal(hal_servo_count(), 2u);
+    assert_int_equal(hal_sonar_count(), 2u);
+    assert_int_equal(hal_bump_count(), 2u);
+    assert_int_equal(fake_gpio_requested_count(), 15);
+    assert_true(fake_gpio_is_output(TRIG1));
+    assert_false(fake_gpio_is_output(ECHO1));
+    assert_false(fake_gpio_is_output(BUMP0));
+
+    /* Sonar 1 pings on its own line and times its own echo. */
+    uint32_t w = 0u;
+    assert_int_equal(hal_sonar_trigger(1u), HAL_OK);
+    written();
+    assert_int_equal(fake_gpio_rises(TRIG1), 1);
+    assert_int_equal(fake_gpio_rises(TRIG), 0);
+    assert_int_equal(hal_sonar_trigger(1u), HAL_EBUSY);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK); /* sonar 0 is not busy */
+    const fake_edge_t echo[] = {{ECHO1, 70000000u, true}, {ECHO1, 70000000u + 2345000u, false}};
+    fake_gpio_edges(echo, 2);
+    int st = HAL_SONAR_BUSY;
+    for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
+        st = hal_sonar_poll(1u, &w);
+        if (st == HAL_SONAR_BUSY) {
+            wait_ms(1); /* the events thread reads the edges */
+        }
+    }
+    assert_int_equal(st, HAL_SONAR_ECHO);
+    assert_int_equal(w, 2345);
+    assert_int_equal(hal_sonar_poll(HAL_SONAR_SWEPT, &w), HAL_SONAR_BUSY);
+    assert_int_equal(hal_sonar_trigger(2u), HAL_EINVAL);
+    lhal_stats_t sts;
+    lhal_stats(&sts);
+    assert_int_equal(sts.sonars, 2u);
+    assert_int_equal(sts.sonar[1].echoes, 1);
+    assert_int_equal(sts.sonar[0].echoes, 0);
+
+    /* Servo 1 on its own channel; servo 0's waits for its first command. */
+    assert_int_equal(hal_servo_set_pulse(1u, 1200u), HAL_OK);
+    written();
+    assert_string_equal(pwm("pwmchip1/pwm1/duty_cycle"), "1200000\n");
+    assert_string_equal(pwm("pwmchip1/pwm0/enable"), "");
+    assert_int_equal(hal_servo_set_pulse(2u, 1200u), HAL_EINVAL);
+
+    /* Switches close to ground: a low line is pressed. */
+    bool b[2] = {true, false};
+    assert_int_equal(hal_bump_read(0u, &b[0]), HAL_OK);
+    assert_int_equal(hal_bump_read(1u, &b[1]), HAL_OK);
+    assert_false(b[0]);
+    assert_true(b[1]);
+    fake_gpio_edge(BUMP0, 80000000u, false);
+    WAIT_UNTIL((hal_bump_read(0u, &b[0]), b[0]));
+    fake_gpio_edge(BUMP1, 80000001u, true);
+    WAIT_UNTIL((hal_bump_read(1u, &b[1]), !b[1]));
+    assert_int_equal(hal_bump_read(2u, &b[0]), HAL_EINVAL);
+    assert_int_equal(hal_bump_read(0u, NULL), HAL_EINVAL);
+
+    assert_true(lhal_shutdown());
+    assert_int_equal(hal_bump_read(0u, &b[0]), HAL_EIO); /* the backend is down */
+    assert_string_equal(pwm("pwmchip1/pwm1/enable"), "0\n");
+}
+
 static void test_check_reports_every_item_and_moves_nothing(void **state)
 {
     (void)state;
@@ -538,6 +651,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_busy_line_fails_init_naming_the_key, setup, teardown),
         cmocka_unit_test_setup_teardown(test_missing_pwm_chip_fails_init_naming_the_key, setup, teardown),
         cmocka_unit_test_setup_teardown(test_missing_chip_fails_init, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_instances_beyond_the_robot_are_refused, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_sonar_1_servo_1_and_bump_switches, setup_instances, teardown),
         cmocka_unit_test_setup_teardown(test_check_reports_every_item_and_moves_nothing, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -291,6 +291,74 @@ static void test_whole_file_checks(void **state)
     assert_int_equal(lconf_check(&lc, err, sizeof err), 0);
 }
 
+static void test_instances_and_bump_switches_are_off_by_default(void **state)
+{
+    (void)state;
+    slam_config_t core;
+    lconf_t lc;
+    char err[512] = "";
+    assert_int_equal(load("", &core, &lc, err, sizeof err), 0);
+    assert_int_equal(lconf_sonars(&lc), 1u);
+    assert_int_equal(lconf_servos(&lc), 1u);
+    assert_int_equal(lconf_bumps(&lc), 0u);
+    assert_int_equal(lc.sonar1_trigger, LCONF_NO_LINE);
+    assert_int_equal(lc.servo1_pwm.chip, -1);
+    assert_int_equal(lc.bump_bias, LCONF_BIAS_PULL_UP);
+    assert_true(lc.bump_active_low);
+}
+
+static void test_instance_1_and_bump_switches(void **state)
+{
+    (void)state;
+    slam_config_t core;
+    lconf_t lc;
+    char err[512] = "";
+    assert_int_equal(load("sonar1_trigger = 19\n"
+                          "sonar1_echo = 21\n"
+                          "servo1_pwm_chip = 2\n"
+                          "servo1_pwm_channel = 1\n"
+                          "bump0 = 4\n"
+                          "bump1 = 14\n"
+                          "bump_bias = disable\n"
+                          "bump_active_low = no\n",
+                          &core, &lc, err, sizeof err),
+                     0);
+    assert_int_equal(lconf_sonars(&lc), 2u);
+    assert_int_equal(lconf_servos(&lc), 2u);
+    assert_int_equal(lconf_bumps(&lc), 2u);
+    assert_false(lc.bump_active_low);
+    lconf_line_t lines[LCONF_LINES];
+    lconf_lines(&lc, lines);
+    assert_string_equal(lines[LCONF_SONAR1_TRIGGER].name, "sonar1_trigger");
+    assert_int_equal(lines[LCONF_SONAR1_TRIGGER].offset, 19);
+    assert_int_equal(lines[LCONF_SONAR1_TRIGGER].bias, LCONF_OUTPUT);
+    assert_int_equal(lines[LCONF_SONAR1_ECHO].offset, 21);
+    assert_int_equal(lines[LCONF_SONAR1_ECHO].bias, LCONF_BIAS_AS_IS);
+    assert_string_equal(lines[LCONF_BUMP0 + 1].name, "bump1");
+    assert_int_equal(lines[LCONF_BUMP0 + 1].offset, 14);
+    assert_int_equal(lines[LCONF_BUMP0 + 1].bias, LCONF_BIAS_DISABLE);
+    assert_int_equal(lines[LCONF_BUMP0 + 2].offset, LCONF_NO_LINE);
+
+    /* An instance needs both of its keys; switches are numbered without a gap. */
+    assert_int_equal(load("sonar1_trigger = 19\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "robot.conf:17: sonar1_trigger is given without sonar1_echo"));
+    assert_int_equal(load("servo1_pwm_channel = 1\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "robot.conf:17: servo1_pwm_channel is given without servo1_pwm_chip"));
+    assert_int_equal(load("bump1 = 14\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "robot.conf:17: bump1 is given without bump0"));
+    /* Their lines and channels are checked against every other's. */
+    assert_int_equal(load("sonar1_trigger = 19\nsonar1_echo = 6\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "sonar_echo (line 6) and sonar1_echo (line 18) both use line 6"));
+    assert_int_equal(load("bump0 = 23\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "encoder_right_b (line 4) and bump0 (line 17) both use line 23"));
+    assert_int_equal(load("servo1_pwm_chip = 2\nservo1_pwm_channel = 0\n", &core, &lc, err,
+                          sizeof err),
+                     -1);
+    assert_non_null(strstr(err, "servo and servo1 both use PWM channel pwmchip2/pwm0"));
+    assert_int_equal(load("servo1_pwm_chip = -2\n", &core, &lc, err, sizeof err), -1);
+    assert_non_null(strstr(err, "servo1_pwm_chip = '-2': expected a number 0..1023, or -1"));
+}
+
 static void test_missing_file_is_named(void **state)
 {
     (void)state;
@@ -346,6 +414,9 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_every_bad_input_is_named_and_changes_nothing, setup, teardown),
         cmocka_unit_test(test_bad_line_values_say_which_line),
         cmocka_unit_test_setup_teardown(test_whole_file_checks, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_instances_and_bump_switches_are_off_by_default, setup,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_instance_1_and_bump_switches, setup, teardown),
         cmocka_unit_test(test_missing_file_is_named),
         cmocka_unit_test_setup_teardown(test_lines_are_listed_with_their_roles, setup, teardown),
         cmocka_unit_test(test_shipped_example_loads),

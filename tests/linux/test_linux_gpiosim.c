@@ -219,7 +219,7 @@ static void test_lines_end_to_end(void **state)
     assert_int_equal(sim_value(L_IN2), 1);
 
     /* Sonar: the echo is high for at least 2 ms between two kernel timestamps. */
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     assert_int_equal(sim_value(TRIG), 0); /* the pulse is over */
     sim_pull(ECHO, true);
     wait_ms(2);
@@ -227,7 +227,7 @@ static void test_lines_end_to_end(void **state)
     uint32_t w = 0;
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 20000 && st == HAL_SONAR_BUSY; i++) {
-        st = hal_sonar_poll(&w);
+        st = hal_sonar_poll(HAL_SONAR_SWEPT, &w);
         wait_ms(st == HAL_SONAR_BUSY ? 1 : 0);
     }
     assert_int_equal(st, HAL_SONAR_ECHO);

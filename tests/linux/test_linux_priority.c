@@ -37,7 +37,7 @@ static void tick_cb(void *ctx)
 {
     (void)ctx;
     uint32_t w;
-    (void)hal_sonar_poll(&w);
+    (void)hal_sonar_poll(HAL_SONAR_SWEPT, &w);
     atomic_fetch_add(&ticks, 1u);
 }
 
@@ -58,7 +58,7 @@ static void *hog(void *arg)
     return NULL;
 }
 
-/* The backend's clock. Called by the main thread inside hal_sonar_trigger(), with the sonar
+/* The backend's clock. Called by the main thread inside hal_sonar_trigger(HAL_SONAR_SWEPT), with the sonar
  * state locked: there, once, the medium-priority thread starts, and the main thread, which
  * has only to return and unlock, waits its turn for the CPU. */
 static uint64_t clock_that_starts_the_hog(void)
@@ -112,7 +112,7 @@ static void test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preemp
     assert_int_equal(hal_tick_start(tick_cb, NULL), HAL_OK);
     WAIT_UNTIL(atomic_load(&ticks) >= 3u);
     atomic_store(&armed, true);
-    assert_int_equal(hal_sonar_trigger(), HAL_OK);
+    assert_int_equal(hal_sonar_trigger(HAL_SONAR_SWEPT), HAL_OK);
     assert_true(atomic_load(&hog_started));
     pthread_join(hog_thread, NULL);
     /* Without priority inheritance the tick waits for the lock behind the normal-priority

@@ -38,19 +38,28 @@ BOARDS = {
         trig_cr1=0x40014000, motor_ccr=(0x4000043C, 0x40000440), enc_cnt=(0x40010024, 0x40010424),
         dir_bsrr=0x40020818, dir_pins=(0, 1, 2, 3), stby_pin=4, port="PC",
         clocks=(168000000, 42000000, 84000000, 84000000, 168000000), crystal_mhz=8,
-        pll=(4, 168, 7), hsi_m=8, wait_states=5, apb=(4, 2), vos=1),
+        pll=(4, 168, 7), hsi_m=8, wait_states=5, apb=(4, 2), vos=1,
+        servos=1, sonars=1, bumps=()),
     "blackpill_f411": dict(
         storage=0x08040000, sectors=(6, 7),
         time_cnt=0x40000C24, echo_sr=0x40000010, echo_ccr2=0x40000038, echo_irq="TIM2_IRQHandler",
         trig_cr1=0x40010000, motor_ccr=(0x40014034, 0x40014038), enc_cnt=(0x40000424, 0x40000824),
         dir_bsrr=0x40020418, dir_pins=(12, 13, 14, 15), stby_pin=10, port="PB",
         clocks=(96000000, 48000000, 96000000, 96000000, 96000000), crystal_mhz=25,
-        pll=(25, 192, 4), hsi_m=16, wait_states=3, apb=(2, 1), vos=3),
+        pll=(25, 192, 4), hsi_m=16, wait_states=3, apb=(2, 1), vos=3,
+        servos=1, sonars=1, bumps=()),
 }
+# tests/stm32f4/board_test_f405_side.h: the F405 with sonar 1 (trigger TIM4 CH4, echo on
+# TIM12's CH2 pin, 16-bit, the width captured on CH1) and bump switches on PC8, PC9.
+BOARDS["test_f405_side"] = dict(
+    BOARDS["generic_f405"], sonars=2,
+    sonar1=dict(trig_cr1=0x40000800, echo_sr=0x40001810, echo_egr=0x40001814,
+                echo_ccr_width=0x40001834, width_flag=1 << 1, echo_irq="TIM8_BRK_TIM12_IRQHandler"),
+    bumps=((0x40020810, 8), (0x40020810, 9)))
 BOARD = BOARDS["generic_f405"]
 PPRE = {1: 0, 2: 4, 4: 5, 8: 6, 16: 7}
 KEY1, KEY2 = 0x45670123, 0xCDEF89AB
-HAL_OK, HAL_EINVAL, HAL_EIO = 0, -1 & 0xFFFFFFFF, -2 & 0xFFFFFFFF
+HAL_OK, HAL_EINVAL, HAL_EIO, HAL_ENOSYS = 0, -1 & 0xFFFFFFFF, -2 & 0xFFFFFFFF, -4 & 0xFFFFFFFF
 SCRATCH = 0x2001E000            # test buffers in RAM, below the call stack
 LSI_MIN, LSI_MAX = 17000, 47000 # RM0090: the LSI may run anywhere in this range
 
@@ -309,6 +318,7 @@ def main(argv):
 
     test_tick(r)
     test_sonar(r)
+    test_instances(r)
     test_wheels(r)
     test_clock(r)
 
@@ -384,32 +394,32 @@ def test_sonar(r):
 
     def poll():
         m.write32(ECHO_OUT, 0xDEAD)
-        return r.call("hal_sonar_poll", ECHO_OUT), m.read32(ECHO_OUT)
+        return r.call("hal_sonar_poll", 0, ECHO_OUT), m.read32(ECHO_OUT)
 
     advance(0)
     check(poll()[0] == IDLE, "no ping, the sonar is idle")
     m.write32(BOARD["trig_cr1"], 0)
-    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping goes out")
+    check(r.call("hal_sonar_trigger", 0) == HAL_OK, "a ping goes out")
     check(m.read32(BOARD["trig_cr1"]) & 0x9 == 0x9, "by starting the one-pulse trigger timer (OPM, CEN)")
-    check(signed(r.call("hal_sonar_trigger")) == -3, "a second ping while the first is out is busy")
+    check(signed(r.call("hal_sonar_trigger", 0)) == -3, "a second ping while the first is out is busy")
     advance(3000)
     check(poll()[0] == BUSY, "no echo yet: busy")
     echo(5831)
     check(poll() == (ECHO, 5831), "the captured width comes back with the echo")
     check(poll()[0] == IDLE, "once")
-    r.call("hal_sonar_trigger")
+    r.call("hal_sonar_trigger", 0)
     advance(59999)
     check(poll()[0] == BUSY, "59.999 ms without an echo: still busy")
     advance(1)
     check(poll()[0] == TIMEOUT, "60 ms without an echo: timeout")
-    r.call("hal_sonar_trigger")
+    r.call("hal_sonar_trigger", 0)
     echo(38000)
     check(poll()[0] == TIMEOUT, "a 38 ms echo is the sensor's 'nothing in range': timeout")
-    r.call("hal_sonar_trigger")
+    r.call("hal_sonar_trigger", 0)
     advance(70000)
-    check(r.call("hal_sonar_trigger") == HAL_OK, "a ping nobody polled is over after 60 ms")
+    check(r.call("hal_sonar_trigger", 0) == HAL_OK, "a ping nobody polled is over after 60 ms")
     echo(1200)
-    check(r.call("hal_sonar_trigger") == HAL_OK, "and one whose echo came back is over at once")
+    check(r.call("hal_sonar_trigger", 0) == HAL_OK, "and one whose echo came back is over at once")
     check(poll()[0] == BUSY, "the new ping does not take the old echo")
     echo(1500)
     check(poll() == (ECHO, 1500), "but its own")
@@ -418,8 +428,88 @@ def test_sonar(r):
     check(poll()[0] == IDLE, "an interrupt without a CH2 capture posts nothing")
 
     for pulse, want in ((100, 400), (1500, 1500), (3000, 2600)):
-        r.call("hal_servo_set_pulse", pulse)
-        check(m.read32(TIM10_CCR1) == want, "servo %d us is set as %d us" % (pulse, want))
+        check(r.call("hal_servo_set_pulse", 0, pulse) == HAL_OK and m.read32(TIM10_CCR1) == want,
+              "servo %d us is set as %d us" % (pulse, want))
+
+
+def test_instances(r):
+    """The instance tables: counts, an index the board does not have, the rows past 0."""
+    m = r.m
+    servos, sonars, bumps = BOARD["servos"], BOARD["sonars"], BOARD["bumps"]
+    check((r.call("hal_servo_count"), r.call("hal_sonar_count"), r.call("hal_bump_count"))
+          == (servos, sonars, len(bumps)),
+          "the board has %d servo(s), %d sonar(s), %d bump switch(es)" % (servos, sonars, len(bumps)))
+    before = m.read32(TIM10_CCR1)
+    for n in (servos, 255):
+        check(r.call("hal_servo_set_pulse", n, 1000) == HAL_EINVAL and m.read32(TIM10_CCR1) == before,
+              "servo %d does not exist: HAL_EINVAL, no pulse changes" % n)
+    m.write32(BOARD["trig_cr1"], 0)
+    for n in (sonars, 255):
+        m.write32(ECHO_OUT, 0xDEAD)
+        check(r.call("hal_sonar_trigger", n) == HAL_EINVAL and m.read32(BOARD["trig_cr1"]) == 0,
+              "sonar %d does not exist: its trigger is HAL_EINVAL and starts no timer" % n)
+        check(r.call("hal_sonar_poll", n, ECHO_OUT) == HAL_EINVAL and m.read32(ECHO_OUT) == 0xDEAD,
+              "and its poll HAL_EINVAL, the width untouched")
+    out = SCRATCH + 0x40
+    if not bumps:
+        check(r.call("hal_bump_read", 0, out) == HAL_ENOSYS, "no bump switches: HAL_ENOSYS")
+    else:
+        for i, (idr, pin) in enumerate(bumps):
+            for level, pressed in ((0, 1), (1 << pin, 0)):
+                m.write32(idr, level)
+                m.uc.mem_write(out, b"\x5a")
+                check(r.call("hal_bump_read", i, out) == HAL_OK and r.ram(out, 1)[0] == pressed,
+                      "bump switch %d reads %s with its pin %s" % (i, "pressed" if pressed else
+                                                                  "released", "low" if pressed else "high"))
+        check(r.call("hal_bump_read", len(bumps), out) == HAL_EINVAL, "a switch past the last: HAL_EINVAL")
+        check(r.call("hal_bump_read", 0, 0) == HAL_EINVAL, "no place for the answer: HAL_EINVAL")
+    if "sonar1" in BOARD:
+        test_sonar1(r, BOARD["sonar1"])
+
+
+def test_sonar1(r, s1):
+    """Sonar 1 of the test board: its own timers and ping, a 16-bit echo timer, the pin on CH2."""
+    m = r.m
+    t = [m.read32(BOARD["time_cnt"])]
+
+    def advance(us):
+        t[0] += us
+        m.write32(BOARD["time_cnt"], t[0])
+
+    def poll(n):
+        m.write32(ECHO_OUT, 0xDEAD)
+        return r.call("hal_sonar_poll", n, ECHO_OUT), m.read32(ECHO_OUT)
+
+    def echo(width, overflowed=False):
+        m.write32(s1["echo_ccr_width"], width)
+        m.write32(s1["echo_sr"], s1["width_flag"] | (1 if overflowed else 0))
+        r.call(s1["echo_irq"])
+
+    tim = s1["echo_sr"] - 0x10
+    regs = [m.read32(tim + off) for off in (0x00, 0x08, 0x0C, 0x18, 0x20, 0x2C)]
+    check(regs == [0x5, 0x64, 0x2, 0x3132, 0x13, 0xFFFF],
+          "sonar 1's echo timer: PWM input from its CH2 pin (TI2FP2 resets), the falling edge "
+          "captured on CH1 with its interrupt, 16 bits, only overflows update (%s)"
+          % " ".join("%x" % v for v in regs))
+    advance(100000)
+    check(poll(1)[0] == IDLE, "sonar 1: idle before its first ping")
+    m.write32(s1["trig_cr1"], 0)
+    m.write32(s1["echo_sr"], 0xFFFFFFFF)
+    m.write32(BOARD["trig_cr1"], 0)
+    check(r.call("hal_sonar_trigger", 1) == HAL_OK and m.read32(s1["trig_cr1"]) & 0x9 == 0x9
+          and m.read32(BOARD["trig_cr1"]) == 0,
+          "sonar 1's trigger starts its own one-pulse timer, not sonar 0's")
+    check(m.read32(s1["echo_egr"]) & 1 and not m.read32(s1["echo_sr"]) & 1,
+          "and restarts its 16-bit echo timer with the overflow flag cleared")
+    check(r.call("hal_sonar_trigger", 0) == HAL_OK, "sonar 0 pings while sonar 1's ping is out")
+    check(signed(r.call("hal_sonar_trigger", 1)) == -3, "sonar 1 is busy with its own")
+    advance(2000)
+    echo(2345)
+    check(poll(1) == (ECHO, 2345), "the width captured on CH1 comes back to sonar 1")
+    check(poll(0)[0] == BUSY, "and sonar 0 still waits for its own")
+    check(r.call("hal_sonar_trigger", 1) == HAL_OK, "sonar 1 pings again")
+    echo(1234, overflowed=True)
+    check(poll(1)[0] == TIMEOUT, "an echo that overflowed the 16-bit timer is a timeout, not 1.2 ms")
 
 
 def test_wheels(r):

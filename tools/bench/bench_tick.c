@@ -131,9 +131,25 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     w.duty[wheel] = duty;
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+/* The scripted robot has the paper's servo and sonar (instance 0) only. */
+
+uint8_t hal_servo_count(void)
 {
+    return 1u;
+}
+
+uint8_t hal_sonar_count(void)
+{
+    return 1u;
+}
+
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
+{
+    if (servo != HAL_SERVO_SWEEP) {
+        return HAL_EINVAL;
+    }
     w.servo_us = pulse_us;
+    return HAL_OK;
 }
 
 static int sonar_trigger(void)
@@ -156,8 +172,11 @@ static int sonar_trigger(void)
     return HAL_OK;
 }
 
-int hal_sonar_trigger(void)
+int hal_sonar_trigger(uint8_t sonar)
 {
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     int rc = sonar_trigger();
     rec.trig = rc == HAL_OK ? 'o' : 'b';
     return rc;
@@ -179,8 +198,11 @@ static hal_sonar_status_t sonar_poll(uint32_t *echo_us)
     return HAL_SONAR_ECHO;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     hal_sonar_status_t st = sonar_poll(echo_us);
     static const char code[] = {'i', 'b', 'e', 't'};
     rec.poll = code[st];
@@ -194,8 +216,9 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     return len;
 }
 
-/* hal_uart_read() and map storage are hal_unsupported's (nothing received, no storage); the
- * critical section, the overrun count and the watchdog hal_synchronous's (one thread). */
+/* hal_uart_read(), map storage and the bump switches are hal_unsupported's (nothing
+ * received, no storage, none); the critical section, the overrun count and the watchdog
+ * hal_synchronous's (one thread). */
 
 static int usage(const char *why)
 {

@@ -55,16 +55,17 @@ def measure_hal(path):
     cost("hal_time_us", "hal_time_us")
     cost("hal_encoder_count", "hal_encoder_count", 0)
     cost("hal_motor_set", "hal_motor_set", 1, -500)  # int16_t arrives sign-extended
-    cost("hal_servo_set_pulse", "hal_servo_set_pulse", 1500)
-    cost("hal_sonar_poll (idle)", "hal_sonar_poll", 0x2001F800)
-    cost("hal_sonar_trigger", "hal_sonar_trigger")
-    cost("hal_sonar_poll (busy)", "hal_sonar_poll", 0x2001F800)
+    # The tick's servo and sonar are instance 0 (HAL_SERVO_SWEEP, HAL_SONAR_SWEPT).
+    cost("hal_servo_set_pulse", "hal_servo_set_pulse", 0, 1500)
+    cost("hal_sonar_poll (idle)", "hal_sonar_poll", 0, 0x2001F800)
+    cost("hal_sonar_trigger", "hal_sonar_trigger", 0)
+    cost("hal_sonar_poll (busy)", "hal_sonar_poll", 0, 0x2001F800)
     # The echo's falling edge: CC2IF set in the echo timer, then its interrupt posts the width.
     tim5 = 0x40000C00
     m.write32(tim5 + 0x10, 1 << 2)
     m.write32(tim5 + 0x38, 5831)
     cost("echo capture ISR", "TIM5_IRQHandler")
-    cost("hal_sonar_poll (echo)", "hal_sonar_poll", 0x2001F800)
+    cost("hal_sonar_poll (echo)", "hal_sonar_poll", 0, 0x2001F800)
     # SysTick_Handler around a callback that returns at once (a lone `bx lr`).
     m.uc.mem_write(RETURN + 0x100, b"\x70\x47")
     if m.call("hal_tick_start", RETURN + 0x101, 0) != 0:

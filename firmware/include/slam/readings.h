@@ -61,7 +61,7 @@ typedef struct {
     volatile uint8_t head;     /**< the tick writes it */
     volatile uint8_t tail;     /**< the background loop writes it */
     bool deferred;             /**< readings are mapped by robot_idle(), not the tick */
-    uint32_t posted;           /**< readings the tick posted (dropped ones too) */
+    uint32_t posted;           /**< readings the tick posted that the ring took */
     volatile uint32_t drained; /**< readings the background loop has finished */
     uint32_t dropped;          /**< readings lost: the ring was full */
     uint32_t late;             /**< readings whose tick found the background loop behind */

@@ -197,13 +197,32 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     rp.duty[wheel == HAL_WHEEL_RIGHT ? 1 : 0] = duty;
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+/* A trace records the paper's servo and sonar (instance 0) only: the replay has no other. */
+
+uint8_t hal_servo_count(void)
 {
-    rp.servo_us = pulse_us;
+    return 1u;
 }
 
-int hal_sonar_trigger(void)
+uint8_t hal_sonar_count(void)
 {
+    return 1u;
+}
+
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
+{
+    if (servo != HAL_SERVO_SWEEP) {
+        return HAL_EINVAL;
+    }
+    rp.servo_us = pulse_us;
+    return HAL_OK;
+}
+
+int hal_sonar_trigger(uint8_t sonar)
+{
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     if (rp.triggers < UINT8_MAX) {
         rp.triggers++;
     }
@@ -218,8 +237,11 @@ uint32_t hal_time_us(void)
     return ticks * HAL_TICK_PERIOD_US;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
+    if (sonar != HAL_SONAR_SWEPT) {
+        return HAL_EINVAL;
+    }
     if (rp.polls < UINT8_MAX) {
         rp.polls++;
     }
@@ -241,7 +263,8 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
 
 /* ---- the rest of the HAL, the same on every machine ----------------------------------- */
 
-/* hal_uart_read() and map storage are hal/defaults' (nothing received, HAL_ENOSYS). */
+/* hal_uart_read(), map storage and the bump switches are hal/defaults' (nothing received,
+ * HAL_ENOSYS, none). */
 
 size_t hal_uart_write(const uint8_t *data, size_t len)
 {

@@ -9,8 +9,10 @@
  * file builds for the MCU and for the host and both run the same ticks. The calls a trace
  * does not record answer the same way on both: hal_time_us() is replay time (10 ms a
  * decoded tick), hal_uart_write() takes every byte and keeps a count and a CRC-32 of them,
- * and hal_uart_read() and map storage are the defaults of hal/defaults (nothing received,
- * no storage: HAL_ENOSYS), so a program links this file with hal_unsupported. A scenario
+ * and hal_uart_read(), map storage and the bump switches are the defaults of hal/defaults
+ * (nothing received, no storage: HAL_ENOSYS, no switches), so a program links this file
+ * with hal_unsupported. A trace records the paper's servo and sonar (instance 0): the
+ * replay has one of each, and answers HAL_EINVAL for any other instance. A scenario
  * is a trace turned into C data by tools/cortex_m/trace2c.py; its byte stream, per tick:
  *
  *   byte     bits 0-2 poll ('-' 'i' 'b' 'e' 't' = 0..4), bits 3-4 trigger ('-' 'o' 'b'

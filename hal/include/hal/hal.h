@@ -78,12 +78,39 @@ uint16_t hal_encoder_count(hal_wheel_t wheel);
  */
 void hal_motor_set(hal_wheel_t wheel, int16_t duty);
 
-/* ---- servo and sonar -------------------------------------------------------------- */
+/* ---- servos and sonars: instances ----------------------------------------------------- */
 
-/** Command the sonar servo: pulse width in µs of its 50 Hz signal (clamped to 400..2600). ISR-safe. */
-void hal_servo_set_pulse(uint16_t pulse_us);
+/*
+ * Servos and sonars are addressed by an instance index, as the wheels are. Instance 0 is
+ * the paper's: HAL_SERVO_SWEEP turns HAL_SONAR_SWEPT through the sweep. A board may have
+ * more (a fixed side-looking sonar, say), numbered from 1 in its instance table; every
+ * backend has at least instance 0 of each. An index the board does not have is refused
+ * with HAL_EINVAL and changes nothing, never taken for another instance.
+ */
 
-/** The state of the sonar as hal_sonar_poll() reports it. */
+/** The servo that sweeps the paper's sonar. */
+#define HAL_SERVO_SWEEP ((uint8_t)0u)
+
+/** The paper's sonar, on the sweep servo. */
+#define HAL_SONAR_SWEPT ((uint8_t)0u)
+
+/** How many servos the backend has: instances 0 .. count - 1 (at least 1). ISR-safe. */
+uint8_t hal_servo_count(void);
+
+/** How many sonars the backend has: instances 0 .. count - 1 (at least 1). ISR-safe. */
+uint8_t hal_sonar_count(void);
+
+/**
+ * Command a servo: the pulse width of its 50 Hz signal, in force from its next period.
+ * ISR-safe.
+ * @param servo     the instance, 0 .. hal_servo_count() - 1
+ * @param pulse_us  high time in µs, clamped to 400..2600
+ * @retval HAL_OK      commanded
+ * @retval HAL_EINVAL  no such servo (nothing changed)
+ */
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us);
+
+/** The state of a sonar as hal_sonar_poll() reports it. */
 typedef enum {
     HAL_SONAR_IDLE = 0, /**< no measurement under way */
     HAL_SONAR_BUSY,     /**< a ping is out, no echo yet */
@@ -92,18 +119,48 @@ typedef enum {
 } hal_sonar_status_t;
 
 /**
- * Start one measurement (HC-SR04: a 10 µs trigger pulse). ISR-safe.
- * @retval HAL_OK     the ping is out
- * @retval HAL_EBUSY  a measurement is still under way
- * @retval HAL_EIO    the trigger could not be sent (Linux: the line write failed)
+ * Start one measurement of a sonar (HC-SR04: a 10 µs trigger pulse). Each instance has its
+ * own ping under way; pinging two sensors that face each other at once is the caller's
+ * affair. ISR-safe.
+ * @param sonar  the instance, 0 .. hal_sonar_count() - 1
+ * @retval HAL_OK      the ping is out
+ * @retval HAL_EBUSY   a measurement of this sonar is still under way
+ * @retval HAL_EIO     the trigger could not be sent (Linux: the line write failed)
+ * @retval HAL_EINVAL  no such sonar (nothing sent)
  */
-int hal_sonar_trigger(void);
+int hal_sonar_trigger(uint8_t sonar);
 
 /**
- * The result of the last ping. ECHO and TIMEOUT are reported once, then IDLE. ISR-safe.
- * @param echo_us  out: the echo pulse width in µs, set with HAL_SONAR_ECHO
+ * The result of a sonar's last ping. ECHO and TIMEOUT are reported once, then IDLE.
+ * ISR-safe.
+ * @param sonar    the instance, 0 .. hal_sonar_count() - 1
+ * @param echo_us  out: the echo pulse width in µs, set with HAL_SONAR_ECHO only
+ * @return the sonar's state, a hal_sonar_status_t (never negative)
+ * @retval HAL_EINVAL  no such sonar (negative, unlike every state; @p echo_us untouched)
  */
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us);
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us);
+
+/* ---- bump switches (optional) --------------------------------------------------------- */
+
+/*
+ * Switches that close when the body touches something, numbered in the board's order
+ * (its table says where each one sits). Optional: a board without them answers count 0
+ * and HAL_ENOSYS (hal/defaults does, for a backend that leaves them out).
+ */
+
+/** How many bump switches the board has: 0 .. count - 1 (0: none). ISR-safe. */
+uint8_t hal_bump_count(void);
+
+/**
+ * Whether a bump switch is pressed, as its input reads now (no debouncing). ISR-safe.
+ * @param bump     the switch, 0 .. hal_bump_count() - 1
+ * @param pressed  out: true while the switch is closed; set with HAL_OK only
+ * @retval HAL_OK      read
+ * @retval HAL_EINVAL  no such switch, or @p pressed is NULL
+ * @retval HAL_ENOSYS  the board has no bump switches
+ * @retval HAL_EIO     the input cannot be read now (Linux: before hal_init())
+ */
+int hal_bump_read(uint8_t bump, bool *pressed);
 
 /* ---- telemetry UART --------------------------------------------------------------- */
 

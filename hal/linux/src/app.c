@@ -173,10 +173,13 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && ticks >= tick_limit)) {
             break;
         }
-        if (!warned_stuck && st.sonar.stuck_high > 0u) {
-            fprintf(err, APP_NAME ": warning: the sonar's echo line is high before the ping "
-                         "(stuck, or the sensor has no power); pings time out\n");
-            warned_stuck = true;
+        for (unsigned i = 0u; i < st.sonars && !warned_stuck; i++) {
+            if (st.sonar[i].stuck_high > 0u) {
+                fprintf(err, APP_NAME ": warning: %s echo line is high before the ping (stuck, "
+                             "or the sensor has no power); pings time out\n",
+                        i == 0u ? "the sonar's" : "sonar 1's");
+                warned_stuck = true;
+            }
         }
         const struct timespec pause = {0, APP_IDLE_NS};
         nanosleep(&pause, NULL);

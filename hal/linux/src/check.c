@@ -60,8 +60,11 @@ unsigned lhal_check(const lconf_t *cfg, FILE *out)
         const char *name;
         lconf_pwm_t pwm;
     } pwms[] = {{"servo_pwm", cfg->servo_pwm}, {"motor_left_pwm", cfg->motor_pwm[0]},
-                {"motor_right_pwm", cfg->motor_pwm[1]}};
-    for (unsigned i = 0u; i < 3u; i++) {
+                {"motor_right_pwm", cfg->motor_pwm[1]}, {"servo1_pwm", cfg->servo1_pwm}};
+    for (unsigned i = 0u; i < sizeof pwms / sizeof pwms[0]; i++) {
+        if (pwms[i].pwm.chip < 0 || pwms[i].pwm.channel < 0) {
+            continue; /* an optional channel that is not wired */
+        }
         pwm_chan_t p;
         items++;
         ok = pwm_open(&p, cfg->pwm_root, (unsigned)pwms[i].pwm.chip, (unsigned)pwms[i].pwm.channel,

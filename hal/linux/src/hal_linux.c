@@ -18,7 +18,8 @@
 #define LX_IDLE_WAIT_NS (20u * LX_NS_PER_MS) /* lhal_idle_lock()'s longest wait */
 
 lx_t lx = {.timer_fd = -1, .stop_fd = -1, .out_fd = -1, .kill_fd = -1,
-           .uart = {.fd = -1, .peer_fd = -1}, .store = {.tmp_fd = {-1, -1}}};
+           .uart = {.fd = -1, .peer_fd = -1}, .store = {.tmp_fd = {-1, -1}},
+           .servos = 1u, .sonars = 1u};
 pthread_mutex_t lx_crit;
 pthread_mutex_t lx_sonar_lock;
 const char *const lx_wheel_name[2] = {"left", "right"};
@@ -129,6 +130,9 @@ static void lx_io_end(bool released)
 void lhal_configure(const lconf_t *cfg)
 {
     lx.cfg = *cfg;
+    lx.servos = lconf_servos(cfg);
+    lx.sonars = lconf_sonars(cfg);
+    lx.bumps = lconf_bumps(cfg);
     lx.configured = true;
 }
 
@@ -200,9 +204,11 @@ bool lhal_shutdown(void)
         lx_kill(); /* no watchdog did it (hal_init() failed before starting one) */
     }
     lx_lines_low();
-    if (lx.servo_started) {
-        (void)pwm_stop(&lx.servo);
-        lx.servo_started = false;
+    for (unsigned i = 0u; i < LCONF_SERVOS; i++) {
+        if (lx.servo_started[i]) {
+            (void)pwm_stop(&lx.servo[i]);
+            lx.servo_started[i] = false;
+        }
     }
     lx_close(&lx.timer_fd);
     lx_close(&lx.stop_fd);
@@ -233,9 +239,12 @@ void lhal_stats(lhal_stats_t *out)
         out->enc_edges[w] = atomic_load(&lx.enc_edges[w]);
         out->enc_illegal[w] = atomic_load(&lx.enc_illegal[w]);
     }
+    out->sonars = lx.sonars;
     pthread_mutex_lock(&lx_sonar_lock);
-    out->sonar = lx.echo;
+    memcpy(out->sonar, lx.echo, sizeof out->sonar);
     pthread_mutex_unlock(&lx_sonar_lock);
+    out->bumps = lx.bumps;
+    out->bump_high = atomic_load(&lx.bump_high);
     out->kernel_ts_realtime = atomic_load(&lx.ts_realtime);
     out->events_rounds = atomic_load(&lx.events.rounds);
     out->output_rounds = atomic_load(&lx.output.rounds);
@@ -259,12 +268,15 @@ void lhal_report(FILE *f)
         fprintf(f, "encoder %s: count %u, %u edges, %u illegal or lost\n", lx_wheel_name[w],
                 (unsigned)s.enc_count[w], (unsigned)s.enc_edges[w], (unsigned)s.enc_illegal[w]);
     }
-    fprintf(f,
-            "sonar: %u pings, %u echoes, %u out of range, %u unanswered, %u too long, "
-            "%u with the echo stuck high, %u stray edges\n",
-            (unsigned)s.sonar.pings, (unsigned)s.sonar.echoes, (unsigned)s.sonar.out_of_range,
-            (unsigned)s.sonar.no_response, (unsigned)s.sonar.long_echo,
-            (unsigned)s.sonar.stuck_high, (unsigned)s.sonar.stray);
+    for (unsigned i = 0u; i < s.sonars; i++) {
+        const echo_t *e = &s.sonar[i];
+        fprintf(f,
+                "sonar%s: %u pings, %u echoes, %u out of range, %u unanswered, %u too long, "
+                "%u with the echo stuck high, %u stray edges\n",
+                i == 0u ? "" : " 1", (unsigned)e->pings, (unsigned)e->echoes,
+                (unsigned)e->out_of_range, (unsigned)e->no_response, (unsigned)e->long_echo,
+                (unsigned)e->stuck_high, (unsigned)e->stray);
+    }
     fprintf(f, "telemetry: %llu bytes sent, %llu dropped\n", (unsigned long long)s.uart_sent,
             (unsigned long long)s.uart_dropped);
     if (s.kernel_ts_realtime) {
@@ -309,13 +321,25 @@ static int lx_open_lines(void)
         atomic_store(&lx.enc_edges[w], 0u);
         atomic_store(&lx.enc_illegal[w], 0u);
     }
-    int e = gpio_line_get(LX_ECHO);
-    if (e < 0) {
-        return lx_fail("sonar_echo: cannot read the line: %s", strerror(errno));
+    for (unsigned i = 0u; i < lx.sonars; i++) {
+        int e = gpio_line_get(LX_ECHO(i));
+        if (e < 0) {
+            return lx_fail("%s: cannot read the line: %s", i == 0u ? "sonar_echo" : "sonar1_echo",
+                           strerror(errno));
+        }
+        pthread_mutex_lock(&lx_sonar_lock);
+        echo_init(&lx.echo[i], c->sonar_timeout_us, e == 1);
+        pthread_mutex_unlock(&lx_sonar_lock);
     }
-    pthread_mutex_lock(&lx_sonar_lock);
-    echo_init(&lx.echo, c->sonar_timeout_us, e == 1);
-    pthread_mutex_unlock(&lx_sonar_lock);
+    uint32_t high = 0u;
+    for (unsigned i = 0u; i < lx.bumps; i++) {
+        int level = gpio_line_get(LX_BUMP(i));
+        if (level < 0) {
+            return lx_fail("bump%u: cannot read the line: %s", i, strerror(errno));
+        }
+        high |= level == 1 ? 1u << i : 0u;
+    }
+    atomic_store(&lx.bump_high, high);
     return HAL_OK;
 }
 
@@ -336,10 +360,13 @@ static int lx_open_pwm(void)
         }
         lx.motor_out[w] = (motor_out_t){0};
     }
-    /* The servo's PWM starts with its first command, so it does not jump at start-up. */
-    if (pwm_open(&lx.servo, c->pwm_root, (unsigned)c->servo_pwm.chip,
-                 (unsigned)c->servo_pwm.channel, PWM_EXPORT_WAIT_MS, msg, sizeof msg) != 0) {
-        return lx_fail("servo_pwm: %s", msg);
+    /* A servo's PWM starts with its first command, so it does not jump at start-up. */
+    const lconf_pwm_t servo_pwm[LCONF_SERVOS] = {c->servo_pwm, c->servo1_pwm};
+    for (unsigned i = 0u; i < lx.servos; i++) {
+        if (pwm_open(&lx.servo[i], c->pwm_root, (unsigned)servo_pwm[i].chip,
+                     (unsigned)servo_pwm[i].channel, PWM_EXPORT_WAIT_MS, msg, sizeof msg) != 0) {
+            return lx_fail("%s: %s", i == 0u ? "servo_pwm" : "servo1_pwm", msg);
+        }
     }
     return HAL_OK;
 }
@@ -405,14 +432,19 @@ int hal_init(void)
     atomic_flag_clear(&lx.fault_claimed);
     atomic_store(&lx.want_duty[0], 0);
     atomic_store(&lx.want_duty[1], 0);
-    atomic_store(&lx.want_servo_us, 0u);
-    atomic_store(&lx.want_triggers, 0u);
+    for (unsigned i = 0u; i < LCONF_SERVOS; i++) {
+        atomic_store(&lx.want_servo_us[i], 0u);
+        lx.servo_started[i] = false;
+        lx.servo_us[i] = 0u;
+    }
+    for (unsigned i = 0u; i < LCONF_SONARS; i++) {
+        atomic_store(&lx.want_triggers[i], 0u);
+        lx.triggers[i] = 0u;
+    }
+    atomic_store(&lx.bump_high, 0u);
     atomic_store(&lx.posted, 0u);
     atomic_store(&lx.applied, 0u);
     atomic_store(&lx.doing, NULL);
-    lx.servo_started = false;
-    lx.servo_us = 0u;
-    lx.triggers = 0u;
     lx.standby_on = false;
     memset(&lx.tickstat, 0, sizeof lx.tickstat);
     lx.sched_fifo = false;
@@ -487,15 +519,50 @@ uint16_t hal_encoder_count(hal_wheel_t wheel)
                                     : 0u;
 }
 
-hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
+uint8_t hal_servo_count(void)
 {
+    return (uint8_t)lx.servos;
+}
+
+uint8_t hal_sonar_count(void)
+{
+    return (uint8_t)lx.sonars;
+}
+
+int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
+{
+    if (sonar >= lx.sonars) {
+        return HAL_EINVAL;
+    }
     if (!lx.up) {
         return HAL_SONAR_IDLE;
     }
     pthread_mutex_lock(&lx_sonar_lock);
-    hal_sonar_status_t st = echo_poll(&lx.echo, lx_now(), echo_us);
+    hal_sonar_status_t st = echo_poll(&lx.echo[sonar], lx_now(), echo_us);
     pthread_mutex_unlock(&lx_sonar_lock);
     return st;
+}
+
+uint8_t hal_bump_count(void)
+{
+    return (uint8_t)lx.bumps;
+}
+
+int hal_bump_read(uint8_t bump, bool *pressed)
+{
+    if (lx.bumps == 0u) {
+        return HAL_ENOSYS;
+    }
+    if (bump >= lx.bumps || pressed == NULL) {
+        return HAL_EINVAL;
+    }
+    if (!lx.up) {
+        return HAL_EIO;
+    }
+    /* The events thread keeps the levels from the lines' edges: the tick reads no line. */
+    bool high = (atomic_load_explicit(&lx.bump_high, memory_order_relaxed) >> bump & 1u) != 0u;
+    *pressed = high != lx.cfg.bump_active_low;
+    return HAL_OK;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

@@ -10,7 +10,7 @@
 #include "hal_common/number.h"
 #include "lhal/serial.h"
 
-typedef enum { K_LINE, K_OPT_LINE, K_PWM, K_U32, K_BAUD, K_BOOL, K_STR, K_BIAS } key_type_t;
+typedef enum { K_LINE, K_OPT_LINE, K_PWM, K_OPT_PWM, K_U32, K_BAUD, K_BOOL, K_STR, K_BIAS } key_type_t;
 
 typedef struct {
     const char *name;
@@ -37,10 +37,14 @@ static const lkey_t keys[] = {
     KEY("encoder_bias", K_BIAS, enc_bias, false),
     KEY("sonar_trigger", K_LINE, sonar_trigger, true),
     KEY("sonar_echo", K_LINE, sonar_echo, true),
+    KEY("sonar1_trigger", K_OPT_LINE, sonar1_trigger, false),
+    KEY("sonar1_echo", K_OPT_LINE, sonar1_echo, false),
     KEY_U32("sonar_timeout_us", sonar_timeout_us, 1000u, 100000u, false),
     KEY("pwm_root", K_STR, pwm_root, false),
     KEY("servo_pwm_chip", K_PWM, servo_pwm.chip, true),
     KEY("servo_pwm_channel", K_PWM, servo_pwm.channel, true),
+    KEY("servo1_pwm_chip", K_OPT_PWM, servo1_pwm.chip, false),
+    KEY("servo1_pwm_channel", K_OPT_PWM, servo1_pwm.channel, false),
     KEY("motor_left_pwm_chip", K_PWM, motor_pwm[0].chip, true),
     KEY("motor_left_pwm_channel", K_PWM, motor_pwm[0].channel, true),
     KEY("motor_right_pwm_chip", K_PWM, motor_pwm[1].chip, true),
@@ -53,6 +57,12 @@ static const lkey_t keys[] = {
     KEY("motor_left_invert", K_BOOL, motor_invert[0], false),
     KEY("motor_right_invert", K_BOOL, motor_invert[1], false),
     KEY("motor_standby", K_OPT_LINE, motor_standby, false),
+    KEY("bump0", K_OPT_LINE, bump[0], false),
+    KEY("bump1", K_OPT_LINE, bump[1], false),
+    KEY("bump2", K_OPT_LINE, bump[2], false),
+    KEY("bump3", K_OPT_LINE, bump[3], false),
+    KEY("bump_bias", K_BIAS, bump_bias, false),
+    KEY("bump_active_low", K_BOOL, bump_active_low, false),
     KEY("telemetry", K_STR, telemetry, false),
     KEY("telemetry_baud", K_BAUD, telemetry_baud, false),
     KEY("storage_dir", K_STR, storage_dir, false),
@@ -96,14 +106,21 @@ void lconf_default(lconf_t *c)
     snprintf(c->gpio_chip, sizeof c->gpio_chip, "gpiochip0");
     c->enc_a[0] = c->enc_a[1] = c->enc_b[0] = c->enc_b[1] = LCONF_NO_LINE;
     c->sonar_trigger = c->sonar_echo = LCONF_NO_LINE;
+    c->sonar1_trigger = c->sonar1_echo = LCONF_NO_LINE;
     c->sonar_timeout_us = 30000u;
     snprintf(c->pwm_root, sizeof c->pwm_root, "/sys/class/pwm");
     c->servo_pwm = (lconf_pwm_t){-1, -1};
+    c->servo1_pwm = (lconf_pwm_t){-1, -1};
     c->motor_pwm[0] = c->motor_pwm[1] = (lconf_pwm_t){-1, -1};
     c->motor_period_ns = 50000u;
     c->motor_in1[0] = c->motor_in1[1] = LCONF_NO_LINE;
     c->motor_in2[0] = c->motor_in2[1] = LCONF_NO_LINE;
     c->motor_standby = LCONF_NO_LINE;
+    for (unsigned i = 0u; i < LCONF_BUMPS; i++) {
+        c->bump[i] = LCONF_NO_LINE;
+    }
+    c->bump_bias = LCONF_BIAS_PULL_UP;
+    c->bump_active_low = true;
     snprintf(c->telemetry, sizeof c->telemetry, "none");
     c->telemetry_baud = 115200u;
     snprintf(c->storage_dir, sizeof c->storage_dir, ".");
@@ -142,9 +159,12 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
         memcpy(dst, &line, sizeof line);
         return 0;
     }
-    case K_PWM: {
-        if (!parse_int(v, 0, LCONF_PWM_MAX, &x)) {
-            snprintf(why, sizeof why, "expected a number 0..%d", LCONF_PWM_MAX);
+    case K_PWM:
+    case K_OPT_PWM: {
+        long long lo = k->type == K_OPT_PWM ? -1 : 0;
+        if (!parse_int(v, lo, LCONF_PWM_MAX, &x)) {
+            snprintf(why, sizeof why, "expected a number 0..%d%s", LCONF_PWM_MAX,
+                     k->type == K_OPT_PWM ? ", or -1 when not wired" : "");
             return bad(k->name, v, why, err, n);
         }
         int32_t num = (int32_t)x;
@@ -238,6 +258,7 @@ int lconf_set(void *ctx, const char *key, const char *value, unsigned line, char
 void lconf_lines(const lconf_t *c, lconf_line_t out[LCONF_LINES])
 {
     const int8_t enc = (int8_t)c->enc_bias;
+    const int8_t bump = (int8_t)c->bump_bias;
     const lconf_line_t lines[LCONF_LINES] = {
         [LCONF_ENC_LEFT_A] = {"encoder_left_a", c->enc_a[0], enc},
         [LCONF_ENC_LEFT_B] = {"encoder_left_b", c->enc_b[0], enc},
@@ -250,13 +271,78 @@ void lconf_lines(const lconf_t *c, lconf_line_t out[LCONF_LINES])
         [LCONF_MOTOR_RIGHT_IN1] = {"motor_right_in1", c->motor_in1[1], LCONF_OUTPUT},
         [LCONF_MOTOR_RIGHT_IN2] = {"motor_right_in2", c->motor_in2[1], LCONF_OUTPUT},
         [LCONF_MOTOR_STANDBY] = {"motor_standby", c->motor_standby, LCONF_OUTPUT},
+        [LCONF_SONAR1_TRIGGER] = {"sonar1_trigger", c->sonar1_trigger, LCONF_OUTPUT},
+        [LCONF_SONAR1_ECHO] = {"sonar1_echo", c->sonar1_echo, LCONF_BIAS_AS_IS},
+        [LCONF_BUMP0] = {"bump0", c->bump[0], bump},
+        [LCONF_BUMP0 + 1] = {"bump1", c->bump[1], bump},
+        [LCONF_BUMP0 + 2] = {"bump2", c->bump[2], bump},
+        [LCONF_BUMP0 + 3] = {"bump3", c->bump[3], bump},
     };
+    _Static_assert(LCONF_BUMPS == 4u, "one line a bump switch above");
     memcpy(out, lines, sizeof lines);
 }
 
 static unsigned later(unsigned a, unsigned b)
 {
     return a > b ? a : b;
+}
+
+static bool pwm_wired(lconf_pwm_t p)
+{
+    return p.chip >= 0 && p.channel >= 0;
+}
+
+unsigned lconf_sonars(const lconf_t *c)
+{
+    return c->sonar1_trigger != LCONF_NO_LINE ? 2u : 1u;
+}
+
+unsigned lconf_servos(const lconf_t *c)
+{
+    return pwm_wired(c->servo1_pwm) ? 2u : 1u;
+}
+
+unsigned lconf_bumps(const lconf_t *c)
+{
+    unsigned n = 0u;
+    while (n < LCONF_BUMPS && c->bump[n] != LCONF_NO_LINE) {
+        n++;
+    }
+    return n;
+}
+
+/* Keys that make an instance only together: both given, or neither. */
+static int check_pairs(const lconf_t *c, unsigned *blame, char *err, size_t errlen)
+{
+    const struct {
+        const char *a, *b;
+        bool has_a, has_b;
+    } pairs[] = {
+        {"sonar1_trigger", "sonar1_echo", c->sonar1_trigger != LCONF_NO_LINE,
+         c->sonar1_echo != LCONF_NO_LINE},
+        {"servo1_pwm_chip", "servo1_pwm_channel", c->servo1_pwm.chip >= 0,
+         c->servo1_pwm.channel >= 0},
+    };
+    for (size_t i = 0u; i < sizeof pairs / sizeof pairs[0]; i++) {
+        if (pairs[i].has_a != pairs[i].has_b) {
+            const char *given = pairs[i].has_a ? pairs[i].a : pairs[i].b;
+            const char *missing = pairs[i].has_a ? pairs[i].b : pairs[i].a;
+            snprintf(err, errlen, "%s is given without %s (an instance needs both)", given, missing);
+            *blame = key_line(c, given);
+            return -1;
+        }
+    }
+    for (unsigned i = 1u; i < LCONF_BUMPS; i++) {
+        if (c->bump[i] != LCONF_NO_LINE && c->bump[i - 1u] == LCONF_NO_LINE) {
+            char name[8];
+            snprintf(name, sizeof name, "bump%u", i);
+            snprintf(err, errlen, "%s is given without bump%u (switches are numbered from 0)", name,
+                     i - 1u);
+            *blame = key_line(c, name);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 /* lconf_check(), and the line to blame: the later of two keys that clash (0: none). */
@@ -268,6 +354,9 @@ static int check(const lconf_t *c, unsigned *blame, char *err, size_t errlen)
             snprintf(err, errlen, "missing key '%s' (required; see robot-rpi.conf)", keys[i].name);
             return -1;
         }
+    }
+    if (check_pairs(c, blame, err, errlen) != 0) {
+        return -1;
     }
     lconf_line_t lines[LCONF_LINES];
     lconf_lines(c, lines);
@@ -291,14 +380,17 @@ static int check(const lconf_t *c, unsigned *blame, char *err, size_t errlen)
         lconf_pwm_t pwm;
     } pwms[] = {{"servo", "servo_pwm_chip", "servo_pwm_channel", c->servo_pwm},
                 {"motor_left", "motor_left_pwm_chip", "motor_left_pwm_channel", c->motor_pwm[0]},
-                {"motor_right", "motor_right_pwm_chip", "motor_right_pwm_channel", c->motor_pwm[1]}};
-    unsigned pwm_line[3];
-    for (size_t i = 0u; i < 3u; i++) {
+                {"motor_right", "motor_right_pwm_chip", "motor_right_pwm_channel", c->motor_pwm[1]},
+                {"servo1", "servo1_pwm_chip", "servo1_pwm_channel", c->servo1_pwm}};
+    enum { NPWM = sizeof pwms / sizeof pwms[0] };
+    unsigned pwm_line[NPWM];
+    for (size_t i = 0u; i < NPWM; i++) {
         pwm_line[i] = later(key_line(c, pwms[i].chip_key), key_line(c, pwms[i].channel_key));
     }
-    for (size_t i = 0u; i < 3u; i++) {
-        for (size_t j = i + 1u; j < 3u; j++) {
-            if (pwms[i].pwm.chip == pwms[j].pwm.chip && pwms[i].pwm.channel == pwms[j].pwm.channel) {
+    for (size_t i = 0u; i < NPWM; i++) {
+        for (size_t j = i + 1u; j < NPWM; j++) {
+            if (pwm_wired(pwms[j].pwm) && pwms[i].pwm.chip == pwms[j].pwm.chip &&
+                pwms[i].pwm.channel == pwms[j].pwm.channel) {
                 snprintf(err, errlen, "%s and %s both use PWM channel pwmchip%d/pwm%d (lines %u and %u)",
                          pwms[i].name, pwms[j].name, (int)pwms[i].pwm.chip,
                          (int)pwms[i].pwm.channel, pwm_line[i], pwm_line[j]);

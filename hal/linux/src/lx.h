@@ -8,9 +8,10 @@
  *   - tick: runs the hal_tick_start() callback every 10 ms holding lx_crit. It does no
  *     I/O: the outputs it sets are posted to the output thread, so no hung device can hold
  *     the tick, or the lock, or the background loop that takes it.
- *   - events: reads encoder and echo edges; owns edgeq[] and quad[], publishes counts.
- *   - output: writes what was posted (motor direction lines and duty, servo, the sonar's
- *     trigger pulse); owns motor_out[], servo state and the standby line's state.
+ *   - events: reads encoder, echo and bump switch edges; owns edgeq[] and quad[],
+ *     publishes counts and the switches' levels.
+ *   - output: writes what was posted (motor direction lines and duty, servos, the sonars'
+ *     trigger pulses); owns motor_out[], servo state and the standby line's state.
  *   - watchdog: every LX_BEAT, or at once when woken through kill_fd: judges the stamps of
  *     the other threads, and stops the motors for a stall, a fault or a stop request.
  *   - main: hal_init(), robot_idle() inside lhal_idle_lock(), lhal_shutdown().
@@ -66,24 +67,30 @@ typedef struct {
     gpio_line_t *line[LCONF_LINES]; /* NULL: not wired */
     atomic_bool lines_live;         /* line[] may be used by lx_kill() */
 
-    pwm_chan_t servo;
+    /* The instances wired (lhal_configure(): instance 0 of each always, no switches before). */
+    unsigned servos;
+    unsigned sonars;
+    unsigned bumps;
+
+    pwm_chan_t servo[LCONF_SERVOS];
     pwm_chan_t motor[2];
 
     /* Posted by hal_*() (the tick, or main before it starts), applied by the output thread. */
     _Atomic int32_t want_duty[2];
-    _Atomic uint32_t want_servo_us;  /* 0: no command yet */
-    _Atomic uint32_t want_triggers;  /* pulses asked for */
+    _Atomic uint32_t want_servo_us[LCONF_SERVOS]; /* 0: no command yet */
+    _Atomic uint32_t want_triggers[LCONF_SONARS]; /* pulses asked for */
     _Atomic uint32_t posted;         /* postings */
     _Atomic uint32_t applied;        /* the postings written so far */
     _Atomic(const char *) doing;     /* what the output thread writes now, for messages */
     /* The output thread's own. */
-    bool servo_started;
-    uint32_t servo_us;
-    uint32_t triggers;
+    bool servo_started[LCONF_SERVOS];
+    uint32_t servo_us[LCONF_SERVOS];
+    uint32_t triggers[LCONF_SONARS];
     motor_out_t motor_out[2];
     bool standby_on;
 
-    echo_t echo; /* under lx_sonar_lock */
+    echo_t echo[LCONF_SONARS]; /* under lx_sonar_lock */
+    _Atomic uint32_t bump_high; /* the events thread's: bit i set while bump i's line is high */
     edgeq_t edgeq[2];
     quad_t quad[2];
     _Atomic uint16_t enc_count[2];
@@ -128,9 +135,11 @@ extern pthread_mutex_t lx_sonar_lock; /* echo: priority inheritance */
 #define LX_ENC(w, ab) lx.line[LCONF_ENC_LEFT_A + 2u * (w) + (ab)]
 #define LX_IN1(w) lx.line[LCONF_MOTOR_LEFT_IN1 + 2u * (w)]
 #define LX_IN2(w) lx.line[LCONF_MOTOR_LEFT_IN2 + 2u * (w)]
-#define LX_TRIGGER lx.line[LCONF_SONAR_TRIGGER]
-#define LX_ECHO lx.line[LCONF_SONAR_ECHO]
+#define LX_TRIGGER(s) lx.line[(s) == 0u ? LCONF_SONAR_TRIGGER : LCONF_SONAR1_TRIGGER]
+#define LX_ECHO(s) lx.line[(s) == 0u ? LCONF_SONAR_ECHO : LCONF_SONAR1_ECHO]
+#define LX_BUMP(b) lx.line[LCONF_BUMP0 + (b)]
 #define LX_STANDBY lx.line[LCONF_MOTOR_STANDBY]
+_Static_assert(LCONF_SONARS == 2u, "LX_TRIGGER and LX_ECHO know two sonars");
 
 extern const char *const lx_wheel_name[2];
 

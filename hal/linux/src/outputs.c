@@ -82,24 +82,31 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     }
 }
 
-void hal_servo_set_pulse(uint16_t pulse_us)
+int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {
-    if (lx.up && atomic_exchange(&lx.want_servo_us, pulse_us) != pulse_us) {
+    if (servo >= lx.servos) {
+        return HAL_EINVAL;
+    }
+    if (lx.up && atomic_exchange(&lx.want_servo_us[servo], pulse_us) != pulse_us) {
         lx_post();
     }
+    return HAL_OK;
 }
 
-int hal_sonar_trigger(void)
+int hal_sonar_trigger(uint8_t sonar)
 {
+    if (sonar >= lx.sonars) {
+        return HAL_EINVAL;
+    }
     if (!lx.up) {
         return HAL_EIO;
     }
     /* Armed before the pulse, so the rising edge that follows it is taken as the echo. */
     pthread_mutex_lock(&lx_sonar_lock);
-    int rc = echo_trigger(&lx.echo, lx_now());
+    int rc = echo_trigger(&lx.echo[sonar], lx_now());
     pthread_mutex_unlock(&lx_sonar_lock);
     if (rc == HAL_OK) {
-        atomic_fetch_add(&lx.want_triggers, 1u);
+        atomic_fetch_add(&lx.want_triggers[sonar], 1u);
         lx_post();
     }
     return rc;
@@ -141,28 +148,28 @@ static int lx_motor_write(unsigned w, int32_t duty)
     return rc;
 }
 
-static int lx_servo_write(uint32_t us)
+static int lx_servo_write(unsigned i, uint32_t us)
 {
     int rc;
-    if (lx.servo_started) {
-        rc = pwm_set_duty(&lx.servo, us * LX_NS_PER_US);
+    if (lx.servo_started[i]) {
+        rc = pwm_set_duty(&lx.servo[i], us * LX_NS_PER_US);
     } else {
-        rc = pwm_start(&lx.servo, LX_SERVO_PERIOD_NS, us * LX_NS_PER_US);
-        lx.servo_started = rc == 0;
+        rc = pwm_start(&lx.servo[i], LX_SERVO_PERIOD_NS, us * LX_NS_PER_US);
+        lx.servo_started[i] = rc == 0;
     }
     return rc;
 }
 
-static int lx_trigger_pulse(void)
+static int lx_trigger_pulse(unsigned sonar)
 {
-    if (gpio_line_set(LX_TRIGGER, 1) != 0) {
+    if (gpio_line_set(LX_TRIGGER(sonar), 1) != 0) {
         return -errno;
     }
     uint64_t t = lx_mono_ns();
     while (lx_mono_ns() - t < LX_TRIGGER_NS) {
         /* 12 µs: shorter than any sleep's wake-up latency, so spin. */
     }
-    return gpio_line_set(LX_TRIGGER, 0) == 0 ? 0 : -errno;
+    return gpio_line_set(LX_TRIGGER(sonar), 0) == 0 ? 0 : -errno;
 }
 
 /* Writes what was posted, motors first: a servo or trigger that hangs must not keep a new
@@ -179,24 +186,31 @@ static void lx_apply(void)
             lx_fault(LHAL_FAULT_IO, "motor_%s: %s", lx_wheel_name[w], strerror(-rc));
         }
     }
-    uint32_t us = atomic_load(&lx.want_servo_us);
-    if (us != 0u && us != lx.servo_us) {
-        atomic_store(&lx.doing, "servo_pwm");
-        uint32_t clamped = us < LX_SERVO_MIN_US ? LX_SERVO_MIN_US
-                                                : (us > LX_SERVO_MAX_US ? LX_SERVO_MAX_US : us);
-        int rc = lx_servo_write(clamped);
-        lx.servo_us = rc == 0 ? us : 0u;
-        if (rc != 0) {
-            lx_fault(LHAL_FAULT_IO, "servo_pwm: writing %s failed: %s", lx.servo.dir, strerror(-rc));
+    static const char *const servo_key[LCONF_SERVOS] = {"servo_pwm", "servo1_pwm"};
+    for (unsigned i = 0u; i < lx.servos; i++) {
+        uint32_t us = atomic_load(&lx.want_servo_us[i]);
+        if (us != 0u && us != lx.servo_us[i]) {
+            atomic_store(&lx.doing, servo_key[i]);
+            uint32_t clamped = us < LX_SERVO_MIN_US ? LX_SERVO_MIN_US
+                                                    : (us > LX_SERVO_MAX_US ? LX_SERVO_MAX_US : us);
+            int rc = lx_servo_write(i, clamped);
+            lx.servo_us[i] = rc == 0 ? us : 0u;
+            if (rc != 0) {
+                lx_fault(LHAL_FAULT_IO, "%s: writing %s failed: %s", servo_key[i], lx.servo[i].dir,
+                         strerror(-rc));
+            }
         }
     }
-    uint32_t triggers = atomic_load(&lx.want_triggers);
-    if (triggers != lx.triggers) {
-        atomic_store(&lx.doing, "sonar_trigger");
-        lx.triggers = triggers;
-        int rc = lx_trigger_pulse();
-        if (rc != 0) {
-            lx_fault(LHAL_FAULT_IO, "sonar_trigger: %s", strerror(-rc));
+    static const char *const trigger_key[LCONF_SONARS] = {"sonar_trigger", "sonar1_trigger"};
+    for (unsigned i = 0u; i < lx.sonars; i++) {
+        uint32_t triggers = atomic_load(&lx.want_triggers[i]);
+        if (triggers != lx.triggers[i]) {
+            atomic_store(&lx.doing, trigger_key[i]);
+            lx.triggers[i] = triggers;
+            int rc = lx_trigger_pulse(i);
+            if (rc != 0) {
+                lx_fault(LHAL_FAULT_IO, "%s: %s", trigger_key[i], strerror(-rc));
+            }
         }
     }
     atomic_store(&lx.doing, NULL);

@@ -16,8 +16,9 @@
 #define LX_EDGE_HOLD_NS (2u * LX_NS_PER_MS) /* margin for the kernel's queueing of edges */
 #define LX_JOIN_S 1                         /* a thread that takes longer to end is stuck */
 
-/* Poll slots of the events thread: four encoder lines, the echo, the stop signal. */
-enum { LX_POLL_ECHO = 4, LX_POLL_STOP = 5, LX_POLL_N = 6 };
+/* Poll slots of the events thread: four encoder lines, then each sonar's echo, each bump
+ * switch, the stop signal. */
+enum { LX_POLL_ECHO = 4, LX_POLL_MAX = LX_POLL_ECHO + LCONF_SONARS + LCONF_BUMPS + 1 };
 
 int lx_spawn(lx_thread_t *t, void *(*fn)(void *), unsigned prio, bool *fifo, int *prio_err)
 {
@@ -134,31 +135,57 @@ static bool lx_read_encoder(unsigned w, unsigned ab, uint64_t now_ns)
     return true;
 }
 
-static bool lx_read_echo(void)
+static const char *const lx_echo_key[LCONF_SONARS] = {"sonar_echo", "sonar1_echo"};
+
+static bool lx_read_echo(unsigned sonar)
 {
     edgeq_edge_t buf[16];
-    int n = gpio_line_read_edges(LX_ECHO, 0u, buf, 16u);
+    int n = gpio_line_read_edges(LX_ECHO(sonar), 0u, buf, 16u);
     if (n < 0) {
-        lx_fault(LHAL_FAULT_IO, "sonar_echo: reading edges failed: %s", strerror(errno));
+        lx_fault(LHAL_FAULT_IO, "%s: reading edges failed: %s", lx_echo_key[sonar], strerror(errno));
         return false;
     }
     pthread_mutex_lock(&lx_sonar_lock);
     for (int i = 0; i < n; i++) {
-        echo_edge(&lx.echo, buf[i].ts_ns, buf[i].rising);
+        echo_edge(&lx.echo[sonar], buf[i].ts_ns, buf[i].rising);
     }
     pthread_mutex_unlock(&lx_sonar_lock);
+    return true;
+}
+
+/* A bump switch's edges: its level is the last one's. */
+static bool lx_read_bump(unsigned bump)
+{
+    edgeq_edge_t buf[16];
+    int n = gpio_line_read_edges(LX_BUMP(bump), 0u, buf, 16u);
+    if (n < 0) {
+        lx_fault(LHAL_FAULT_IO, "bump%u: reading edges failed: %s", bump, strerror(errno));
+        return false;
+    }
+    if (n > 0 && buf[n - 1].rising) {
+        atomic_fetch_or(&lx.bump_high, 1u << bump);
+    } else if (n > 0) {
+        atomic_fetch_and(&lx.bump_high, ~(1u << bump));
+    }
     return true;
 }
 
 void *lx_events_main(void *arg)
 {
     (void)arg;
-    struct pollfd pfd[LX_POLL_N];
+    struct pollfd pfd[LX_POLL_MAX];
     for (unsigned i = 0u; i < 4u; i++) {
         pfd[i] = (struct pollfd){.fd = gpio_line_fd(LX_ENC(i / 2u, i % 2u)), .events = POLLIN};
     }
-    pfd[LX_POLL_ECHO] = (struct pollfd){.fd = gpio_line_fd(LX_ECHO), .events = POLLIN};
-    pfd[LX_POLL_STOP] = (struct pollfd){.fd = lx.stop_fd, .events = POLLIN};
+    for (unsigned i = 0u; i < lx.sonars; i++) {
+        pfd[LX_POLL_ECHO + i] = (struct pollfd){.fd = gpio_line_fd(LX_ECHO(i)), .events = POLLIN};
+    }
+    const unsigned poll_bump = LX_POLL_ECHO + lx.sonars;
+    for (unsigned i = 0u; i < lx.bumps; i++) {
+        pfd[poll_bump + i] = (struct pollfd){.fd = gpio_line_fd(LX_BUMP(i)), .events = POLLIN};
+    }
+    const unsigned poll_stop = poll_bump + lx.bumps;
+    pfd[poll_stop] = (struct pollfd){.fd = lx.stop_fd, .events = POLLIN};
 
     while (!atomic_load(&lx.stop)) {
         /* Every round stamps, and no wait is longer than a beat: the watchdog tells a thread
@@ -166,7 +193,7 @@ void *lx_events_main(void *arg)
         atomic_store(&lx.events.beat_ns, lx_now());
         atomic_fetch_add(&lx.events.rounds, 1u);
         bool held = !edgeq_empty(&lx.edgeq[0]) || !edgeq_empty(&lx.edgeq[1]);
-        int r = poll(pfd, LX_POLL_N, held ? 3 : LX_BEAT_MS);
+        int r = poll(pfd, poll_stop + 1u, held ? 3 : LX_BEAT_MS);
         if (r < 0 && errno == EINTR) {
             continue;
         }
@@ -176,13 +203,17 @@ void *lx_events_main(void *arg)
             lx_fault(LHAL_FAULT_IO, "the events thread stopped: poll: %s", strerror(errno));
             return NULL;
         }
-        if (pfd[LX_POLL_STOP].revents & POLLIN) {
+        if (pfd[poll_stop].revents & POLLIN) {
             break;
         }
-        for (unsigned i = 0u; i <= LX_POLL_ECHO; i++) {
+        for (unsigned i = 0u; i < poll_stop; i++) {
             if (pfd[i].revents & (POLLERR | POLLHUP | POLLNVAL)) {
+                char bump[16];
+                snprintf(bump, sizeof bump, "bump%u", i >= poll_bump ? i - poll_bump : 0u);
                 lx_fault(LHAL_FAULT_IO, "a GPIO event descriptor failed (line of %s)",
-                         i == LX_POLL_ECHO ? "sonar_echo" : "an encoder");
+                         i < LX_POLL_ECHO  ? "an encoder"
+                         : i < poll_bump ? lx_echo_key[i - LX_POLL_ECHO]
+                                         : bump);
                 return NULL;
             }
         }
@@ -200,8 +231,15 @@ void *lx_events_main(void *arg)
             bool hold = !atomic_load(&lx.ts_realtime) && now > LX_EDGE_HOLD_NS;
             lx_decode(w, hold ? now - LX_EDGE_HOLD_NS : UINT64_MAX);
         }
-        if ((pfd[LX_POLL_ECHO].revents & POLLIN) && !lx_read_echo()) {
-            return NULL;
+        for (unsigned i = 0u; i < lx.sonars; i++) {
+            if ((pfd[LX_POLL_ECHO + i].revents & POLLIN) && !lx_read_echo(i)) {
+                return NULL;
+            }
+        }
+        for (unsigned i = 0u; i < lx.bumps; i++) {
+            if ((pfd[poll_bump + i].revents & POLLIN) && !lx_read_bump(i)) {
+                return NULL;
+            }
         }
     }
     return NULL;

@@ -14,13 +14,19 @@
  *
  * Inputs, which a replay HAL plays back:
  *   enc_l, enc_r  the 16-bit encoder counters hal_encoder_count() returned in the tick
- *   poll          what hal_sonar_poll() returned: '-' not called, 'i' idle, 'b' busy,
- *                 'e' echo, 't' timeout
+ *   poll          what hal_sonar_poll() of sonar 0 returned: '-' not called, 'i' idle,
+ *                 'b' busy, 'e' echo, 't' timeout
  *   echo_us       the echo width returned with 'e' (0 otherwise)
- *   trig          hal_sonar_trigger(): '-' not called, 'o' HAL_OK, 'b' HAL_EBUSY
+ *   trig          hal_sonar_trigger() of sonar 0: '-' not called, 'o' HAL_OK, 'b' HAL_EBUSY
  * Outputs, which a replay checks:
  *   duty_l, duty_r  the motor duties in force after the tick
- *   servo_us        the servo pulse in force after the tick
+ *   servo_us        the pulse of servo 0 in force after the tick
+ *
+ * Version 1 records the paper's servo and sonar (HAL instance 0), the only ones the firmware
+ * uses, and no bump switch: a firmware that uses another instance or the switches needs a
+ * version 2 whose tick lines carry them (the replay HAL answers HAL_EINVAL for any other
+ * instance and "no switches", so such a trace would not replay; the host HAL warns when it
+ * records one).
  */
 #ifndef HAL_COMMON_TRACE_H
 #define HAL_COMMON_TRACE_H

@@ -2,7 +2,8 @@
 /**
  * @file
  * The simulated world of the host backend: a room, a differential-drive robot with its
- * encoders and motors, an SG90-like servo and an HC-SR04-like sonar, on a virtual clock.
+ * encoders and motors, SG90-like servos and HC-SR04-like sonars (one of each by default:
+ * the paper's), optional bump switches, on a virtual clock.
  *
  * The host backend (hal_host.c) implements every call of hal/hal.h against one attached
  * `sim_t`, faking the wire: encoder counters, echo pulse widths, servo pulses, motor duty.
@@ -174,6 +175,31 @@ void room_rasterize(const room_t *r, double origin_x, double origin_y, double ce
 
 /* ---- the simulated robot ------------------------------------------------------------- */
 
+/** The most servos, sonars and bump switches a simulated robot carries. */
+#define SIM_SERVOS_MAX 2u
+#define SIM_SONARS_MAX 2u
+#define SIM_BUMPS_MAX 4u
+
+/**
+ * Where a sonar other than the paper's sits on the robot: one row of the robot's sonar
+ * instance table (sim_params_t.extra_sonar). The paper's, instance 0, turns on servo 0 at
+ * (sonar_x_m, sonar_y_m).
+ */
+typedef struct {
+    double x_m;     /**< the sensor (or the axis of the servo it turns on) ahead of the axle
+                         centre */
+    double y_m;     /**< to the left of it */
+    double yaw_deg; /**< its beam from the heading, counter-clockwise (90: looking left),
+                         with the servo it turns on at 90°; -360..360 */
+    int32_t servo;  /**< the servo it turns on, or -1: fixed */
+} sim_sonar_mount_t;
+
+/** A bump switch: it closes while the body touches something within its arc. */
+typedef struct {
+    double from_deg; /**< the arc, counter-clockwise from the heading: from_deg .. to_deg, */
+    double to_deg;   /**< -360 <= from_deg < to_deg <= 360 (the ends included) */
+} sim_bump_t;
+
 /** The robot as built. Defaults: sim_params_default(). */
 typedef struct {
     double wheel_diameter_m;   /**< nominal; 0.065 */
@@ -197,6 +223,18 @@ typedef struct {
                                     this after the last may read the last one's late echo;
                                     60000 (the HC-SR04 datasheet's measurement cycle);
                                     0 = never */
+    /* The instance tables: the paper's servo and sonar (instance 0) always, the others and
+       the bump switches only when asked for. Every servo and sonar is the same model
+       (the fields above); the fault episodes of sim_errors_t act on instance 0 alone. */
+    uint32_t servos;           /**< servos fitted, 1..SIM_SERVOS_MAX; 1 */
+    uint32_t extra_sonars;     /**< sonars fitted besides the paper's, 0..SIM_SONARS_MAX - 1;
+                                    0 */
+    sim_sonar_mount_t extra_sonar[SIM_SONARS_MAX - 1u]; /**< sonar i + 1's mount; [0]: a fixed
+                                    sensor on the left side looking left, (0, 0.06) at 90° */
+    uint32_t bumps;            /**< bump switches fitted, 0..SIM_BUMPS_MAX; 0 */
+    sim_bump_t bump[SIM_BUMPS_MAX]; /**< switch i's arc: front left (0..90°), front right
+                                    (-90..0°), back left, back right; two switches at the
+                                    front both close for a touch straight ahead */
 } sim_params_t;
 
 /**
@@ -297,7 +335,7 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
 /** What the world knows that the robot does not. */
 typedef struct {
     double x, y, th;          /**< true pose of the axle centre, m and rad (th in (-pi, pi]) */
-    double servo_deg;         /**< where the servo actually is */
+    double servo_deg;         /**< where servo 0 (the sweep's) actually is */
     double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
     uint32_t collisions;      /**< times the robot ran into something and was stopped */
     uint64_t ticks_missed;    /**< control ticks lost to the tick_miss fault */
@@ -325,7 +363,9 @@ typedef enum {
 /** The pose and sonar geometry of the last ping, for logs. */
 typedef struct {
     double x, y, th;          /**< true pose at the ping */
-    double servo_deg;         /**< actual servo angle at the ping */
+    double servo_deg;         /**< actual angle of the servo it turns on at the ping; a fixed
+                                   sonar's is the angle a servo would point it the same way
+                                   at (90 - yaw_deg) */
     double bearing;           /**< world direction of the beam axis, rad */
     double true_range_m;      /**< distance from the servo axis to the nearest surface in
                                    the cone (any incidence); -1 when none within sonar_max_m */
@@ -338,7 +378,7 @@ typedef struct {
 typedef struct sim sim_t;
 
 /**
- * Create a world: the robot at the room's start pose, motors off, servo at 90°.
+ * Create a world: the robot at the room's start pose, motors off, servos at 90°.
  * The room is borrowed: it must outlive the world.
  * @param seed  the random stream of every error source
  * @return NULL when out of memory, when sim_params_check() refuses @p p or @p e, or when
@@ -351,10 +391,14 @@ void sim_destroy(sim_t *s);
 /** The true state now. */
 sim_truth_t sim_truth(const sim_t *s);
 
-/** The true pose and beam of the most recent ping. */
+/** The true pose and beam of sonar 0's most recent ping. */
 sim_ping_t sim_last_ping(const sim_t *s);
 
-/** Pings since sim_create() by what became of them: counts[kind], SIM_PING_NONE unused. */
+/** The same of any sonar; kind SIM_PING_NONE (and all 0) for no ping or no such sonar. */
+sim_ping_t sim_last_ping_on(const sim_t *s, uint8_t sonar);
+
+/** Sonar 0's pings since sim_create() by what became of them: counts[kind], SIM_PING_NONE
+ *  unused. */
 void sim_ping_counts(const sim_t *s, uint32_t counts[SIM_PING_KINDS]);
 
 /**
@@ -376,22 +420,52 @@ int16_t sim_motor_duty(const sim_t *s, hal_wheel_t wheel);
 /** The 16-bit encoder counter: true wheel rotation in counts, wrapping. */
 uint16_t sim_encoder_count(const sim_t *s, hal_wheel_t wheel);
 
-/** Servo command (clamped to 400..2600 µs); the servo slews toward it in sim_step(). */
-void sim_servo_set_pulse(sim_t *s, uint16_t pulse_us);
+/** Servos, sonars and bump switches fitted (sim_params_t.servos, 1 + extra_sonars, bumps). */
+uint8_t sim_servo_count(const sim_t *s);
+uint8_t sim_sonar_count(const sim_t *s);
+uint8_t sim_bump_count(const sim_t *s);
 
-/** The servo pulse in force. */
+/**
+ * Servo command (clamped to 400..2600 µs); the servo slews toward it in sim_step().
+ * @retval HAL_OK / HAL_EINVAL (no such servo: nothing changes)
+ */
+int sim_servo_set_pulse_on(sim_t *s, uint8_t servo, uint16_t pulse_us);
+
+/** The pulse in force of a servo; 0 for no such servo. */
+uint16_t sim_servo_pulse_on(const sim_t *s, uint8_t servo);
+
+/** sim_servo_set_pulse_on() and sim_servo_pulse_on() of servo 0, the sweep's. */
+void sim_servo_set_pulse(sim_t *s, uint16_t pulse_us);
 uint16_t sim_servo_pulse(const sim_t *s);
 
 /**
- * Ping now, from where the servo actually is. The cone is cast at once; the result comes
- * back through sim_sonar_poll() after its time of flight (or the timeout).
- * @retval HAL_OK     the ping is out
- * @retval HAL_EBUSY  the previous ping's echo or timeout has not come yet
+ * Ping a sonar now, from its mount, along the beam of where its servo actually is (a fixed
+ * one along its yaw). The cone is cast at once; the result comes back through
+ * sim_sonar_poll_on() after its time of flight (or the timeout). Each sonar has its own
+ * ping under way and its own random stream, and hears only its own sound.
+ * @retval HAL_OK      the ping is out
+ * @retval HAL_EBUSY   the sonar's previous ping's echo or timeout has not come yet
+ * @retval HAL_EINVAL  no such sonar
  */
-int sim_sonar_trigger(sim_t *s);
+int sim_sonar_trigger_on(sim_t *s, uint8_t sonar);
 
-/** As hal_sonar_poll(): ECHO/TIMEOUT once the virtual time has reached it, once; then IDLE. */
+/**
+ * As hal_sonar_poll(): ECHO/TIMEOUT once the virtual time has reached it, once; then IDLE.
+ * @return a hal_sonar_status_t, or HAL_EINVAL for no such sonar
+ */
+int sim_sonar_poll_on(sim_t *s, uint8_t sonar, uint32_t *echo_us);
+
+/** sim_sonar_trigger_on() and sim_sonar_poll_on() of sonar 0, the paper's. */
+int sim_sonar_trigger(sim_t *s);
 hal_sonar_status_t sim_sonar_poll(sim_t *s, uint32_t *echo_us);
+
+/**
+ * As hal_bump_read(): a switch is pressed while the body is in contact (sim_truth_t.contact)
+ * with something within its arc (rays from the axle centre across the arc meet a surface
+ * within the body radius and a switch's travel).
+ * @retval HAL_OK / HAL_EINVAL (no such switch, or pressed NULL) / HAL_ENOSYS (none fitted)
+ */
+int sim_bump_read(const sim_t *s, uint8_t bump, bool *pressed);
 
 /**
  * Advance the world by one control period, HAL_TICK_PERIOD_US: motors, wheels, encoders,

@@ -17,8 +17,9 @@
 #include "lhal/edgeq.h"
 #include "lhal/lconf.h"
 
-/** The most lines one chip hands out (the backend uses LCONF_LINES). */
-#define GPIO_IF_LINES_MAX 16u
+/** The most lines one chip hands out (the backend uses LCONF_LINES at most). */
+#define GPIO_IF_LINES_MAX 24u
+_Static_assert(LCONF_LINES <= GPIO_IF_LINES_MAX, "a chip hands out every line robot.conf wires");
 
 typedef struct gpio_chip gpio_chip_t;
 typedef struct gpio_line gpio_line_t;

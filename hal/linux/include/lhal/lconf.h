@@ -8,7 +8,12 @@
  * below, which say where the hardware is. Line offsets are those of one GPIO chip; PWM
  * channels are sysfs pwmchipN/pwmM pairs. Keys marked "required" have no default: a
  * robot's wiring is never guessed. Every line may be used once and every PWM channel
- * once; optional lines take -1 for "not wired".
+ * once; optional lines and PWM channels take -1 for "not wired".
+ *
+ * Servos and sonars are instances as hal.h numbers them: the sonar_* and servo_* keys are
+ * instance 0's (the paper's, required), the sonar1_* and servo1_* keys instance 1's,
+ * optional and off unless given. Bump switches bump0, bump1, ... are optional, numbered
+ * from 0 without a gap.
  */
 #ifndef LHAL_LCONF_H
 #define LHAL_LCONF_H
@@ -29,6 +34,13 @@
 /** The most backend keys there can be (lconf_t.seen has a bit for each). */
 #define LCONF_KEYS_MAX 64
 
+/** Sonars and servos a robot.conf can wire: instance 0 and instance 1. */
+#define LCONF_SONARS 2u
+#define LCONF_SERVOS 2u
+
+/** Bump switches a robot.conf can wire: bump0 .. bump3. */
+#define LCONF_BUMPS 4u
+
 /** The bias of the encoder inputs. */
 typedef enum {
     LCONF_BIAS_AS_IS = 0, /**< leave the pin as the firmware set it */
@@ -37,7 +49,7 @@ typedef enum {
     LCONF_BIAS_PULL_DOWN,
 } lconf_bias_t;
 
-/** A PWM channel: ROOT/pwmchip<chip>/pwm<channel>. */
+/** A PWM channel: ROOT/pwmchip<chip>/pwm<channel>; an optional one not wired is -1, -1. */
 typedef struct {
     int32_t chip;
     int32_t channel;
@@ -52,15 +64,25 @@ typedef struct {
     uint8_t enc_bias;            /**< encoder_bias: an lconf_bias_t; as-is */
     int32_t sonar_trigger;       /**< sonar_trigger: required */
     int32_t sonar_echo;          /**< sonar_echo: required */
-    uint32_t sonar_timeout_us;   /**< sonar_timeout_us: 1000..100000; 30000 (5.1 m) */
+    int32_t sonar1_trigger;      /**< sonar1_trigger: sonar 1's; -1 (no sonar 1) */
+    int32_t sonar1_echo;         /**< sonar1_echo: sonar 1's; -1; given with sonar1_trigger */
+    uint32_t sonar_timeout_us;   /**< sonar_timeout_us: 1000..100000, every sonar's; 30000
+                                      (5.1 m) */
     char pwm_root[160];          /**< pwm_root: "/sys/class/pwm" */
     lconf_pwm_t servo_pwm;       /**< servo_pwm_chip, servo_pwm_channel: required */
+    lconf_pwm_t servo1_pwm;      /**< servo1_pwm_chip, servo1_pwm_channel: servo 1's, both or
+                                      neither; -1 (no servo 1) */
     lconf_pwm_t motor_pwm[2];    /**< motor_{left,right}_pwm_{chip,channel}: required */
     uint32_t motor_period_ns;    /**< motor_pwm_period_ns: 10000..50000000; 50000 (20 kHz) */
     int32_t motor_in1[2];        /**< motor_{left,right}_in1: required */
     int32_t motor_in2[2];        /**< motor_{left,right}_in2: required, -1 for a DIR driver */
     bool motor_invert[2];        /**< motor_{left,right}_invert; 0 */
     int32_t motor_standby;       /**< motor_standby: high while a motor runs; -1 */
+    int32_t bump[LCONF_BUMPS];   /**< bump0 .. bump3: bump switch inputs; -1 (none). bumpN
+                                      needs every bump before it */
+    uint8_t bump_bias;           /**< bump_bias: an lconf_bias_t; pull-up */
+    bool bump_active_low;        /**< bump_active_low: a pressed switch reads low (closes to
+                                      ground); 1 */
     char telemetry[128];         /**< telemetry: a device path, "pty" or "none"; "none" */
     uint32_t telemetry_baud;     /**< telemetry_baud: 9600..921600; 115200 */
     char storage_dir[160];       /**< storage_dir: slots and maps; "." */
@@ -112,8 +134,17 @@ enum {
     LCONF_MOTOR_RIGHT_IN1,
     LCONF_MOTOR_RIGHT_IN2,
     LCONF_MOTOR_STANDBY,
+    LCONF_SONAR1_TRIGGER,
+    LCONF_SONAR1_ECHO,
+    LCONF_BUMP0,
+    LCONF_BUMP_LAST = LCONF_BUMP0 + LCONF_BUMPS - 1u,
     LCONF_LINES
 };
+
+/** How many sonars, servos and bump switches a configuration wires. */
+unsigned lconf_sonars(const lconf_t *c);
+unsigned lconf_servos(const lconf_t *c);
+unsigned lconf_bumps(const lconf_t *c);
 
 /** How a line is used. */
 #define LCONF_OUTPUT (-1) /**< bias value of an output line */

@@ -6,8 +6,9 @@
  *
  * Threads: the tick thread runs the hal_tick_start() callback every 10 ms from a timerfd,
  * with SCHED_FIFO when permitted, holding the critical-section mutex; it does no I/O: the
- * outputs it sets (motor duty and direction, servo, the sonar's trigger) go to the output
- * thread, which writes them. The events thread reads encoder and echo edges. The watchdog
+ * outputs it sets (motor duty and direction, servos, the sonars' triggers) go to the output
+ * thread, which writes them. The events thread reads encoder, echo and bump switch edges,
+ * so the tick reads what they left, never a line. The watchdog
  * thread checks every 10 ms that ticks, both other threads (and the background loop's
  * kicks) go on, and stops the motors if not. Everything else runs in the caller's (main)
  * thread; robot_idle() runs inside lhal_idle_lock().
@@ -44,7 +45,10 @@ typedef struct {
     uint16_t enc_count[2];         /**< the HAL's encoder counters */
     uint32_t enc_edges[2];         /**< edges decoded per wheel */
     uint32_t enc_illegal[2];       /**< impossible transitions and lost edges per wheel */
-    echo_t sonar;                  /**< the sonar's counters: pings, echoes, timeouts by cause */
+    unsigned sonars;               /**< sonars wired: sonar[0 .. sonars - 1] count */
+    echo_t sonar[LCONF_SONARS];    /**< each sonar's counters: pings, echoes, timeouts by cause */
+    unsigned bumps;                /**< bump switches wired */
+    uint32_t bump_high;            /**< bit i set while bump switch i's line is high */
     uint64_t uart_sent;            /**< telemetry bytes written */
     uint64_t uart_dropped;         /**< telemetry bytes dropped (no room) */
     bool kernel_ts_realtime;       /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
