@@ -18,6 +18,7 @@ SIM_ARGS ?=
 CORPUS_ARGS ?=
 COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
+FUZZ_EXAMPLES ?= 100000
 
 .PHONY: help sim calibrate test bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
         deps-fuzz firmware flash debug linux clean \
@@ -42,7 +43,8 @@ help:
 	@echo "make compare   the firmware's mapper beside OctoMap on the same logs: P/R/F1 and"
 	@echo "               instructions per reading (installs OctoMap; tools/compare.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
-	@echo "make fuzz      the parsers' libFuzzer targets (clang), FUZZ_SECONDS each (default 60)"
+	@echo "make fuzz      the parsers' libFuzzer targets (clang), FUZZ_SECONDS each (default 60),"
+	@echo "               then the Python link's properties, FUZZ_EXAMPLES cases each (default 100000)"
 	@echo "make firmware  the STM32F4 image: $(FIRMWARE_ELF:.elf=.{elf,bin,hex,map})"
 	@echo "               (another board: make firmware BOARD=blackpill_f411; boards: $(BOARDS))"
 	@echo "make flash     program it through an ST-LINK (OpenOCD or st-flash); BOARD= as above"
@@ -110,7 +112,7 @@ trace: build-host
 fuzz: deps-fuzz
 	cmake --preset fuzz
 	cmake --build --preset fuzz -j $(JOBS)
-	tools/fuzz.py --seconds $(FUZZ_SECONDS)
+	tools/fuzz.py --seconds $(FUZZ_SECONDS) --examples $(FUZZ_EXAMPLES)
 
 $(addprefix build-,$(TEST_PRESETS)): build-%: deps
 	cmake --preset $*

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 /* The key names and their ids (config_fields.h). */
@@ -43,18 +44,40 @@ static int key_id(const char *name)
     return -1;
 }
 
+/* Room for one more line of n bytes, grown geometrically (doubling): a file of N lines
+ * costs O(log N) reallocations, not N (each a copy of everything so far). */
+static bool reserve(commands_t *c, size_t n)
+{
+    if (c->n == c->lines_cap) {
+        size_t cap = c->lines_cap != 0u ? 2u * c->lines_cap : 64u;
+        command_line_t *lines = realloc(c->lines, cap * sizeof *lines);
+        if (lines == NULL) {
+            return false;
+        }
+        c->lines = lines;
+        c->lines_cap = cap;
+        c->grows++;
+    }
+    if (c->nbytes + n > c->bytes_cap) {
+        size_t cap = c->bytes_cap != 0u ? 2u * c->bytes_cap : 1024u;
+        while (cap < c->nbytes + n) {
+            cap *= 2u;
+        }
+        uint8_t *bytes = realloc(c->bytes, cap);
+        if (bytes == NULL) {
+            return false;
+        }
+        c->bytes = bytes;
+        c->bytes_cap = cap;
+        c->grows++;
+    }
+    return true;
+}
+
 /* Adds bytes to the list; false when out of memory. */
 static bool add(commands_t *c, uint64_t tick, const uint8_t *b, size_t n)
 {
-    uint8_t *bytes = realloc(c->bytes, c->nbytes + n);
-    command_line_t *lines = realloc(c->lines, (c->n + 1u) * sizeof *lines);
-    if (bytes != NULL) {
-        c->bytes = bytes;
-    }
-    if (lines != NULL) {
-        c->lines = lines;
-    }
-    if (bytes == NULL || lines == NULL) {
+    if (!reserve(c, n)) {
         return false;
     }
     memcpy(c->bytes + c->nbytes, b, n);
@@ -151,9 +174,10 @@ static int encode(char *args, uint8_t *out, size_t max, char *err, size_t errlen
 int commands_load(const char *path, commands_t *c)
 {
     *c = (commands_t){0};
-    FILE *f = fopen(path, "r");
+    char why[600];
+    FILE *f = cfgtext_open_file(path, why, sizeof why);
     if (f == NULL) {
-        fprintf(stderr, "host_sim: --commands %s: cannot open: %s\n", path, strerror(errno));
+        fprintf(stderr, "host_sim: --commands %s\n", why);
         return EXIT_USAGE;
     }
     char line[1024];
@@ -168,20 +192,22 @@ int commands_load(const char *path, commands_t *c)
         if (*p == '\0') {
             continue;
         }
-        char *end = NULL;
-        errno = 0;
-        double t = strtod(p, &end);
+        /* The time is the first word: a decimal number of seconds (hal_common/number.h). */
+        char *end = p + strcspn(p, " \t");
+        bool more = *end != '\0';
+        *end = '\0';
+        double t = 0.0;
         uint8_t bytes[256];
         int n = -1;
-        if (end == p || errno != 0 || !isfinite(t) || t < 0.0 || t > 1e6 ||
-            (*end != ' ' && *end != '\t')) {
+        if (!more || num_real(p, 0.0, 1e6, &t) != NUM_OK) {
             snprintf(err, sizeof err, "expected a time in seconds (0 .. 1000000), then a command");
         } else if ((uint64_t)llround(t / TICK_S) < last) {
             snprintf(err, sizeof err, "the times must not go back");
         } else {
-            n = encode(end, bytes, sizeof bytes, err, sizeof err);
+            n = encode(end + 1, bytes, sizeof bytes, err, sizeof err);
         }
         if (n < 0) {
+            cfgtext_escape(err, sizeof err); /* it quotes the line's words */
             fprintf(stderr, "host_sim: %s:%u: %s\n", path, lineno, err);
             rc = EXIT_USAGE;
         } else {

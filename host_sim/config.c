@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "slam/config_fields.h"
 #include "host_sim.h"
 
 static const double PI = HOST_SIM_PI;
@@ -48,6 +49,51 @@ static const char *origin(const cfg_origin_t *w, const char *key, char *buf, siz
     return NULL;
 }
 
+/* The keys a calibration file holds: what tools/umbmark.py writes. */
+static bool is_calibration_key(const char *key)
+{
+    return strcmp(key, "cal_left") == 0 || strcmp(key, "cal_right") == 0 ||
+           strcmp(key, "cal_base") == 0;
+}
+
+/* --calibration FILE: the odometry's factors and nothing else, and at least one of them.
+ * 0, or -1 with a message. */
+static int load_calibration(const char *path, slam_config_t *cfg, cfgtext_where_t *where)
+{
+    static const char *const names[] = {
+#define FIELD_NAME(name, type, dflt, lo, hi, rule, id, live, words) #name,
+        SLAM_CONFIG_FIELDS(FIELD_NAME)
+#undef FIELD_NAME
+    };
+    slam_config_t work = *cfg;
+    char err[512];
+    if (cfgtext_load(path, &work, NULL, NULL, where, err, sizeof err) != 0) {
+        fprintf(stderr, "host_sim: --calibration: %s\n", err);
+        return -1;
+    }
+    unsigned set = 0u;
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        unsigned line = cfgtext_where_line(where, names[i]);
+        if (line != 0u && !is_calibration_key(names[i])) {
+            fprintf(stderr,
+                    "host_sim: --calibration: %s:%u: %s is not a calibration key (the file "
+                    "holds cal_left, cal_right, cal_base); give it with --config or --set\n",
+                    path, line, names[i]);
+            return -1;
+        }
+        set += line != 0u ? 1u : 0u;
+    }
+    if (set == 0u) {
+        fprintf(stderr,
+                "host_sim: --calibration: %s holds no calibration (cal_left, cal_right, "
+                "cal_base); for a run without one, give --calibration none\n",
+                path);
+        return -1;
+    }
+    *cfg = work;
+    return 0;
+}
+
 static int check_config(const cfg_origin_t *w, const slam_config_t *cfg)
 {
     char err[512];
@@ -57,6 +103,15 @@ static int check_config(const cfg_origin_t *w, const slam_config_t *cfg)
     }
     char who[160];
     const char *by = origin(w, bad, who, sizeof who);
+    /* Not set by anyone: blame the option or line that set a field its rule compares it
+     * with (--set range_min_um=1000000 breaks confidence_radius_um's rule). */
+    for (const char *p = cfgtext_partners(bad); by == NULL && p != NULL && *p != '\0';) {
+        size_t n = strcspn(p, " ");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)n, p);
+        by = origin(w, name, who, sizeof who);
+        p += n + (p[n] == ' ' ? 1u : 0u);
+    }
     fprintf(stderr, "host_sim: %s: %s\n", by != NULL ? by : "configuration", err);
     return -1;
 }
@@ -71,9 +126,7 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     char err[512];
     /* The order, a later one overriding an earlier one: the calibration (the robot's
      * wheels), the --config file, the options given, each --set. */
-    if (o->calibration != NULL &&
-        cfgtext_load(o->calibration, cfg, NULL, NULL, &w.cal, err, sizeof err) != 0) {
-        fprintf(stderr, "host_sim: --calibration: %s\n", err);
+    if (o->calibration != NULL && load_calibration(o->calibration, cfg, &w.cal) != 0) {
         return -1;
     }
     if (o->config != NULL &&
@@ -147,7 +200,10 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     for (int k = 0; k < 3; k++) {
         char who[160];
         const char *by = origin(&w, start[k].key, who, sizeof who);
-        if (by != NULL && *start[k].field != start[k].value) {
+        /* A heading a whole turn away (360000 for 0) is the same heading. */
+        bool same = *start[k].field == start[k].value ||
+                    (k == 2 && ((int64_t)*start[k].field - start[k].value) % 360000 == 0);
+        if (by != NULL && !same) {
             fprintf(stderr,
                     "host_sim: %s: %s = %ld disagrees with the run's start pose (%.3f%s): "
                     "the start pose comes from the room file or --start\n",

@@ -122,6 +122,13 @@ const char *reading_status(const sonar_t *s, bool echo, uint32_t range_um);
  */
 FILE *open_out(const char *dir, const char *name);
 
+/**
+ * Open a file in place for writing as it goes (--telemetry, a device, a FIFO): a FIFO that
+ * no program reads yet is refused at once rather than waited on.
+ * @return the file, or NULL with a message on stderr
+ */
+FILE *open_stream(const char *path);
+
 /** Close a file opened by open_out(); -1 with a message when the write failed. */
 int close_out(FILE *f, const char *dir, const char *name);
 
@@ -166,6 +173,7 @@ typedef struct {
     int explore;
     bool has_seed, has_cell, has_explore; /* given on the command line */
     const char *out;
+    bool has_out;  /* --out given: a replay's default is beside its log, not out/sim */
     bool ideal;
     bool paper;
     int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
@@ -206,6 +214,10 @@ int parse_options(int argc, char **argv, options_t *o);
  * @return 0, or -1 with a message
  */
 int check_outputs(const options_t *o);
+
+/** Remove the temporary files of open_out() that runs now gone left in the run's folders
+ *  (--out, --storage, beside --trace): killed at once, they could not remove their own. */
+void outputs_sweep(const options_t *o);
 
 /** One --error NAME=VALUE onto the error levels; 0, or -1 with a message. */
 int apply_error(sim_errors_t *e, const char *nv);
@@ -379,9 +391,10 @@ typedef struct {
 /** The --commands file: framed command bytes and when they arrive. */
 typedef struct {
     command_line_t *lines;
-    size_t n;
+    size_t n, lines_cap;
     uint8_t *bytes;
-    size_t nbytes;
+    size_t nbytes, bytes_cap;
+    size_t grows;     /* reallocations made while reading (tests bound them) */
     size_t next;      /* the next line to feed */
     size_t dropped;   /* bytes the UART had no room for */
 } commands_t;
@@ -415,8 +428,9 @@ typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
  * ranges above, a status of ok, far, near or timeout, a range only with an echo) and
  * handed to @p fn in order.
  * @param name  the file's name, for messages
- * @return 0, or -1 with "NAME:LINE: what is wrong" in err (an empty file, a NUL byte, a
- *         line of 512 characters or more, a wrong header, a malformed row)
+ * @return 0, or -1 with "NAME:LINE: what is wrong" in err (an empty file, a header and
+ *         no row, a NUL byte, a line of 512 characters or more, a last line without its
+ *         newline (a file cut short), a wrong header, a malformed row)
  */
 int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
                 size_t errlen);

@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -21,6 +22,44 @@
 #include "viewers.h"
 
 static firmware_t fw; /* the firmware's state, as a robot program owns it, and its twin */
+
+/* A stop asked for by SIGINT, SIGTERM or SIGHUP: the run ends at the next period, writes
+ * nothing and removes its temporary files, so an interrupted run leaves --out as it was.
+ * A second signal ends the program at once (the next run sweeps what that leaves). */
+static volatile sig_atomic_t stop_signal;
+
+static void on_stop(int sig)
+{
+    stop_signal = sig;
+}
+
+static void watch_signals(void)
+{
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_stop;
+        sa.sa_flags = (int)SA_RESETHAND;
+        sigemptyset(&sa.sa_mask);
+        sigaction(sigs[i], &sa, NULL);
+    }
+    /* A pipe whose reader went away (--telemetry /dev/stdout | head) is a failed write,
+     * reported with exit 1, not a silent death by SIGPIPE. */
+    signal(SIGPIPE, SIG_IGN);
+}
+
+/* The stop signal, said once; true when the run must end. */
+static bool stopped(void)
+{
+    if (stop_signal != 0) {
+        fprintf(stderr, "\nhost_sim: stopped by signal %d: nothing written, the earlier outputs "
+                        "stay as they were\n",
+                (int)stop_signal);
+        return true;
+    }
+    return false;
+}
 
 static void tick_callback(void *ctx)
 {
@@ -159,6 +198,7 @@ static int open_logs(const options_t *o, held_t *h)
     if (make_dirs(o->out) != 0) {
         return 1;
     }
+    outputs_sweep(o);
     FILE *cfgf = open_out(o->out, "config.txt");
     if (cfgf == NULL) {
         return 1;
@@ -178,9 +218,8 @@ static int open_logs(const options_t *o, held_t *h)
     }
     if (o->telemetry != NULL) {
         /* Written as it goes, in place: a viewer may be following the file. */
-        l->telemetry = fopen(o->telemetry, "wb");
+        l->telemetry = open_stream(o->telemetry);
         if (l->telemetry == NULL) {
-            fprintf(stderr, "host_sim: cannot write %s: %s\n", o->telemetry, strerror(errno));
             return 1;
         }
     }
@@ -288,6 +327,9 @@ static int drive(const options_t *o, held_t *h, outcome_t *out)
             (write_failed(l->telemetry, o->telemetry) || write_failed(l->trace, o->trace) ||
              write_failed(l->readings, "readings.csv") ||
              write_failed(l->trajectory, "trajectory.csv"))) {
+            return 1;
+        }
+        if (stop_signal != 0) {
             return 1;
         }
         if (o->realtime) {
@@ -428,7 +470,7 @@ __attribute__((noinline)) static int finish(const options_t *o, held_t *h, const
         return 1;
     }
     bad |= timing;
-    if (bad != 0 || outputs_commit() != 0) {
+    if (bad != 0 || stop_signal != 0 || outputs_commit() != 0) {
         return 1;
     }
     if (!o->quiet) {
@@ -485,11 +527,15 @@ int main(int argc, char **argv)
     if (o.replay != NULL) {
         return replay(&o);
     }
+    watch_signals();
     static held_t held;
     rc = run(&o, &held);
     if (rc != 0) {
         outputs_discard();
     }
     release(&held);
+    if (rc != 0 && stopped()) { /* a signal after the outputs were committed changes nothing */
+        return 128 + (int)stop_signal;
+    }
     return rc;
 }

@@ -1,12 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 /* host_sim's command line: the options, their checks, and --help. */
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 #ifndef SLAM_SOURCE_DIR
@@ -36,7 +35,7 @@ static void usage(FILE *f)
 {
     fprintf(f,
         "usage: host_sim [options]\n"
-        "       host_sim --replay DIR/readings.csv [--config FILE] [--out DIR]\n"
+        "       host_sim --replay DIR/readings.csv [--config FILE] [--out OUT]\n"
         "\n"
         "Runs the robot's firmware in a simulated room and writes maps, trajectories,\n"
         "the sonar log, a score against ground truth and a picture.\n"
@@ -83,8 +82,9 @@ static void usage(FILE *f)
         "                       servo_stall 0..10 per s (the horn stops); tick_miss\n"
         "                       0..0.9 (per tick); encoder_stop 0..10 per s (a counter stops)\n"
         "  --calibration FILE   the firmware's odometry calibration (cal_left, cal_right,\n"
-        "                       cal_base: key = value lines, as tools/umbmark.py writes them),\n"
-        "                       or none. Default: host_sim/calibration/default_robot.conf,\n"
+        "                       cal_base: key = value lines, as tools/umbmark.py writes them;\n"
+        "                       no other key, at least one of them), or none.\n"
+        "                       Default: host_sim/calibration/default_robot.conf,\n"
         "                       what make calibrate measured on the default robot; none\n"
         "                       with --ideal or another ed or eb (another robot)\n"
         "  --config FILE        firmware configuration, key = value lines\n"
@@ -95,7 +95,8 @@ static void usage(FILE *f)
         "                       --config file, the options given (--paper, --seed, --cell,\n"
         "                       --explore), each --set\n"
         "outputs:\n"
-        "  --out DIR            output folder (default out/sim)\n"
+        "  --out DIR            output folder (default out/sim; for --replay, DIR/replay\n"
+        "                       beside the log; never a folder holding a run's metrics.json)\n"
         "  --trace FILE         also record the HAL trace of the run\n"
         "  --telemetry FILE     write the firmware's telemetry bytes (the UART) to FILE\n"
         "                       (watch: tools/telemetry.py view FILE --follow)\n"
@@ -106,7 +107,8 @@ static void usage(FILE *f)
         "  --storage DIR        give the robot map storage (it saves every save_period_s,\n"
         "                       standing still as a save begins) and write its two slots as\n"
         "                       DIR/slot0.bin and slot1.bin, as the Linux robot keeps them\n"
-        "                       (tools/plot_run.py DIR draws them)\n"
+        "                       (tools/plot_run.py DIR draws them); a DIR that holds slots\n"
+        "                       already is refused: the run would replace them\n"
         "  --link PATH          the robot's UART live, both ways: a pseudo-terminal that PATH\n"
         "                       links to while the run lasts, as the Linux robot offers one;\n"
         "                       runs in real time (--realtime FACTOR changes the pace). Watch\n"
@@ -130,7 +132,11 @@ static void usage(FILE *f)
         "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png, and\n"
         "umbmark.csv when the robot ran UMBmark\n"
-        "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n",
+        "Inputs are regular files: a FIFO, a device or a socket is refused. A FIFO given to\n"
+        "--telemetry or --trace needs its reader running already; without one, exit 1.\n"
+        "Exit status: 0 done, 1 failed while running (a pipe's reader gone, a disk full),\n"
+        "2 bad options or input, 128 + N stopped by signal N (SIGINT, SIGTERM, SIGHUP:\n"
+        "nothing written, the earlier outputs stay).\n",
         sim_sonar_level_name(SIM_SONAR_DEFAULT));
 }
 
@@ -145,41 +151,22 @@ __attribute__((format(printf, 1, 2))) static int fail_usage(const char *fmt, ...
     return EXIT_USAGE;
 }
 
-typedef enum { NUM_OK, NUM_BAD, NUM_RANGE } num_t;
+typedef num_status_t num_t;
 
-/* A whole decimal number, nothing before or after it. */
+/* A real number by the rule of hal_common/number.h: decimal, the whole argument. */
 static num_t parse_double(const char *s, double lo, double hi, double *out)
 {
-    char *end = NULL;
-    errno = 0;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || isspace((unsigned char)*s) || isnan(v)) {
-        return NUM_BAD;
-    }
-    if (errno == ERANGE || !isfinite(v) || v < lo || v > hi) {
-        return NUM_RANGE;
-    }
-    *out = v;
-    return NUM_OK;
+    return num_real(s, lo, hi, out);
 }
 
-/* Digits only: strtoull would take " -1" as 2^64 - 1. */
 static num_t parse_u64(const char *s, uint64_t *out)
 {
-    if (!isdigit((unsigned char)*s)) {
-        return NUM_BAD;
+    unsigned long long v = 0u;
+    num_t r = num_uint(s, 0u, UINT64_MAX, &v);
+    if (r == NUM_OK) {
+        *out = v;
     }
-    char *end = NULL;
-    errno = 0;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (*end != '\0') {
-        return NUM_BAD;
-    }
-    if (errno == ERANGE) {
-        return NUM_RANGE;
-    }
-    *out = v;
-    return NUM_OK;
+    return r;
 }
 
 /* "OPTION: 'TEXT' is not a number" or "... is out of range LO..HI". */
@@ -188,7 +175,7 @@ static int bad_number(const char *option, const char *text, num_t why, double lo
     if (why == NUM_RANGE) {
         return fail_usage("%s: '%.40s' is out of range %g..%g", option, text, lo, hi);
     }
-    return fail_usage("%s: '%.40s' is not a number", option, text);
+    return fail_usage("%s: '%.40s' is not a decimal number", option, text);
 }
 
 /* Takes the n arguments after an option; false if there are fewer, or if one of them is
@@ -311,6 +298,7 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--out needs a folder");
             }
             o->out = argv[i];
+            o->has_out = true;
         } else if (strcmp(a, "--sonar") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--sonar needs a level: optimistic, typical or pessimistic");

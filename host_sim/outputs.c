@@ -1,7 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* Output files of a run: directories, PGM maps with their ROS YAML, checked writes. */
 #define _XOPEN_SOURCE 700 /* realpath */
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -243,7 +246,8 @@ static const char *const out_names[] = {
     "config.txt", "readings.csv", "trajectory.csv", "metrics.json", "timing.json",
     "om.pgm", "om.yaml", "om_post.pgm", "om_post.yaml", "om_ideal.pgm", "om_ideal.yaml",
     "tm.pgm", "truth.pgm", "truth.yaml", "figure.png",
-    "scoring_truth.pgm", "scoring_observable.pgm", "scoring_estimate.csv", NULL,
+    "scoring_truth.pgm", "scoring_observable.pgm", "scoring_estimate.csv", EXPERIMENTER_CSV,
+    NULL,
 };
 
 /* A path with its folder resolved, to tell whether two options name the same file. */
@@ -262,11 +266,39 @@ static void resolved(const char *path, char *out, size_t n)
     }
 }
 
-int check_outputs(const options_t *o)
+/* --storage DIR must hold no slot yet: the simulated robot starts with blank storage, and
+ * its saves would replace the maps of an earlier run or a real robot's (a run that began
+ * from another run's storage would also no longer follow from its options alone). */
+static int check_storage(const char *dir)
 {
     static const char *const slots[] = {"slot0.bin", "slot1.bin", NULL};
+    if (check_out_dir("--storage", dir, slots) != 0) {
+        return -1;
+    }
+    char found[2][4200];
+    size_t n = 0u;
+    for (size_t i = 0; slots[i] != NULL; i++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/%s", dir, slots[i]);
+        struct stat st;
+        if (lstat(path, &st) == 0) {
+            snprintf(found[n++], sizeof found[0], "%s", path);
+        }
+    }
+    if (n > 0u) {
+        fprintf(stderr,
+                "host_sim: --storage %s holds map slots already (%s%s%s): a run would replace "
+                "them. Move them away (plot_run.py draws them), or give an empty folder\n",
+                dir, found[0], n > 1u ? ", " : "", n > 1u ? found[1] : "");
+        return -1;
+    }
+    return 0;
+}
+
+int check_outputs(const options_t *o)
+{
     if (check_out_dir("--out", o->out, out_names) != 0 ||
-        (o->storage != NULL && check_out_dir("--storage", o->storage, slots) != 0) ||
+        (o->storage != NULL && check_storage(o->storage) != 0) ||
         (o->trace != NULL && check_out_file("--trace", o->trace) != 0) ||
         (o->telemetry != NULL && check_out_file("--telemetry", o->telemetry) != 0)) {
         return -1;
@@ -299,6 +331,64 @@ int check_outputs(const options_t *o)
         }
     }
     return 0;
+}
+
+/* ---- what an earlier run left ------------------------------------------------------------- */
+
+/* The pid of a temporary file open_out() named ".NAME.tmpPID" for @p name; 0 if it is not one. */
+static long temp_pid(const char *entry, const char *name)
+{
+    size_t n = strlen(name);
+    if (entry[0] != '.' || strncmp(entry + 1, name, n) != 0 || strncmp(entry + 1 + n, ".tmp", 4) != 0) {
+        return 0;
+    }
+    const char *digits = entry + 1 + n + 4;
+    long pid = 0;
+    for (const char *p = digits; *p != '\0'; p++) {
+        if (*p < '0' || *p > '9' || pid > 99999999) {
+            return 0;
+        }
+        pid = pid * 10 + (*p - '0');
+    }
+    return digits[0] != '\0' ? pid : 0;
+}
+
+/* Removes from @p dir the temporary files of @p names whose run is gone (killed at once, a
+ * power cut): they are never anyone's result, and they pile up. A live run's are left. */
+static void sweep_dir(const char *dir, const char *const *names)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL) {
+        return;
+    }
+    struct dirent *e;
+    while ((e = readdir(d)) != NULL) {
+        for (size_t i = 0; names[i] != NULL; i++) {
+            long pid = temp_pid(e->d_name, names[i]);
+            if (pid > 0 && pid != (long)getpid() && kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+                char path[8192];
+                snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+                (void)unlink(path);
+            }
+        }
+    }
+    closedir(d);
+}
+
+void outputs_sweep(const options_t *o)
+{
+    static const char *const slots[] = {"slot0.bin", "slot1.bin", NULL};
+    sweep_dir(o->out, out_names);
+    if (o->storage != NULL) {
+        sweep_dir(o->storage, slots);
+    }
+    if (o->trace != NULL) {
+        char dir[4096];
+        dir_of(o->trace, dir, sizeof dir);
+        const char *slash = strrchr(o->trace, '/');
+        const char *const one[] = {slash != NULL ? slash + 1 : o->trace, NULL};
+        sweep_dir(dir, one);
+    }
 }
 
 /* ---- files written whole or not at all ---------------------------------------------------- */
@@ -339,12 +429,37 @@ FILE *open_out(const char *dir, const char *name)
         snprintf(tmp, sizeof outs[0].tmp, "%.3800s/.%.200s.tmp%ld", d,
                  slash != NULL ? slash + 1 : final, (long)getpid());
     }
-    FILE *f = fopen(tmp[0] != '\0' ? tmp : final, "wb");
+    FILE *f = tmp[0] != '\0' ? fopen(tmp, "wb") : open_stream(final);
     if (f == NULL) {
-        fprintf(stderr, "host_sim: cannot write %s: %s\n", final, strerror(errno));
+        if (tmp[0] != '\0') {
+            fprintf(stderr, "host_sim: cannot write %s: %s\n", final, strerror(errno));
+        }
         return NULL;
     }
     nouts++;
+    return f;
+}
+
+FILE *open_stream(const char *path)
+{
+    /* Non-blocking, so that a FIFO without a reader fails at once (ENXIO) rather than
+     * waiting for ever; then blocking again, so that a slow reader only slows the run. */
+    int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        if (errno == ENXIO) {
+            fprintf(stderr, "host_sim: cannot write %s: a FIFO that no program is reading: start "
+                            "its reader first\n", path);
+        } else {
+            fprintf(stderr, "host_sim: cannot write %s: %s\n", path, strerror(errno));
+        }
+        return NULL;
+    }
+    int flags = fcntl(fd, F_GETFL);
+    FILE *f = flags >= 0 && fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) == 0 ? fdopen(fd, "wb") : NULL;
+    if (f == NULL) {
+        fprintf(stderr, "host_sim: cannot write %s: %s\n", path, strerror(errno));
+        close(fd);
+    }
     return f;
 }
 

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/types.h>
 
+#include "hal_common/number.h"
 #include "host_sim.h"
 
 #define READINGS_LINE_MAX 512u
@@ -56,16 +57,10 @@ static int csv_columns(char *header, int col[CSV_NEEDED])
     return 0;
 }
 
-/* A whole field as a number within [lo, hi]; an empty field is not one. */
+/* A whole field as a number within [lo, hi] (hal_common/number.h); an empty field is not one. */
 static bool parse_num(const char *s, double lo, double hi, double *out)
 {
-    char *end = NULL;
-    double v = strtod(s, &end);
-    if (end == s || *end != '\0' || !isfinite(v) || v < lo || v > hi) {
-        return false;
-    }
-    *out = v;
-    return true;
+    return num_real(s, lo, hi, out) == NUM_OK;
 }
 
 /* One row; NULL, or what is wrong with it. A timeout has an empty range, every other
@@ -111,6 +106,7 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     char *line = NULL;
     size_t cap = 0;
     unsigned lineno = 0;
+    unsigned rows = 0u;
     int rc = 0;
     int col[CSV_NEEDED];
     ssize_t n;
@@ -118,6 +114,14 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     while ((n = getline(&line, &cap, in)) >= 0) {
         lineno++;
         size_t len = (size_t)n;
+        if (line[len - 1u] != '\n') {
+            /* Every line a log writes ends in a newline: a last line without one was cut
+             * while it was written, and a number cut short still reads as a number. */
+            snprintf(err, errlen, "%s:%u: the last line has no newline: the file was cut short",
+                     name, lineno);
+            rc = -1;
+            break;
+        }
         if (memchr(line, '\0', len) != NULL) {
             snprintf(err, errlen, "%s:%u: a NUL byte: not a readings.csv", name, lineno);
             rc = -1;
@@ -149,6 +153,7 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
             break;
         }
         fn(ctx, &row);
+        rows++;
     }
     if (rc == 0 && ferror(in)) {
         snprintf(err, errlen, "%s: read error: %s", name, strerror(errno));
@@ -156,6 +161,10 @@ int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *e
     }
     if (rc == 0 && lineno == 0) {
         snprintf(err, errlen, "%s: empty: not a readings.csv", name);
+        rc = -1;
+    }
+    if (rc == 0 && rows == 0u) {
+        snprintf(err, errlen, "%s: a header and no reading: nothing to replay", name);
         rc = -1;
     }
     free(line);

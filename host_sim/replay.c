@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "hal_common/config_text.h"
 #include "hal_common/mapexport.h"
@@ -48,13 +49,35 @@ int replay(const options_t *o)
         fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
     }
-    static const char *const names[] = {"om.pgm", "om.yaml", NULL};
-    if (check_out_dir("--out", o->out, names) != 0) {
+    /* Where the map goes: --out, else a folder "replay" beside the log, never out/sim,
+     * whose om.pgm belongs to the last simulation. A folder holding a simulation's outputs
+     * is refused: its om.pgm would stop matching its metrics, logs and truth. */
+    char outdir[4096];
+    if (o->has_out) {
+        snprintf(outdir, sizeof outdir, "%s", o->out);
+    } else {
+        const char *slash = strrchr(o->replay, '/');
+        snprintf(outdir, sizeof outdir, "%.*sreplay", slash != NULL ? (int)(slash + 1 - o->replay) : 0,
+                 o->replay);
+    }
+    char metrics[4200];
+    snprintf(metrics, sizeof metrics, "%s/metrics.json", outdir);
+    struct stat st;
+    if (stat(metrics, &st) == 0) {
+        fprintf(stderr,
+                "host_sim: --out %s holds a simulation's outputs (metrics.json): the replay's "
+                "om.pgm would replace the run's and leave its folder inconsistent; give "
+                "another --out\n",
+                outdir);
         return EXIT_USAGE;
     }
-    FILE *in = fopen(o->replay, "r");
+    static const char *const names[] = {"om.pgm", "om.yaml", NULL};
+    if (check_out_dir("--out", outdir, names) != 0) {
+        return EXIT_USAGE;
+    }
+    FILE *in = cfgtext_open_file(o->replay, err, sizeof err);
     if (in == NULL) {
-        fprintf(stderr, "host_sim: %s: cannot open: %s\n", o->replay, strerror(errno));
+        fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
     }
     grid_init(&grid, &cfg);
@@ -68,7 +91,7 @@ int replay(const options_t *o)
         return EXIT_USAGE;
     }
     loc_flush(&loc, &mapper, &grid);
-    if (make_dirs(o->out) != 0) {
+    if (make_dirs(outdir) != 0) {
         return 1;
     }
     map_geom_t g = map_geom_of(&grid);
@@ -76,13 +99,13 @@ int replay(const options_t *o)
      * run's knew those the robot drove through; OM_MODE_EVIDENCE keeps its own. */
     static uint8_t img[SLAM_GRID_CELLS];
     mapx_trinary(cfg.om_mode, grid.om, NULL, NULL, SLAM_GRID_A, SLAM_GRID_B, img);
-    if (write_map(o->out, "om", &g, img, true) != 0 || outputs_commit() != 0) {
+    if (write_map(outdir, "om", &g, img, true) != 0 || outputs_commit() != 0) {
         outputs_discard();
         return 1;
     }
     if (!o->quiet) {
         printf("host_sim: replayed %u readings (%u OM hits) into %s/om.pgm\n", rows,
-               mapper.hits, o->out);
+               mapper.hits, outdir);
     }
     return 0;
 }

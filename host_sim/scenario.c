@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* host_sim's scenario: the room, the start pose, the robot's errors, the configuration and
  * the world, every part checked before anything is written. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "host_sim.h"
@@ -86,6 +87,99 @@ static int choose_errors(options_t *o, sim_errors_t *errors)
     return 0;
 }
 
+/* Where the robot can go from its start: the grid cells its body fits in (the disc at the
+ * cell's centre clear) that no wall passes through, joined side by side. A way from one
+ * such cell to the next cannot cross a wall, since a wall between two centres passes
+ * through one of the two cells. Eight rays from the start (check_enclosed()) miss a gap
+ * between two of them; this finds one the robot fits through wherever it lies (any gap
+ * wider than the body and a cell or two), and reaching a cell beyond the room's bounds or
+ * the grid's edge means the robot could leave the room: drive off the map and on, as far
+ * as the world goes. 0, or EXIT_USAGE with a message. */
+static int check_closed(const options_t *o, const scenario_t *sc)
+{
+    const slam_config_t *cfg = &sc->cfg;
+    const room_t *room = &sc->room;
+    const uint32_t A = SLAM_GRID_A;
+    const uint32_t B = SLAM_GRID_B;
+    const size_t n = (size_t)A * B;
+    const double cell = cfg->cell_um * 1e-6;
+    /* The grid's origin as grid_init() puts it: the start at the centre of its cell. */
+    const int64_t half = (int64_t)cfg->cell_um / 2;
+    const double ox = (double)(cfg->start_x_um - (int64_t)cfg->start_cell_a * cfg->cell_um - half) * 1e-6;
+    const double oy = (double)(cfg->start_y_um - (int64_t)cfg->start_cell_b * cfg->cell_um - half) * 1e-6;
+    sim_params_t params;
+    sim_params_default(&params);
+    uint8_t *wall = calloc(n, 1u);
+    uint8_t *seen = calloc(n, 1u);
+    uint32_t *queue = malloc(n * sizeof *queue);
+    if (wall == NULL || seen == NULL || queue == NULL) {
+        free(wall);
+        free(seen);
+        free(queue);
+        fprintf(stderr, "host_sim: out of memory\n");
+        return EXIT_USAGE;
+    }
+    room_rasterize(room, ox, oy, cell, A, B, wall);
+    size_t head = 0u;
+    size_t tail = 0u;
+    uint32_t start = (uint32_t)cfg->start_cell_b * A + cfg->start_cell_a;
+    seen[start] = 1u;
+    queue[tail++] = start;
+    bool out = false;
+    double wx = 0.0;
+    double wy = 0.0;
+    while (head < tail && !out) {
+        uint32_t c = queue[head++];
+        int64_t x = c % A;
+        int64_t y = c / A;
+        static const int dx[4] = {1, -1, 0, 0};
+        static const int dy[4] = {0, 0, 1, -1};
+        for (int k = 0; k < 4 && !out; k++) {
+            int64_t nx = x + dx[k];
+            int64_t ny = y + dy[k];
+            wx = ox + ((double)nx + 0.5) * cell;
+            wy = oy + ((double)ny + 0.5) * cell;
+            if (nx < 0 || ny < 0 || nx >= (int64_t)A || ny >= (int64_t)B) {
+                out = true; /* a cell at the grid's edge, and the robot fits beyond it */
+                break;
+            }
+            uint32_t nc = (uint32_t)ny * A + (uint32_t)nx;
+            if (seen[nc] || wall[nc] || !room_disc_free(room, wx, wy, params.body_radius_m)) {
+                continue;
+            }
+            seen[nc] = 1u;
+            queue[tail++] = nc;
+            out = wx < room->min_x || wx > room->max_x || wy < room->min_y || wy > room->max_y;
+        }
+    }
+    free(wall);
+    free(seen);
+    free(queue);
+    if (!out) {
+        return 0;
+    }
+    char who[1100];
+    if (o->has_start) {
+        snprintf(who, sizeof who, "--start %g %g", sc->sx, sc->sy);
+    } else if (room->start_line != 0u) {
+        snprintf(who, sizeof who, "%s:%u: start pose (%g, %g)", o->room, room->start_line, sc->sx,
+                 sc->sy);
+    } else {
+        snprintf(who, sizeof who, "%s: start pose (%g, %g)", o->room, sc->sx, sc->sy);
+    }
+    /* A building map often has a doorway out of its image: the run goes on, warned, and a
+     * crop (whose edges are walls) closes it. A room file says where every wall is. */
+    bool map = room->occ != NULL;
+    fprintf(stderr,
+            "host_sim: %s%s: the %s is not closed: the robot (radius %g m) can drive out of it "
+            "through a gap, as far as (%.2f, %.2f), beyond its walls (%.2f .. %.2f, %.2f .. "
+            "%.2f m); %s\n",
+            map ? "warning: " : "", who, map ? "map" : "room", params.body_radius_m, wx, wy,
+            room->min_x, room->max_x, room->min_y, room->max_y,
+            map ? "--crop closes it" : "close the gap");
+    return map ? 0 : EXIT_USAGE;
+}
+
 /* The firmware's configuration, and what the report says from it. 0, or EXIT_USAGE. */
 static int choose_config(options_t *o, scenario_t *sc)
 {
@@ -153,6 +247,9 @@ int scenario_load(options_t *o, scenario_t *sc)
     }
     if (rc == 0) {
         rc = choose_config(o, sc);
+    }
+    if (rc == 0) {
+        rc = check_closed(o, sc);
     }
     if (rc == 0 && o->commands != NULL) {
         rc = commands_load(o->commands, &sc->commands);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Tests of the configuration as text: round trip, every kind of bad input, file errors. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, ftruncate, fileno */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdbool.h>
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -153,11 +155,13 @@ static void test_file_errors_name_file_and_line(void **state)
         {"sweep_first_mdeg = 65000\n\nsweep_stops = 1\n",
          ":3: sweep_stops = 1 is out of its valid range: 1..16, and 1 only when "
          "sweep_first_mdeg equals sweep_last_mdeg"},
-        /* A bad value the file did not set is named as such. */
+        /* A bad value the file did not set is blamed on the line of the field its rule
+         * compares it with, and both values are given. */
         {"om_mode = 0\nom_max = 2\npost_threshold = 3\n",
-         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"},
-        {"top_speed_mm_s = 150\n", ": cruise_mm_s = 200 is out of its valid range: 1..5000, at "
-                                   "most top_speed_mm_s (not set in the file)"},
+         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0, "
+         "below 127 when it is 1 (om_max = 2, om_mode = 0)"},
+        {"top_speed_mm_s = 150\n", ":1: cruise_mm_s = 200 is out of its valid range: 1..5000, at "
+                                   "most top_speed_mm_s (top_speed_mm_s = 150)"},
         /* A core key twice. */
         {"wheel_base_um = 140000\n# again:\nwheel_base_um = 150000\n",
          ":3: wheel_base_um is given twice (first on line 1)"},
@@ -216,8 +220,23 @@ static void test_not_text(void **state)
                      0);
     assert_int_equal(c.om_max, 8u);
     c = keep;
+    /* An input is a regular file: /dev/zero (it never ends) and a FIFO (no writer: opening
+     * it would wait for ever) are refused at once; a large file at its stated limit. */
     assert_int_equal(cfgtext_load("/dev/zero", &c, NULL, NULL, NULL, err, sizeof err), -1);
-    assert_non_null(strstr(err, "/dev/zero: larger than 1048576 bytes"));
+    assert_non_null(strstr(err, "/dev/zero: is not a regular file"));
+    char fifo[64];
+    snprintf(fifo, sizeof fifo, "/tmp/slam-cfgtext-%ld.fifo", (long)getpid());
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    assert_int_equal(cfgtext_load(fifo, &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, ".fifo: is not a regular file (a FIFO"));
+    unlink(fifo);
+    FILE *big = fopen(path, "w");
+    assert_non_null(big);
+    assert_int_equal(ftruncate(fileno(big), (off_t)CFGTEXT_FILE_MAX + 1), 0);
+    fclose(big);
+    assert_int_equal(cfgtext_load(path, &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, ": larger than 1048576 bytes"));
     assert_int_equal(cfgtext_load("/tmp", &c, NULL, NULL, NULL, err, sizeof err), -1);
     assert_non_null(strstr(err, "/tmp: is a directory"));
     assert_memory_equal(&c, &keep, sizeof c);
@@ -304,11 +323,77 @@ static void test_mode_words_are_the_modes(void **state)
     for (int m = 0; m < EXPLORE_MODES; m++) {
         slam_config_t c;
         slam_config_default(&c);
-        char text[12];
+        char text[16];
         snprintf(text, sizeof text, "%d", m);
         assert_int_equal(cfgtext_set(&c, "explore_mode", text, err, sizeof err), 0);
         assert_int_equal(cfgtext_check(&c, NULL, err, sizeof err), 0);
     }
+}
+
+/* A rule that compares two fields names both, with their values, and in a file blames
+ * the line that set either when the other was not set there. */
+static void test_rule_messages_name_both_fields(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    char err[300] = "";
+    static const char text[] = "# sonar\nrange_min_um = 1000000\n";
+    assert_int_equal(cfgtext_parse("s.conf", text, sizeof text - 1u, &c, NULL, NULL, NULL, err,
+                                   sizeof err),
+                     -1);
+    assert_string_equal(err, "s.conf:2: confidence_radius_um = 1000000 is out of its valid range: "
+                             "1..10000000, above range_min_um (range_min_um = 1000000)");
+    assert_string_equal(cfgtext_partners("sweep_stops"), "sweep_first_mdeg sweep_last_mdeg");
+    assert_null(cfgtext_partners("wheel_base_um"));
+    assert_null(cfgtext_partners("no_such_key"));
+}
+
+/* A message quotes the file: control bytes in it are shown escaped, never sent to the
+ * terminal (an xterm takes ESC ] 0 ; ... BEL as a new title). */
+static void test_messages_escape_control_bytes(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        const char *says;
+    } cases[] = {
+        {"cell_um = \033]0;PWNED\007\n", "x.conf:1: cell_um = '\\x1b]0;PWNED\\x07': expected"},
+        {"\033[2J = 5\n", "x.conf:1: unknown key '\\x1b[2J'"},
+        {"no equals \r here\n", "x.conf:1: expected 'key = value', got 'no equals \\x0d here'"},
+        {"cal_left = \xc2\x9b" "1m\n", "cal_left = '\\xc2\\x9b1m'"}, /* C1 CSI in UTF-8 */
+        {"cal_left = \xff\n", "cal_left = '\\xff'"},
+        {"cal_left = caf\xc3\xa9\n", "cal_left = 'caf\xc3\xa9'"}, /* printable UTF-8 stays */
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        slam_config_t c;
+        slam_config_default(&c);
+        char err[256] = "";
+        assert_int_equal(cfgtext_parse("x.conf", cases[i].text, strlen(cases[i].text), &c, NULL,
+                                       NULL, NULL, err, sizeof err),
+                         -1);
+        if (strstr(err, cases[i].says) == NULL) {
+            fail_msg("case %zu: '%s' does not say '%s'", i, err, cases[i].says);
+        }
+        for (const char *p = err; *p != '\0'; p++) {
+            assert_true((unsigned char)*p >= 0x20u && (unsigned char)*p != 0x7Fu);
+        }
+    }
+    /* Escaping is idempotent, and what is cut is cut at a whole escape. */
+    char s[32] = "a\033b";
+    cfgtext_escape(s, sizeof s);
+    assert_string_equal(s, "a\\x1bb");
+    cfgtext_escape(s, sizeof s);
+    assert_string_equal(s, "a\\x1bb");
+    char small[5] = "\033\033";
+    cfgtext_escape(small, sizeof small);
+    assert_string_equal(small, "\\x1b");
+    /* --set values go through cfgtext_set(), which escapes too. */
+    slam_config_t c;
+    slam_config_default(&c);
+    char err[128] = "";
+    assert_int_equal(cfgtext_set(&c, "cell_um", "\a5", err, sizeof err), -2);
+    assert_non_null(strstr(err, "'\\x075'"));
 }
 
 int main(void)
@@ -321,6 +406,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_not_text, setup, teardown),
         cmocka_unit_test_setup_teardown(test_rules_match_the_check, setup, teardown),
         cmocka_unit_test(test_mode_words_are_the_modes),
+        cmocka_unit_test(test_messages_escape_control_bytes),
+        cmocka_unit_test(test_rule_messages_name_both_fields),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,6 +20,7 @@
 #include <cmocka.h>
 
 #include "fake_hal.h"
+#include "slam/config_fields.h"
 #include "slam/error.h"
 #include "slam/explore.h"
 #include "slam/grid.h"
@@ -82,12 +83,12 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->range_min_um = (uint32_t)pick(s, 0, 1000000);
     c->confidence_radius_um = (uint32_t)pick(s, c->range_min_um + 1, 10000000);
     c->sound_speed_mm_per_s = (uint32_t)pick(s, 300000, 400000);
-    c->mount_x_um = (int32_t)pick(s, -1000000, 1000000);
-    c->mount_y_um = (int32_t)pick(s, -1000000, 1000000);
-    c->mount_yaw_mdeg = (int32_t)pick(s, -180000, 180000);
+    c->mount_x_um = (int32_t)pick(s, -SLAM_CONFIG_MOUNT_BACK_UM, SLAM_CONFIG_MOUNT_AHEAD_UM);
+    c->mount_y_um = (int32_t)pick(s, -SLAM_CONFIG_MOUNT_SIDE_UM, SLAM_CONFIG_MOUNT_SIDE_UM);
+    c->mount_yaw_mdeg = (int32_t)pick(s, -20000, 20000);
     c->sweep_stops = (uint8_t)pick(s, 1, SLAM_SWEEP_STOPS_MAX);
-    c->sweep_first_mdeg = (int32_t)pick(s, 0, 180000);
-    c->sweep_last_mdeg = c->sweep_stops == 1u ? c->sweep_first_mdeg : (int32_t)pick(s, 0, 180000);
+    c->sweep_first_mdeg = c->sweep_stops == 1u ? 90000 : (int32_t)pick(s, 0, 89999);
+    c->sweep_last_mdeg = c->sweep_stops == 1u ? 90000 : (int32_t)pick(s, 90000, 180000);
     c->settle_ticks = (uint8_t)pick(s, 1, 255);
     c->echo_timeout_ticks = (uint8_t)pick(s, 1, 255);
     c->ping_interval_ticks = (uint8_t)pick(s, 1, 255);
@@ -100,7 +101,7 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->post_template_k = (uint8_t)pick(s, 0, 8);
     c->post_insert = (uint8_t)pick(s, 0, 1);
     c->top_speed_mm_s = (uint16_t)pick(s, 50, 5000);
-    c->accel_mm_s2 = (uint16_t)pick(s, 10, 50000);
+    c->accel_mm_s2 = (uint16_t)pick(s, 100, 50000);
     c->motion_kp_q8 = (uint16_t)pick(s, 0, 2048);
     c->motion_ki_q8 = (uint16_t)pick(s, 0, 2048);
     c->explore_mode = (uint8_t)pick(s, 0, EXPLORE_MODES - 1);

@@ -16,12 +16,15 @@ TARGET is one of:
                                newest record in it whose CRCs check out
 
 The picture goes to TARGET/figure.png (for a file: FILE.png beside it) unless --out
-names another. Needs Debian's python3-matplotlib and python3-numpy.
+names another. Needs Debian's python3-matplotlib and python3-numpy. What it believes of a
+file is bounded: files of at most 64 MiB, grids and images of 3..4096 cells a side
+(firmware/include/slam/grid.h), record headers of at most 1 KiB.
 Exit status: 0 drawn; 1 the picture could not be written; 2 nothing to draw in TARGET.
 """
 import csv
 import json
 import os
+import stat
 import struct
 import sys
 import zlib
@@ -29,6 +32,12 @@ import zlib
 import slamlink
 
 MAGIC = 0x4D414C53  # "SLAM": mapstore.h
+# What a tool believes of a header before it allocates by it: a grid of GRID_SIDE_MIN ..
+# GRID_SIDE_MAX cells a side (grid.h), a header of at most a KiB, and files of at most
+# FILE_MAX bytes: a record of the largest grid is 32 MiB; an MCU's flash is 1 MiB, a Linux
+# robot's slot at most 16 MiB (storage_bytes), an image of the largest grid 16 MiB.
+HEADER_MAX = 1024
+FILE_MAX = 64 << 20
 HEADER = struct.Struct("<IHHHHIiiIIiiIBBBBII")
 HEADER_NAMES = ("magic", "version", "header_bytes", "a", "b", "cell_um", "origin_x_um",
                 "origin_y_um", "seq", "ticks", "pose_x_um", "pose_y_um", "pose_heading",
@@ -44,14 +53,26 @@ class Fatal(Exception):
         self.status = status
 
 
-def read_pgm(path):
-    """A binary PGM as rows top-down (a numpy array); Fatal when it is not one."""
-    import numpy as np
+def read_limited(path):
+    """A whole file of at most FILE_MAX bytes (never reading more than a byte beyond);
+    Fatal when it is larger, not a regular file, or cannot be read."""
     try:
+        if not stat.S_ISREG(os.stat(path).st_mode):  # a FIFO would wait, a device never end
+            raise Fatal("%s: not a regular file" % path)
         with open(path, "rb") as f:
-            data = f.read()
+            data = f.read(FILE_MAX + 1)
     except OSError as e:
         raise Fatal("%s: %s" % (path, e.strerror))
+    if len(data) > FILE_MAX:
+        raise Fatal("%s: larger than %d bytes: no map of a robot's grid is" % (path, FILE_MAX))
+    return data
+
+
+def read_pgm(path):
+    """A binary PGM as rows top-down (a numpy array); Fatal when it is not one, or larger
+    than a grid can be (GRID_SIDE_MAX cells a side)."""
+    import numpy as np
+    data = read_limited(path)
     fields, pos = [], 0
     try:
         while len(fields) < 4:
@@ -65,11 +86,15 @@ def read_pgm(path):
                 end += 1
             fields.append(data[pos:end])
             pos = end
-        w, h = int(fields[1]), int(fields[2])
-        if fields[0] != b"P5" or w <= 0 or h <= 0 or len(data) < pos + 1 + w * h:
+        w = slamlink.parse_int(fields[1].decode("ascii"), 1)
+        h = slamlink.parse_int(fields[2].decode("ascii"), 1)
+        if fields[0] != b"P5" or len(data) < pos + 1 + w * h:
             raise ValueError
-    except (ValueError, IndexError):
+    except (ValueError, IndexError, UnicodeDecodeError):
         raise Fatal("%s: not a binary PGM (P5) map" % path)
+    if w > slamlink.GRID_SIDE_MAX or h > slamlink.GRID_SIDE_MAX:
+        raise Fatal("%s: %d x %d pixels, larger than a grid can be (%d a side)"
+                    % (path, w, h, slamlink.GRID_SIDE_MAX))
     return np.frombuffer(data[pos + 1:pos + 1 + w * h], dtype=np.uint8).reshape(h, w)
 
 
@@ -77,14 +102,14 @@ def read_yaml_geometry(path):
     """resolution and origin of a ROS map_server YAML (the two keys a figure needs)."""
     geo = {}
     try:
-        with open(path) as f:
-            for line in f:
-                key, _, value = line.partition(":")
-                if key.strip() == "resolution":
-                    geo["resolution"] = float(value)
-                elif key.strip() == "origin":
-                    geo["origin"] = [float(v) for v in value.strip().strip("[]").split(",")[:2]]
-    except (OSError, ValueError):
+        for line in read_limited(path).decode("utf-8").splitlines():
+            key, _, value = line.partition(":")
+            if key.strip() == "resolution":
+                geo["resolution"] = slamlink.parse_real(value.strip(), 1e-6, 1e4)
+            elif key.strip() == "origin":
+                geo["origin"] = [slamlink.parse_real(v.strip(), -1e7, 1e7)
+                                 for v in value.strip().strip("[]").split(",")[:2]]
+    except (ValueError, UnicodeDecodeError):
         raise Fatal("%s: not a ROS map YAML" % path)
     if "resolution" not in geo or len(geo.get("origin", [])) != 2:
         raise Fatal("%s: no resolution or origin" % path)
@@ -93,11 +118,14 @@ def read_yaml_geometry(path):
 
 def records(data, where):
     """Every map record in a dump whose header and data CRCs check out, as
-    (header dict, OM rows, TM rows), numpy arrays with row 0 at the bottom."""
+    (header dict, OM rows, TM rows), numpy arrays with row 0 at the bottom. A header whose
+    grid or size no robot writes (GRID_SIDE_MIN .. GRID_SIDE_MAX cells a side, at most
+    HEADER_MAX bytes) is not a record, whatever its CRC says."""
     import numpy as np
     out = []
     magic = struct.pack("<I", MAGIC)
     off = -1
+    side = range(slamlink.GRID_SIDE_MIN, slamlink.GRID_SIDE_MAX + 1)
     while True:
         off = data.find(magic, off + 1)
         if off < 0 or off + HEADER.size > len(data):
@@ -105,7 +133,8 @@ def records(data, where):
         h = dict(zip(HEADER_NAMES, HEADER.unpack_from(data, off)))
         cells = h["a"] * h["b"]
         start = off + h["header_bytes"]
-        if (h["header_bytes"] < HEADER.size or
+        if (h["a"] not in side or h["b"] not in side or h["header_bytes"] > HEADER_MAX or
+                h["header_bytes"] < HEADER.size or
                 zlib.crc32(data[off:off + HEADER.size - 4]) != h["header_crc"] or
                 start + 2 * cells > len(data) or
                 zlib.crc32(data[start:start + 2 * cells]) != h["data_crc"]):
@@ -256,8 +285,7 @@ def main(argv):
             recs = []
             for name in sorted(os.listdir(target)):
                 if name.startswith("slot") and name.endswith(".bin"):
-                    with open(os.path.join(target, name), "rb") as f:
-                        recs += records(f.read(), name)
+                    recs += records(read_limited(os.path.join(target, name)), name)
             if recs:
                 panels += record_panels(recs, quiet)
             if not panels:
@@ -267,8 +295,7 @@ def main(argv):
             fig = figure_of_maps(panels, os.path.abspath(target), plt)
     else:
         png = out_png or os.path.splitext(target)[0] + ".png"
-        with open(target, "rb") as f:
-            recs = records(f.read(), os.path.basename(target))
+        recs = records(read_limited(target), os.path.basename(target))
         if not recs:
             raise Fatal("%s holds no map record whose CRCs check out (a dump of the storage "
                         "flash or a slot file is expected)" % target)
@@ -289,3 +316,6 @@ if __name__ == "__main__":
     except Fatal as e:
         print("plot_run: %s" % e, file=sys.stderr)
         sys.exit(e.status)
+    except MemoryError:  # the limits keep every array small; this is the last word
+        print("plot_run: out of memory", file=sys.stderr)
+        sys.exit(1)

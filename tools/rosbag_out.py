@@ -361,9 +361,9 @@ def main(argv=None):
                                  epilog="\n".join(doc[2:]))
     ap.add_argument("run", nargs="?", metavar="RUN_DIR", help="a host_sim output folder")
     ap.add_argument("out", nargs="?", metavar="OUT.bag")
-    ap.add_argument("--fov", type=float, default=15.0,
+    ap.add_argument("--fov", type=slamlink.arg_real(1.0, 179.0), default=15.0,
                     help="the sonar cone's full width, degrees (default 15, an HC-SR04's)")
-    ap.add_argument("--max-range", type=float, default=4.0,
+    ap.add_argument("--max-range", type=slamlink.arg_real(0.1, 100.0), default=4.0,
                     help="the sonar's longest range, m (default 4, an HC-SR04's)")
     ap.add_argument("--check", action="store_true", help="only say whether bags can be written")
     ap.add_argument("--quiet", action="store_true")
@@ -374,8 +374,6 @@ def main(argv=None):
             return 0
         if args.run is None or args.out is None:
             ap.error("give RUN_DIR and OUT.bag")
-        if not (0 < args.fov < 180 and 0 < args.max_range <= 100):
-            ap.error("--fov must be within 0..180 degrees and --max-range within 0..100 m")
         counts = run_to_bag(args.run, args.out, args.fov, args.max_range)
     except BagError as e:
         print("rosbag_out: %s" % e, file=sys.stderr)

@@ -2,6 +2,7 @@
 """The robot's link in Python: telemetry frames in, command frames out, as
 firmware/include/slam/telemetry.h describes them (tools/telemetry.py is the program)."""
 import ast
+import binascii
 import collections
 import math
 import os
@@ -67,6 +68,75 @@ def counts_image(cells, top):
     top = max(int(top), 1)
     v = np.minimum(np.asarray(cells, np.uint32), top)
     return (255 - (v * 255 + top // 2) // top).astype(np.uint8)[::-1]
+
+
+# ---- numbers in text ----------------------------------------------------------------------
+# The one rule for numbers written as text, the same as the C readers' (hal/common/include/
+# hal_common/number.h, where it is explained; tests/data/numbers.txt holds both to one table
+# of cases): decimal only, the whole text, no blanks around it, no hexadecimal, no inf or nan,
+# no digit separators. Python's own int() and float() take " 5", "1_000", "inf", and
+# int(x, 0) "0x10": every tool reads numbers through these two instead.
+
+_WHOLE = re.compile(r"[+-]?[0-9]+")
+_REAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+
+
+class NumberError(ValueError):
+    """Text that is not a number by the rule, or a number out of range; the message says
+    which, with the text shown escaped."""
+
+
+def shown(text, limit=40):
+    """Text for a message: at most `limit` characters, anything unprintable escaped."""
+    out = "".join(c if c.isprintable() else "\\x%02x" % ord(c) if ord(c) < 256 else
+                  "\\u%04x" % ord(c) for c in str(text)[:limit])
+    return out + ("..." if len(str(text)) > limit else "")
+
+
+def _range_check(v, text, lo, hi, what):
+    if (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise NumberError("%s: '%s' is out of range %s..%s" % (
+            what, shown(text), "" if lo is None else lo, "" if hi is None else hi))
+    return v
+
+
+def parse_int(text, lo=None, hi=None, what="value"):
+    """A whole decimal number within [lo, hi] (None: no limit); NumberError otherwise."""
+    if not isinstance(text, str) or _WHOLE.fullmatch(text) is None:
+        raise NumberError("%s: '%s' is not a whole decimal number" % (what, shown(text)))
+    return _range_check(int(text), text, lo, hi, what)
+
+
+def parse_real(text, lo=None, hi=None, what="value"):
+    """A decimal number within [lo, hi] (None: any finite one) as a float; NumberError
+    otherwise. One too large for a double is out of range; one too small reads as 0."""
+    if not isinstance(text, str) or _REAL.fullmatch(text) is None:
+        raise NumberError("%s: '%s' is not a decimal number" % (what, shown(text)))
+    v = float(text)
+    if not math.isfinite(v):
+        raise NumberError("%s: '%s' is out of range (beyond a double)" % (what, shown(text)))
+    return _range_check(v, text, lo, hi, what)
+
+
+def arg_real(lo, hi):
+    """parse_real() as an argparse type: a decimal number in [lo, hi]."""
+    return _arg(parse_real, lo, hi)
+
+
+def arg_int(lo, hi):
+    """parse_int() as an argparse type: a whole decimal number in [lo, hi]."""
+    return _arg(parse_int, lo, hi)
+
+
+def _arg(parse, lo, hi):
+    import argparse
+
+    def typed(text):
+        try:
+            return parse(text, lo, hi, what="value")
+        except NumberError as e:
+            raise argparse.ArgumentTypeError(str(e).partition(": ")[2])
+    return typed
 
 
 # ---- the firmware's tables ------------------------------------------------------------
@@ -278,8 +348,22 @@ def config_fields(grid=None):
     return fields
 
 
+def grid_side_max():
+    """The most cells a grid has along a side: the bound grid.h's #error states (it
+    refuses SLAM_GRID_A or SLAM_GRID_B above it), and the most a tool believes a HELLO or
+    a map record. Anything larger is a forgery or noise, and would cost gigabytes."""
+    where = "firmware/include/slam/grid.h"
+    m = re.search(r"#\s*if\s+SLAM_GRID_A\s*<\s*(\d+)\s*\|\|\s*SLAM_GRID_B\s*<\s*\d+\s*\|\|"
+                  r"\s*SLAM_GRID_A\s*>\s*(\d+)", _header("grid.h"))
+    if m is None:
+        raise TableError("%s: no '#if SLAM_GRID_A < N || ... > M' to take the grid's limits from"
+                         % where)
+    return int(m.group(1)), int(m.group(2))
+
+
 FIELDS = config_fields()
 MODES = tuple(m[1] for m in explore_modes())
+GRID_SIDE_MIN, GRID_SIDE_MAX = grid_side_max()
 
 # The configuration keys GET and SET address: (id, name, type as stored, live), by id.
 KEYS = sorted((f.id, f.name, "I32" if f.type == "Q30" else f.type, f.live) for f in FIELDS)
@@ -307,7 +391,14 @@ CRC_TABLE = _crc_table()
 
 
 def crc16(data):
-    """CRC-16/CCITT-FALSE, as the firmware computes it."""
+    """CRC-16/CCITT-FALSE, as the firmware computes it: the polynomial 0x1021 from 0xFFFF,
+    which is what binascii.crc_hqx() computes in C (CRC_TABLE is the same in Python, for
+    the tests that hold the two together)."""
+    return binascii.crc_hqx(data, 0xFFFF)
+
+
+def crc16_table(data):
+    """crc16() a byte at a time through CRC_TABLE, as the firmware's byte table does."""
     crc = 0xFFFF
     for b in data:
         crc = ((crc << 8) & 0xFFFF) ^ CRC_TABLE[((crc >> 8) ^ b) & 0xFF]
@@ -323,39 +414,52 @@ def frame(ftype, payload=b""):
 
 class Decoder:
     """Feeds bytes, yields (type, payload) of every frame whose CRC checks out; frames
-    whose CRC fails are counted in `bad`, bytes outside any frame in `skipped`."""
+    whose CRC fails are counted in `bad`, bytes outside any frame in `skipped`.
+
+    Its work is bounded by what it is fed, whatever the bytes: each sync it tries costs
+    one CRC over at most 257 bytes, done in C (binascii), and a position is never looked
+    at twice (`pos` walks forward; consumed bytes are dropped once per feed). `steps`
+    counts the syncs tried, for the tests that bound the work. (Adversarial bytes, a sync
+    whose length byte is 255 at every other position, once cost a Python loop of 257
+    bytes per sync: about 100 KB/s.)"""
 
     def __init__(self):
         self.buf = bytearray()
         self.bad = 0
         self.skipped = 0
+        self.steps = 0
 
     def feed(self, data):
-        self.buf += data
+        buf = self.buf
+        buf += data
         out = []
+        pos = 0
+        end = len(buf)
         while True:
-            i = self.buf.find(SYNC)
+            i = buf.find(SYNC, pos)
             if i < 0:
-                keep = 1 if self.buf[-1:] == SYNC[:1] else 0
-                self.skipped += len(self.buf) - keep
-                del self.buf[:len(self.buf) - keep]
+                keep = 1 if buf[-1:] == SYNC[:1] else 0
+                self.skipped += end - keep - pos
+                pos = end - keep
                 break
-            self.skipped += i
-            del self.buf[:i]
-            if len(self.buf) < 6:
+            self.skipped += i - pos
+            pos = i
+            if end - pos < 6:
                 break
-            n = self.buf[3]
-            if len(self.buf) < 6 + n:
+            n = buf[pos + 3]
+            if end - pos < 6 + n:
                 break
-            body = bytes(self.buf[2:4 + n])
-            crc = self.buf[4 + n] | self.buf[5 + n] << 8
+            self.steps += 1
+            body = bytes(buf[pos + 2:pos + 4 + n])
+            crc = buf[pos + 4 + n] | buf[pos + 5 + n] << 8
             if crc != crc16(body):
                 self.bad += 1
                 self.skipped += 1
-                del self.buf[:1]
+                pos += 1
                 continue
             out.append((body[0], body[2:]))
-            del self.buf[:6 + n]
+            pos += 6 + n
+        del buf[:pos]
         return out
 
 
@@ -364,10 +468,15 @@ _STATUS_NAMES = ("ticks", "pings", "echoes", "timeouts", "om_hits", "overruns", 
 
 
 def decode(ftype, p):
-    """A frame as a dict; None when its length is not its type's (a malformed frame)."""
+    """A frame as a dict; None when its length is not its type's, or a field a tool would
+    trust holds what no robot sends (a malformed frame): a HELLO's grid must be
+    GRID_SIDE_MIN..GRID_SIDE_MAX cells a side (65535 x 65535 would be 8 GiB of maps), a
+    map row must lie within such a grid."""
     n = len(p)
     if ftype == HELLO and n in (19, 39, 42):
         v, a, b, cell, ox, oy, om_max, tm_max = struct.unpack("<BHHIiiBB", p[:19])
+        if not (GRID_SIDE_MIN <= a <= GRID_SIDE_MAX and GRID_SIDE_MIN <= b <= GRID_SIDE_MAX):
+            return None
         d = dict(type="hello", version=v, a=a, b=b, cell_um=cell, origin_x_um=ox,
                  origin_y_um=oy, om_max=om_max, tm_max=tm_max, om_mode=OM_COUNT)
         if n >= 39:
@@ -386,6 +495,8 @@ def decode(ftype, p):
                     range_um=rng, x_um=x, y_um=y, heading=h)
     if ftype == MAP_ROW and n >= 5:
         which, row, first = struct.unpack("<BHH", p[:5])
+        if row >= GRID_SIDE_MAX or first + n - 5 > GRID_SIDE_MAX:
+            return None
         return dict(type="map_row", map=which, row=row, first=first, cells=bytes(p[5:]))
     if ftype == STATUS and n in (32, 42):
         d = dict(zip(_STATUS_NAMES, struct.unpack("<%dI" % (n // 4), p[:n // 4 * 4])))
@@ -504,15 +615,19 @@ def command(words):
         if name == "get":
             return frame(ctype, bytes([key]))
         typ = KEY_BY_ID[key][1]
+        lo, hi = TYPE_RANGE[typ]
         try:
             if words[1] in Q30_KEYS:
-                v = round(float(words[2]) * (1 << 30))
+                # As the C text configuration takes a factor: strictly between -2 and 2.
+                f = parse_real(words[2], what="set %s" % words[1])
+                if not -2.0 < f < 2.0:
+                    raise NumberError("set %s: '%s' must lie between -2 and 2"
+                                      % (words[1], shown(words[2])))
+                v = round(f * (1 << 30))
             else:
-                v = int(words[2], 0)
-        except ValueError:
-            raise CommandError("set %s: '%s' is not a %s" % (
-                words[1], words[2], "decimal factor" if words[1] in Q30_KEYS else "whole number"))
-        lo, hi = TYPE_RANGE[typ]
+                v = parse_int(words[2], what="set %s" % words[1])
+        except NumberError as e:
+            raise CommandError(str(e)) from None
         if not lo <= v <= hi:
             raise CommandError("set %s: %d does not fit its field (%d .. %d)" % (words[1], v, lo, hi))
         return frame(ctype, struct.pack("<BI", key, v & 0xFFFFFFFF))

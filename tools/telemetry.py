@@ -32,6 +32,10 @@ KEY is a field of slam_config_t (firmware/include/slam/config_fields.h); cal_lef
 cal_right and cal_base take decimal factors such as 0.9901. `send PORT map --out DIR`
 waits for both maps and writes them as DIR/om.pgm and DIR/tm.pgm with ROS YAML.
 
+Every field a frame gives that the tool sizes memory by is bounded: a HELLO's grid is
+%(grid_min)d..%(grid_max)d cells a side (firmware/include/slam/grid.h), a map row lies within it; frames
+beyond are counted as malformed. to-readings writes its rows as it reads them.
+
 Exit status: 0 done; 1 the robot refused a command or did not answer; 2 bad arguments,
 or a source with nothing valid in it.
 """
@@ -270,41 +274,50 @@ def cmd_view(args):
 
 
 def cmd_to_readings(args):
-    """READING frames as readings.csv rows, the HELLO's grid and sonar as config.txt."""
+    """READING frames as readings.csv rows, the HELLO's grid and sonar as config.txt. The
+    rows go to the file as they are read: memory stays the same for a log of any length."""
     src = Source(args.log, args.baud, False)
     if src.device:
         raise Fatal("%s is a device: record a log first (cat %s > run.log, or "
                     "host_sim --telemetry FILE)" % (args.log, args.log))
+    out = args.out or os.path.splitext(args.log)[0] + "-readings"
     hello = None
     changed = 0
-    rows = []
+    rows = 0
     drops = 0
-    for fr in src:
-        if fr["type"] == "hello" and "confidence_radius_um" in fr:
-            same = dict(fr, type=None) == dict(hello, type=None) if hello else True
-            changed += not same
-            hello = hello or fr
-        elif fr["type"] == "reading":
-            rows.append(fr)
-        elif fr["type"] == "status":
-            drops = fr["drops"]
-    src.summary("to-readings")
-    if hello is None:
-        raise Fatal("%s has no HELLO frame with the sonar's settings (the firmware "
-                    "sends one every 5 s; a log from before telemetry version 2 lacks them)" % args.log)
-    if not rows:
-        raise Fatal("%s has no READING frame" % args.log)
-    out = args.out or os.path.splitext(args.log)[0] + "-readings"
+    csv_path = os.path.join(out, "readings.csv")
+    tmp = csv_path + ".tmp"
+    created = not os.path.isdir(out)
     try:
         os.makedirs(out, exist_ok=True)
-        lines = ["t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad\n"]
-        for r in rows:
-            status = reading_status(r["outcome"])
-            rng = "" if status == "timeout" else "%.6f" % (r["range_um"] * 1e-6)
-            lines.append("%.2f,%.3f,%s,%s,%.6f,%.6f,%.10f\n" % (
-                r["ticks"] * slamlink.TICK_S, r["servo_mdeg"] / 1000.0, rng, status,
-                r["x_um"] * 1e-6, r["y_um"] * 1e-6, slamlink.wrap_rad(r["heading"])))
-        write_text(os.path.join(out, "readings.csv"), "".join(lines))
+        f = open(tmp, "w")
+    except OSError as e:
+        raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+    done = False
+    try:
+        with f:
+            f.write("t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad\n")
+            for fr in src:
+                if fr["type"] == "hello" and "confidence_radius_um" in fr:
+                    same = dict(fr, type=None) == dict(hello, type=None) if hello else True
+                    changed += not same
+                    hello = hello or fr
+                elif fr["type"] == "reading":
+                    status = reading_status(fr["outcome"])
+                    rng = "" if status == "timeout" else "%.6f" % (fr["range_um"] * 1e-6)
+                    f.write("%.2f,%.3f,%s,%s,%.6f,%.6f,%.10f\n" % (
+                        fr["ticks"] * slamlink.TICK_S, fr["servo_mdeg"] / 1000.0, rng, status,
+                        fr["x_um"] * 1e-6, fr["y_um"] * 1e-6, slamlink.wrap_rad(fr["heading"])))
+                    rows += 1
+                elif fr["type"] == "status":
+                    drops = fr["drops"]
+        src.summary("to-readings")
+        if hello is None:
+            raise Fatal("%s has no HELLO frame with the sonar's settings (the firmware "
+                        "sends one every 5 s; a log from before telemetry version 2 lacks them)"
+                        % args.log)
+        if not rows:
+            raise Fatal("%s has no READING frame" % args.log)
         # The grid's origin is start - (cell (0, 0)) - half a cell: with the start in cell
         # (0, 0), start = origin + half a cell, whatever the robot's own start cell was.
         half = hello["cell_um"] // 2
@@ -321,12 +334,22 @@ def cmd_to_readings(args):
                    "# the grid and the sonar as %s's HELLO frames tell them "
                    "(host_sim --replay reads it)\n" % os.path.basename(args.log)
                    + "".join("%s = %d\n" % kv for kv in cfg))
+        os.replace(tmp, csv_path)
+        done = True
     except OSError as e:
         raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+    finally:
+        if not done:  # a log that gives nothing leaves nothing behind
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            if created:
+                try:
+                    os.rmdir(out)
+                except OSError:
+                    pass
     print("telemetry to-readings: %d readings into %s; the grid and sonar settings into %s"
-          % (len(rows), os.path.join(out, "readings.csv"), os.path.join(out, "config.txt")))
-    print("  replay: host_sim --replay %s --out %s" % (os.path.join(out, "readings.csv"),
-                                                       os.path.join(out, "replay")))
+          % (rows, csv_path, os.path.join(out, "config.txt")))
+    print("  replay: host_sim --replay %s --out %s" % (csv_path, os.path.join(out, "replay")))
     if changed:
         print("telemetry to-readings: warning: the HELLO frames changed %d times (a SET of the sonar's "
               "settings?); config.txt holds the first" % changed, file=sys.stderr)
@@ -374,6 +397,7 @@ def cmd_send(args):
     answer = None
     geo = None
     rows = {}
+    have = {}  # cells arrived per (map, row): completeness without going over them all
     deadline = time.time() + args.wait
     while time.time() < deadline:
         for ftype, payload in dec.feed(port.read(4096)):
@@ -387,12 +411,19 @@ def cmd_send(args):
                 answer = fr
                 print(slamlink.describe(fr))
             elif want_map and answer and fr["type"] == "hello":
+                if geo is not None and (geo["a"], geo["b"]) != (fr["a"], fr["b"]):
+                    rows.clear()  # another grid: what came for the last one is not its map
+                    have.clear()
                 geo = fr
-            elif want_map and geo and fr["type"] == "map_row" and fr["map"] < 2:
-                rows[(fr["map"], fr["row"], fr["first"])] = fr["cells"]
+            elif (want_map and geo and fr["type"] == "map_row" and fr["map"] < 2
+                  and fr["row"] < geo["b"] and fr["first"] + len(fr["cells"]) <= geo["a"]):
+                key = (fr["map"], fr["row"], fr["first"])
+                if key not in rows:
+                    have[key[:2]] = have.get(key[:2], 0) + len(fr["cells"])
+                rows[key] = fr["cells"]
         if answer is not None and (not want_map or answer["type"] == "error"):
             break
-        if want_map and geo and map_complete(rows, geo):
+        if want_map and geo and map_complete(have, geo):
             break
     if answer is None:
         raise Fatal("%s did not answer within %g s" % (args.port, args.wait), 1)
@@ -400,7 +431,7 @@ def cmd_send(args):
         raise Fatal("the robot refused it: %s" % slamlink.ERROR_TEXT.get(
             slamlink.ERRORS.get(answer["code"]), "code %d" % answer["code"]), 1)
     if want_map:
-        if geo is None or not map_complete(rows, geo):
+        if geo is None or not map_complete(have, geo):
             raise Fatal("the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
         os.makedirs(args.out, exist_ok=True)
         import numpy as np
@@ -414,14 +445,9 @@ def cmd_send(args):
               % (args.out, args.out))
 
 
-def map_complete(rows, geo):
-    """Every cell of both maps arrived."""
-    for which in (0, 1):
-        for row in range(geo["b"]):
-            have = sum(len(c) for (m, r, _), c in rows.items() if m == which and r == row)
-            if have < geo["a"]:
-                return False
-    return True
+def map_complete(have, geo):
+    """Every cell of both maps arrived: `have` counts the cells of each (map, row)."""
+    return len(have) == 2 * geo["b"] and all(n >= geo["a"] for n in have.values())
 
 
 def cmd_frame(args):
@@ -453,7 +479,8 @@ def cmd_to_bag(args):
 
 
 def main(argv=None):
-    doc = (__doc__ % {"modes": ", ".join(slamlink.MODES)}).strip().splitlines()
+    doc = (__doc__ % {"modes": ", ".join(slamlink.MODES), "grid_min": slamlink.GRID_SIDE_MIN,
+                      "grid_max": slamlink.GRID_SIDE_MAX}).strip().splitlines()
     ap = argparse.ArgumentParser(prog="tools/telemetry.py", description=doc[0] + " " + doc[1],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n".join(doc[3:]))
@@ -466,7 +493,7 @@ def main(argv=None):
     p.add_argument("source")
     p.add_argument("--follow", action="store_true", help="keep reading a growing file")
     p.add_argument("--png", help="draw into this PNG file instead of a window")
-    p.add_argument("--every", type=float, default=5.0,
+    p.add_argument("--every", type=slamlink.arg_real(0.01, 1e6), default=5.0,
                    help="with --png and --follow: rewrite the picture this often, s (default 5)")
     p = sub.add_parser("to-readings", help="a log as readings.csv for host_sim --replay")
     p.add_argument("log")
@@ -475,14 +502,15 @@ def main(argv=None):
     p = sub.add_parser("send", help="send a command to the robot and print its answer")
     p.add_argument("port")
     p.add_argument("words", nargs="+", metavar="COMMAND")
-    p.add_argument("--wait", type=float, default=3.0, help="seconds to wait for the answer")
+    p.add_argument("--wait", type=slamlink.arg_real(0.0, 1e6), default=3.0,
+                   help="seconds to wait for the answer")
     p.add_argument("--out", help="with `map`: write the maps into this folder")
     p = sub.add_parser("frame", help="print a command's frame in hex")
     p.add_argument("words", nargs="+", metavar="COMMAND")
     p = sub.add_parser("serve", help="the browser page and the robot's link over a WebSocket")
     p.add_argument("source", help="serial device, pseudo-terminal (or a link to one), or a "
                                   "telemetry file")
-    p.add_argument("--port", type=int, default=8765, help="TCP port (default 8765; 0: any free)")
+    p.add_argument("--port", type=slamlink.arg_int(0, 65535), default=8765, help="TCP port (default 8765; 0: any free)")
     p.add_argument("--host", default="127.0.0.1",
                    help="address to listen on (default 127.0.0.1, this machine only; "
                         "0.0.0.0: every network, e.g. a robot watched over Wi-Fi)")
@@ -493,12 +521,12 @@ def main(argv=None):
     p = sub.add_parser("to-bag", help="a log as a ROS bag (/map, /odom, /tf, /sonar)")
     p.add_argument("log")
     p.add_argument("out", metavar="OUT.bag")
-    p.add_argument("--fov", type=float, default=15.0,
+    p.add_argument("--fov", type=slamlink.arg_real(1.0, 179.0), default=15.0,
                    help="the sonar cone's full width, degrees (default 15, an HC-SR04's)")
-    p.add_argument("--max-range", type=float, default=4.0,
+    p.add_argument("--max-range", type=slamlink.arg_real(0.1, 100.0), default=4.0,
                    help="the sonar's longest range, m (default 4, an HC-SR04's)")
     for p in sub.choices.values():
-        p.add_argument("--baud", type=int, default=115200, help="serial speed (default 115200)")
+        p.add_argument("--baud", type=slamlink.arg_int(1, 2**31 - 1), default=115200, help="serial speed (default 115200)")
     args = ap.parse_args(argv)
     if args.command == "view" and args.every <= 0:
         ap.error("--every must be positive")
@@ -517,6 +545,11 @@ def main(argv=None):
     except Fatal as e:
         print("telemetry %s: %s" % (args.command, e), file=sys.stderr)
         return e.status
+    except MemoryError:
+        # The limits above keep every array a frame asks for small; this is the last word
+        # when the machine has less memory than even that needs.
+        print("telemetry %s: out of memory" % args.command, file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         return 130
     except BrokenPipeError:

@@ -79,6 +79,9 @@ import os
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import slamlink  # noqa: E402  (the one rule for numbers)
+
 RUNS_EACH_WAY = 5  # B&F drive five runs each way
 CAL_RANGE = (0.5, 1.5)  # what slam_config_check() accepts for cal_left, cal_right, cal_base
 HEADER = "direction,x_mm,y_mm"
@@ -98,13 +101,11 @@ def template(n=RUNS_EACH_WAY):
 
 
 def number(text, what, where):
+    """A decimal number, by the rule every tool reads numbers with (slamlink.parse_real)."""
     try:
-        v = float(text)
-    except ValueError:
-        raise Bad("%s: %s '%s' is not a number" % (where, what, text))
-    if not math.isfinite(v):
-        raise Bad("%s: %s '%s' is not a finite number" % (where, what, text))
-    return v
+        return slamlink.parse_real(text, what="%s: %s" % (where, what))
+    except slamlink.NumberError as e:
+        raise Bad(str(e)) from None
 
 
 def read_runs(path):
@@ -352,11 +353,9 @@ def main(argv):
             n = RUNS_EACH_WAY
             if i + 1 < len(args):
                 try:
-                    n = int(args[i + 1])
-                except ValueError:
-                    return usage_error("--template N: '%s' is not a whole number" % args[i + 1])
-                if not 1 <= n <= 50:
-                    return usage_error("--template N: N must lie in 1..50")
+                    n = slamlink.parse_int(args[i + 1], 1, 50, what="--template N")
+                except slamlink.NumberError as e:
+                    return usage_error(str(e))
             sys.stdout.write(template(n))
             return 0
         if a in opts:
@@ -377,10 +376,10 @@ def main(argv):
     for k in ("--side-mm", "--base-mm"):
         if opts[k] is not None:
             try:
-                mm[k] = float(opts[k])
-            except ValueError:
-                return usage_error("%s: '%s' is not a number" % (k, opts[k]))
-            if not math.isfinite(mm[k]) or mm[k] <= 0:
+                mm[k] = slamlink.parse_real(opts[k], what=k)
+            except slamlink.NumberError as e:
+                return usage_error(str(e))
+            if mm[k] <= 0:
                 return usage_error("%s must be a positive number of mm" % k)
     try:
         _, text = calibrate(runs, opts["--config"], mm.get("--side-mm"), mm.get("--base-mm"))

@@ -2,13 +2,12 @@
 /* slam_config_t as `key = value` text: the fields' names and words, parsing and writing. */
 #include "hal_common/config_text.h"
 
-#include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "hal_common/number.h"
 #include "slam/config_fields.h"
 #include "slam/error.h"
 
@@ -18,8 +17,20 @@ typedef struct {
     const char *name;
     size_t offset;
     field_type_t type;
-    const char *words; /* what slam_config_check() accepts, for messages (NULL: the modes) */
+    const char *words;    /* what slam_config_check() accepts, for messages (NULL: the modes) */
+    const char *partners; /* the fields its rule compares it with, space-separated, or NULL */
 } field_t;
+
+/* The other fields each rule of config_fields.h compares a field with: when the rule
+ * fails, the one set last may be the one to blame. */
+#define PARTNERS_NONE NULL
+#define PARTNERS_CELL NULL
+#define PARTNERS_ABOVE_MIN "range_min_um"
+#define PARTNERS_STOPS "sweep_first_mdeg sweep_last_mdeg"
+#define PARTNERS_PULSES "servo_pulse_0deg_us"
+#define PARTNERS_THRESHOLD "om_max om_mode"
+#define PARTNERS_TOP_SPEED "top_speed_mm_s"
+#define PARTNERS_ABOVE_CLEARANCE "clearance_um"
 
 /* The rows of config_fields.h. Their words are the only place the firmware's ranges are
  * said in words: the firmware names only the field. A leading "lo..hi" is the field's
@@ -27,7 +38,7 @@ typedef struct {
  * drift from it unnoticed). */
 static const field_t fields[] = {
 #define F(name, type, dflt, lo, hi, rule, id, live, words) \
-    {#name, offsetof(slam_config_t, name), T_##type, words},
+    {#name, offsetof(slam_config_t, name), T_##type, words, PARTNERS_##rule},
     SLAM_CONFIG_FIELDS(F)
 #undef F
 };
@@ -62,6 +73,12 @@ const char *cfgtext_rule(const char *key)
         return NULL;
     }
     return fields[i].words != NULL ? fields[i].words : mode_words();
+}
+
+const char *cfgtext_partners(const char *key)
+{
+    int i = field_index(key);
+    return i >= 0 ? fields[i].partners : NULL;
 }
 
 unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key)
@@ -130,32 +147,41 @@ static const field_t *known_field(const char *key, char *err, size_t n)
     return &fields[i];
 }
 
-int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
+static int set_text(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
 {
     const field_t *f = known_field(key, err, n);
     if (f == NULL) {
         return -1;
     }
-    char *end = NULL;
-    errno = 0;
     if (f->type == T_Q30) {
-        double v = strtod(value, &end);
-        if (end == value || *end != '\0' || isnan(v)) {
+        double v;
+        num_status_t r = num_real(value, -2.0, 2.0, &v);
+        if (r == NUM_BAD) {
             return bad_value(key, value, "expected a decimal number such as 0.9901", err, n);
         }
-        if (!(v > -2.0 && v < 2.0)) { /* an infinity or ERANGE lands here too */
+        if (r == NUM_RANGE || v == -2.0 || v == 2.0) {
             return bad_value(key, value, "must lie between -2 and 2", err, n);
         }
         return store_int(cfg, f, lround(v * (double)FIX_Q30_ONE), value, err, n);
     }
-    long long v = strtoll(value, &end, 10);
-    if (end == value || *end != '\0') {
-        return bad_value(key, value, "expected a whole number", err, n);
+    long long v;
+    num_status_t r = num_int(value, type_lo[f->type], type_hi[f->type], &v);
+    if (r == NUM_BAD) {
+        return bad_value(key, value, "expected a whole number (decimal digits)", err, n);
     }
-    if (errno == ERANGE) {
+    if (r == NUM_RANGE) {
         return out_of_range(f, value, err, n);
     }
     return store_int(cfg, f, v, value, err, n);
+}
+
+int cfgtext_set(slam_config_t *cfg, const char *key, const char *value, char *err, size_t n)
+{
+    int rc = set_text(cfg, key, value, err, n);
+    if (rc != 0) {
+        cfgtext_escape(err, n);
+    }
+    return rc;
 }
 
 int cfgtext_set_raw(slam_config_t *cfg, const char *key, long long raw, char *err, size_t n)
@@ -224,17 +250,37 @@ int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t 
         field_text(cfg, &fields[i], value, sizeof value);
     }
     const char *rule = cfgtext_rule(bad);
-    snprintf(err, errlen, "%s = %s is out of its valid range%s%s", bad, value,
-             rule != NULL ? ": " : "", rule != NULL ? rule : "");
+    /* The values of the fields its rule compares it with: "(range_min_um = 1000000)". */
+    char others[160] = "";
+    const char *partners = i >= 0 ? fields[i].partners : NULL;
+    for (const char *p = partners; p != NULL && *p != '\0';) {
+        size_t n = strcspn(p, " ");
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)n, p);
+        int k = field_index(name);
+        char v[40] = "?";
+        if (k >= 0) {
+            field_text(cfg, &fields[k], v, sizeof v);
+        }
+        size_t len = strlen(others);
+        snprintf(others + len, sizeof others - len, "%s%s = %s", len == 0u ? " (" : ", ", name, v);
+        p += n + (p[n] == ' ' ? 1u : 0u);
+    }
+    if (others[0] != '\0') {
+        size_t len = strlen(others);
+        snprintf(others + len, sizeof others - len, ")");
+    }
+    snprintf(err, errlen, "%s = %s is out of its valid range%s%s%s", bad, value,
+             rule != NULL ? ": " : "", rule != NULL ? rule : "", others);
     if (key != NULL) {
         *key = bad;
     }
     return -1;
 }
 
-int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
-                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
-                  size_t errlen)
+static int parse_text(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                      cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                      size_t errlen)
 {
     slam_config_t work = *cfg;
     cfgtext_where_t seen;
@@ -297,6 +343,13 @@ int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t 
     char msg[256];
     if (cfgtext_check(&work, &bad, msg, sizeof msg) != 0) {
         unsigned at = cfgtext_where_line(&seen, bad);
+        for (const char *p = cfgtext_partners(bad); at == 0u && p != NULL && *p != '\0';) {
+            size_t n = strcspn(p, " "); /* the rule's other field, set by this file */
+            char partner[64];
+            snprintf(partner, sizeof partner, "%.*s", (int)n, p);
+            at = cfgtext_where_line(&seen, partner);
+            p += n + (p[n] == ' ' ? 1u : 0u);
+        }
         if (at != 0u) {
             snprintf(err, errlen, "%s:%u: %s", name, at, msg);
         } else {
@@ -309,6 +362,17 @@ int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t 
         *where = seen;
     }
     return 0;
+}
+
+int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                  size_t errlen)
+{
+    int rc = parse_text(name, text, len, cfg, other, ctx, where, err, errlen);
+    if (rc != 0) {
+        cfgtext_escape(err, errlen); /* a line of the file, a value or a key may be quoted */
+    }
+    return rc;
 }
 
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,

@@ -1,24 +1,52 @@
 /* SPDX-License-Identifier: MIT */
-/* Reading a whole text file with a size limit: for the parsers of configurations and rooms. */
-#define _POSIX_C_SOURCE 200809L /* fileno */
+/* Opening input files (regular files only) and reading one whole with a size limit: for the
+ * parsers of configurations, rooms and logs. */
+#define _POSIX_C_SOURCE 200809L /* O_CLOEXEC, fdopen */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "hal_common/config_text.h"
 
-char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, size_t errlen)
+FILE *cfgtext_open_file(const char *path, char *err, size_t errlen)
 {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
+    /* Non-blocking: opening a FIFO that no program writes would otherwise wait for ever. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        cfgtext_escape(err, errlen);
         return NULL;
     }
     struct stat st;
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        snprintf(err, errlen, "%s: is a directory", path);
+    const char *why = NULL;
+    if (fstat(fd, &st) != 0) {
+        why = strerror(errno);
+    } else if (S_ISDIR(st.st_mode)) {
+        why = "is a directory";
+    } else if (!S_ISREG(st.st_mode)) {
+        why = "is not a regular file (a FIFO, a device or a socket): give a file";
+    }
+    int flags = why == NULL ? fcntl(fd, F_GETFL) : -1;
+    FILE *f = NULL;
+    if (why == NULL && (flags < 0 || fcntl(fd, F_SETFL, flags & ~O_NONBLOCK) != 0 ||
+                        (f = fdopen(fd, "rb")) == NULL)) {
+        why = strerror(errno);
+    }
+    if (f == NULL) {
+        close(fd);
+        snprintf(err, errlen, "%s: %s", path, why);
+        cfgtext_escape(err, errlen);
+    }
+    return f;
+}
+
+char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, size_t errlen)
+{
+    FILE *f = cfgtext_open_file(path, err, errlen);
+    if (f == NULL) {
         return NULL;
     }
     size_t cap = 4096u;

@@ -119,6 +119,150 @@ static void pass(pass_t *ps, const room_t *r)
     }
 }
 
+/* ---- the tree for nearest-object queries --------------------------------------------------- */
+
+#define BVH_LEAF 4u        /* objects a leaf holds at most */
+#define BVH_MAX_DEPTH 64u  /* beyond, splits halve the count: the depth stays below 96 */
+#define BVH_STACK 128u
+
+/* A node: its box, and either its objects (count > 0: leaf_ids[first ..]) or its children
+ * (count 0: the left one right after it, the right one at `first`). */
+typedef struct room_bvh_node {
+    double x0, y0, x1, y1;
+    uint32_t first, count;
+} room_bvh_node_t;
+
+static inline double dmin(double a, double b)
+{
+    return b < a ? b : a; /* fmin() without its call: no NaN reaches the tree */
+}
+
+static inline double dmax(double a, double b)
+{
+    return b > a ? b : a;
+}
+
+/* The box of segment or circle id. */
+static void object_box(const room_t *r, uint32_t id, double b[4])
+{
+    if (id < r->nsegs) {
+        const room_segment_t *s = &r->segs[id];
+        b[0] = dmin(s->x1, s->x2);
+        b[1] = dmin(s->y1, s->y2);
+        b[2] = dmax(s->x1, s->x2);
+        b[3] = dmax(s->y1, s->y2);
+    } else {
+        const room_circle_t *c = &r->circles[id - r->nsegs];
+        b[0] = c->cx - c->r;
+        b[1] = c->cy - c->r;
+        b[2] = c->cx + c->r;
+        b[3] = c->cy + c->r;
+    }
+}
+
+typedef struct {
+    const double (*box)[4]; /* every object's box, by id */
+    uint32_t *ids;
+    room_bvh_node_t *nodes;
+    uint32_t used;
+} bvh_build_t;
+
+/* The subtree of ids[lo, hi) at node `at`: split at the middle of the objects' centres
+ * along their wider spread (linear work a level, whatever the input), or in halves by
+ * count when that leaves a side empty (equal centres) or the tree grows too deep. */
+static void bvh_node(bvh_build_t *b, uint32_t at, uint32_t lo, uint32_t hi, unsigned depth)
+{
+    room_bvh_node_t *n = &b->nodes[at];
+    double c0[2] = {HOST_INF, HOST_INF};
+    double c1[2] = {-HOST_INF, -HOST_INF};
+    double x0 = HOST_INF;
+    double y0 = HOST_INF;
+    double x1 = -HOST_INF;
+    double y1 = -HOST_INF;
+    for (uint32_t i = lo; i < hi; i++) {
+        const double *bx = b->box[b->ids[i]];
+        x0 = dmin(x0, bx[0]);
+        y0 = dmin(y0, bx[1]);
+        x1 = dmax(x1, bx[2]);
+        y1 = dmax(y1, bx[3]);
+        for (int k = 0; k < 2; k++) {
+            double c = bx[k] + bx[k + 2]; /* twice the centre: halving changes no order */
+            c0[k] = dmin(c0[k], c);
+            c1[k] = dmax(c1[k], c);
+        }
+    }
+    *n = (room_bvh_node_t){x0, y0, x1, y1, lo, hi - lo};
+    if (hi - lo <= BVH_LEAF) {
+        return;
+    }
+    int axis = c1[1] - c0[1] > c1[0] - c0[0] ? 1 : 0;
+    double mid = 0.5 * (c0[axis] + c1[axis]);
+    uint32_t split = lo;
+    if (depth < BVH_MAX_DEPTH && c1[axis] > c0[axis]) {
+        uint32_t i = lo;
+        uint32_t j = hi;
+        while (i < j) { /* those whose centre is below mid first */
+            const double *bx = b->box[b->ids[i]];
+            if (bx[axis] + bx[axis + 2] < mid) {
+                i++;
+            } else {
+                uint32_t t = b->ids[i];
+                b->ids[i] = b->ids[--j];
+                b->ids[j] = t;
+            }
+        }
+        split = i;
+    }
+    if (split == lo || split == hi) {
+        split = lo + (hi - lo) / 2u;
+    }
+    uint32_t left = b->used + 1u; /* the two children side by side */
+    b->used += 2u;
+    n->first = left;
+    n->count = 0u;
+    bvh_node(b, left, lo, split, depth + 1u);
+    bvh_node(b, left + 1u, split, hi, depth + 1u);
+}
+
+/* The tree over every segment and circle; 0, or -1 when out of memory. */
+static int bvh_build(const room_t *r, room_index_t *ix)
+{
+    size_t n = r->nsegs + r->ncircles;
+    ix->nodes = NULL;
+    ix->leaf_ids = NULL;
+    if (n == 0u) {
+        return 0;
+    }
+    double(*box)[4] = malloc(n * sizeof *box);
+    ix->leaf_ids = malloc(n * sizeof *ix->leaf_ids);
+    /* A full binary tree with leaves of at least one object has fewer than 2n nodes. */
+    ix->nodes = malloc(2u * n * sizeof *ix->nodes);
+    if (box == NULL || ix->leaf_ids == NULL || ix->nodes == NULL) {
+        free(box);
+        free(ix->leaf_ids);
+        free(ix->nodes);
+        ix->leaf_ids = NULL;
+        ix->nodes = NULL;
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++) {
+        ix->leaf_ids[i] = (uint32_t)i;
+        object_box(r, (uint32_t)i, box[i]);
+    }
+    bvh_build_t b = {(const double(*)[4])box, ix->leaf_ids, ix->nodes, 0u};
+    bvh_node(&b, 0u, 0u, (uint32_t)n, 0u);
+    free(box);
+    return 0;
+}
+
+/* Squared distance from (x, y) to a node's box (0 inside it). */
+static inline double box_dist2(const room_bvh_node_t *n, double x, double y)
+{
+    double dx = dmax(dmax(n->x0 - x, x - n->x1), 0.0);
+    double dy = dmax(dmax(n->y0 - y, y - n->y1), 0.0);
+    return dx * dx + dy * dy;
+}
+
 int room_index_build(room_t *r)
 {
     size_t n = r->nsegs + r->ncircles + r->nboxes;
@@ -181,6 +325,12 @@ int room_index_build(room_t *r)
     pass_t put_all = {ix, fill};
     pass(&put_all, r);
     free(fill);
+    if (bvh_build(r, ix) != 0) {
+        free(ix->start);
+        free(ix->items);
+        free(ix);
+        return -1;
+    }
     r->index = ix;
     return 0;
 }
@@ -190,6 +340,8 @@ void room_index_free(room_t *r)
     if (r->index != NULL) {
         free(r->index->start);
         free(r->index->items);
+        free(r->index->nodes);
+        free(r->index->leaf_ids);
         free(r->index);
         r->index = NULL;
     }
@@ -237,6 +389,8 @@ size_t room_index_gather(const room_t *r, double x0, double y0, double x1, doubl
         *stamp_now = 1u;
     }
     size_t n = 0u;
+    uint32_t lo = UINT32_MAX;
+    uint32_t hi = 0u;
     for (uint32_t b = b0; b <= b1; b++) {
         for (uint32_t a = a0; a <= a1; a++) {
             size_t m;
@@ -246,56 +400,99 @@ size_t room_index_gather(const room_t *r, double x0, double y0, double x1, doubl
                 if (id < r->nsegs + r->ncircles && stamp[id] != *stamp_now) {
                     stamp[id] = *stamp_now;
                     out[n++] = id;
+                    lo = id < lo ? id : lo;
+                    hi = id > hi ? id : hi;
                 }
             }
         }
     }
-    qsort(out, n, sizeof *out, cmp_u32);
+    /* Ascending: a sort of a few, or for many (a crowd of objects under a long cone) a
+     * pass over the marks of the ids they span, linear rather than n log n. */
+    if (n > 64u && (double)(hi - lo) < (double)n * 8.0) {
+        size_t k = 0u;
+        for (uint32_t id = lo; k < n; id++) {
+            if (stamp[id] == *stamp_now) {
+                out[k++] = id;
+            }
+        }
+    } else {
+        qsort(out, n, sizeof *out, cmp_u32);
+    }
     return n;
 }
 
 int room_index_near(const room_t *r, double x, double y, double cap, double *circle_d,
                     double *seg_d2)
 {
-    double cd = HOST_INF;
-    double sd2 = HOST_INF;
+    const room_index_t *ix = r->index;
     const size_t ns = r->nsegs;
     const size_t nc = r->ncircles;
     uint32_t a0;
     uint32_t a1;
     uint32_t b0;
     uint32_t b1;
-    /* Inside a box or a circle: only the objects of the point's own cell can hold it. */
+    /* Inside a box: only the boxes of the point's own cell can hold it. A cell lists its
+     * objects in ascending order, so its boxes come last: a crowd of walls in the cell is
+     * never looked at for them. */
     room_index_cells(r, x, y, x, y, &a0, &a1, &b0, &b1);
     for (uint32_t b = b0; b <= b1; b++) {
         for (uint32_t a = a0; a <= a1; a++) {
-            size_t n;
-            const uint32_t *it = room_index_cell(r, a, b, &n);
-            for (size_t k = 0; k < n; k++) {
-                if (it[k] >= ns + nc && room_in_box(&r->boxes[it[k] - ns - nc], x, y)) {
+            size_t c = (size_t)b * ix->nx + a;
+            for (size_t k = ix->start[c + 1u]; k > ix->start[c] && ix->items[k - 1u] >= ns + nc;
+                 k--) {
+                examined++;
+                if (room_in_box(&r->boxes[ix->items[k - 1u] - ns - nc], x, y)) {
                     return 1;
                 }
             }
         }
     }
-    room_index_cells(r, x - cap, y - cap, x + cap, y + cap, &a0, &a1, &b0, &b1);
-    for (uint32_t b = b0; b <= b1; b++) {
-        for (uint32_t a = a0; a <= a1; a++) {
-            size_t n;
-            const uint32_t *it = room_index_cell(r, a, b, &n);
-            for (size_t k = 0; k < n; k++) {
-                uint32_t id = it[k];
-                if (id < ns) {
-                    double d2 = room_seg_dist2(&r->segs[id], x, y);
-                    sd2 = d2 < sd2 ? d2 : sd2;
-                } else if (id < ns + nc) {
-                    const room_circle_t *c = &r->circles[id - ns];
-                    double d = hypot(x - c->cx, y - c->cy) - c->r;
-                    cd = d < cd ? d : cd;
+    double cd = HOST_INF;
+    double sd2 = HOST_INF;
+    /* The nearest segment and circle through the tree, nearer child first. A subtree is
+     * left out only when its box lies beyond what the caller makes of the best so far,
+     * min(cap, circle, √segment), by a margin far above any rounding: what room_clearance()
+     * returns is then exactly that of a look at every object. */
+    double best = cap;
+    uint32_t stack[BVH_STACK];
+    unsigned top = 0u;
+    if (cap > 0.0 && ix->nodes != NULL) {
+        stack[top++] = 0u;
+    }
+    uint64_t looked = 0u;
+    while (top > 0u && best > 0.0) {
+        const room_bvh_node_t *n = &ix->nodes[stack[--top]];
+        if (box_dist2(n, x, y) > best * best * (1.0 + 1e-9)) {
+            continue;
+        }
+        if (n->count == 0u) {
+            const room_bvh_node_t *l = &ix->nodes[n->first];
+            const room_bvh_node_t *rt = &ix->nodes[n->first + 1u];
+            bool left_first = box_dist2(l, x, y) <= box_dist2(rt, x, y);
+            stack[top++] = left_first ? n->first + 1u : n->first; /* the farther, later */
+            stack[top++] = left_first ? n->first : n->first + 1u;
+            continue;
+        }
+        for (uint32_t k = 0; k < n->count; k++) {
+            uint32_t id = ix->leaf_ids[n->first + k];
+            if (id < ns) {
+                double d2 = room_seg_dist2(&r->segs[id], x, y);
+                if (d2 < sd2) {
+                    sd2 = d2;
+                    best = fmin(best, sqrt(d2));
+                }
+            } else {
+                const room_circle_t *c = &r->circles[id - ns];
+                double d = hypot(x - c->cx, y - c->cy) - c->r;
+                if (d < cd) {
+                    cd = d;
+                    best = fmin(best, d);
                 }
             }
         }
+        looked += n->count;
     }
+    examined += looked;
     *circle_d = cd;
     *seg_d2 = sd2;
     return 0;

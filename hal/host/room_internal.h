@@ -233,6 +233,12 @@ typedef struct room_index {
                            c = b·nx + a */
     uint32_t *items;
     size_t nitems;
+    /* A bounding-box tree over the segments and circles, for the nearest of them: a
+     * uniform grid sized for the file holds every object of a dense crowd of long walls in
+     * each cell, and one sized for tiny objects makes a clearance look at thousands of
+     * empty cells; the tree costs a few boxes and objects per query either way. */
+    struct room_bvh_node *nodes; /**< node 0 the root; NULL when there are no segments or circles */
+    uint32_t *leaf_ids;          /**< the objects of the leaves, in tree order */
 } room_index_t;
 
 /** Build r->index when the room has ROOM_INDEX_MIN objects or more (else NULL); -1: no memory. */
@@ -266,7 +272,10 @@ size_t room_index_gather(const room_t *r, double x0, double y0, double x1, doubl
 
 /**
  * The nearest circle (signed distance to its outline, < 0 inside) and segment (squared
- * distance) among the objects within cap of (x, y), each INFINITY when none is.
+ * distance) near (x, y), for room_clearance(): what it makes of them, min(cap, circle,
+ * √segment), is that of a look at every object. An object that cannot come nearer than
+ * that (farther than cap, or than a nearer one) may be left out of either figure, each
+ * INFINITY when none is found; with cap 0 only the box test is made.
  * @return 1 when the point lies in a solid box (nothing else is set), else 0
  */
 int room_index_near(const room_t *r, double x, double y, double cap, double *circle_d,

@@ -1,7 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Loading rooms: the .room text format, what both formats share, and the choice between them. */
 #include <ctype.h>
-#include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -9,6 +8,7 @@
 
 #include "host/sim.h"
 #include "hal_common/config_text.h"
+#include "hal_common/number.h"
 #include "room_internal.h"
 #include "room_parse.h"
 
@@ -27,6 +27,7 @@ void room_fail(char *err, size_t errlen, const char *path, unsigned line, const 
     } else {
         snprintf(err, errlen, "%s: %s", path, msg);
     }
+    cfgtext_escape(err, errlen); /* messages quote the file's words */
 }
 
 int room_lines_open(room_lines_t *l, const char *path, const char *text, size_t len, char *err,
@@ -94,19 +95,32 @@ static int vec_push(vec_t *a, const void *item, size_t size)
     return 0;
 }
 
+/* "inf", "-Infinity", "nan"...: not numbers by the rule, but a message says what they are. */
+static bool spells_non_finite(const char *tok)
+{
+    static const char *const words[] = {"inf", "infinity", "nan"};
+    const char *p = tok + (*tok == '+' || *tok == '-');
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; i++) {
+        size_t k = 0;
+        while (words[i][k] != '\0' && tolower((unsigned char)p[k]) == words[i][k]) {
+            k++;
+        }
+        if (words[i][k] == '\0' && p[k] == '\0') {
+            return true;
+        }
+    }
+    return false;
+}
+
 int room_parse_number(const char *tok, double *v)
 {
-    char *end;
-    errno = 0;
-    double d = strtod(tok, &end);
-    if (end == tok || *end != '\0' || isspace((unsigned char)*tok)) {
-        return -1;
+    double d;
+    num_status_t r = num_real(tok, -ROOM_MAX_COORD_M, ROOM_MAX_COORD_M, &d);
+    if (r == NUM_BAD) {
+        return spells_non_finite(tok) ? -2 : -1;
     }
-    if (!isfinite(d) || (errno == ERANGE && fabs(d) > 1.0)) {
-        return -2;
-    }
-    if (fabs(d) > ROOM_MAX_COORD_M) {
-        return -3;
+    if (r == NUM_RANGE) {
+        return num_real(tok, -HUGE_VAL, HUGE_VAL, &d) == NUM_OK ? -3 : -2;
     }
     *v = d;
     return 0;

@@ -48,9 +48,9 @@ int room_lines_next(room_lines_t *l, char **line, char *err, size_t errlen);
 void room_lines_close(room_lines_t *l);
 
 /**
- * A whole token as a number.
- * @return 0; -1 not a number; -2 not finite; -3 beyond ROOM_MAX_COORD_M. A number too small
- *         for a double reads as 0.
+ * A whole token as a real number, by the rule of hal_common/number.h (decimal only).
+ * @return 0; -1 not a number; -2 not finite (inf, nan, or beyond a double); -3 beyond
+ *         ROOM_MAX_COORD_M. A number too small for a double reads as 0.
  */
 int room_parse_number(const char *tok, double *v);
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "hal_common/number.h"
 #include "host/sim.h"
 #include "room_parse.h"
 
@@ -175,8 +176,14 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
     switch (k) {
     case YK_IMAGE:
         val = unquote(val);
-        if (val[0] == '\0' || strlen(val) >= sizeof y->image) {
+        if (val[0] == '\0') {
             room_fail(err, errlen, path, lineno, "image needs a file name");
+            return -1;
+        }
+        if (strlen(val) >= sizeof y->image) {
+            room_fail(err, errlen, path, lineno,
+                      "image: a file name of %zu characters, longer than the %zu taken",
+                      strlen(val), sizeof y->image - 1u);
             return -1;
         }
         strcpy(y->image, val);
@@ -226,9 +233,12 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
             return -1;
         }
         return 0;
-    default:
-        if (room_parse_number(val, &v) != 0) {
-            room_fail(err, errlen, path, lineno, "%s needs a finite number, not '%.40s'", key, val);
+    default: {
+        num_status_t nr = num_real(val, -HUGE_VAL, HUGE_VAL, &v);
+        if (nr == NUM_RANGE) {
+            v = val[0] == '-' ? -HUGE_VAL : HUGE_VAL; /* a number, far out of range */
+        } else if (nr != NUM_OK) {
+            room_fail(err, errlen, path, lineno, "%s needs a decimal number, not '%.40s'", key, val);
             return -1;
         }
         if (k == YK_RESOLUTION) {
@@ -237,8 +247,8 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
                 return -1;
             }
             if (v < ROOM_MIN_RES_M || v > ROOM_MAX_RES_M) {
-                room_fail(err, errlen, path, lineno, "resolution %g m is out of range %g..%g m", v,
-                     ROOM_MIN_RES_M, ROOM_MAX_RES_M);
+                room_fail(err, errlen, path, lineno, "resolution %.40s m is out of range %g..%g m",
+                          val, ROOM_MIN_RES_M, ROOM_MAX_RES_M);
                 return -1;
             }
             y->resolution = v;
@@ -250,6 +260,7 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
             *(k == YK_OCC ? &y->occupied_thresh : &y->free_thresh) = v;
         }
         return 0;
+    }
     }
 }
 

@@ -193,6 +193,80 @@ static void test_queries_look_nearby(void **state)
     room_free(&r);
 }
 
+/* A room of 8 m x 6 m crowded with n objects: tiny posts (1 mm) everywhere, or long walls
+ * (each the room's length) stacked a micrometre apart along its four sides; a clear spot
+ * at (4, 3). */
+static char *crowded_room(uint32_t n, bool posts)
+{
+    size_t cap = (size_t)n * 64u + 256u;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t k = (size_t)snprintf(text, cap, "start 4 3 0\n");
+    test_rng_t rng;
+    test_rng_seed(&rng, 77u);
+    for (uint32_t i = 0; i < n; i++) {
+        if (posts) {
+            double x = 0.01 + 7.98 * test_rng_unit(&rng);
+            double y = 0.01 + 5.98 * test_rng_unit(&rng);
+            if (hypot(x - 4.0, y - 3.0) < 0.3) {
+                continue;
+            }
+            k += (size_t)snprintf(text + k, cap - k, "circle %.6f %.6f 0.001\n", x, y);
+        } else {
+            double e = 1e-6 * (double)(i / 4u);
+            double v[4] = {-e, 8.0 + e, 6.0 + e, -e};
+            double w[4][4] = {{0.0, v[0], 8.0, v[0]}, {v[1], 0.0, v[1], 6.0},
+                              {8.0, v[2], 0.0, v[2]}, {v[3], 6.0, v[3], 0.0}};
+            const double *p = w[i % 4u];
+            k += (size_t)snprintf(text + k, cap - k, "wall %.7f %.7f %.7f %.7f\n", p[0], p[1],
+                                  p[2], p[3]);
+        }
+    }
+    return text;
+}
+
+/* N11: clearance in a crowd costs a few objects a query, not the crowd: 10^5 tiny posts
+ * (a grid sized for them made a query look at thousands of cells) and 10^5 walls a room
+ * long (a grid sized for them held every one in each cell); the answers still those of
+ * the linear scan, bit for bit. The work is counted, never timed. */
+static void test_crowds_stay_cheap(void **state)
+{
+    (void)state;
+    for (int posts = 0; posts < 2; posts++) {
+        char *text = crowded_room(100000u, posts != 0);
+        room_t r;
+        char err[300] = "";
+        if (room_parse(&r, "crowd.room", text, strlen(text), err, sizeof err) != 0) {
+            fail_msg("%s", err);
+        }
+        free(text);
+        assert_non_null(r.index);
+        room_t l = linear(&r);
+        test_rng_t rng;
+        test_rng_seed(&rng, 5u);
+        uint64_t looked = 0u;
+        for (int q = 0; q < 2000; q++) {
+            double x = -0.2 + 8.4 * test_rng_unit(&rng);
+            double y = -0.2 + 6.4 * test_rng_unit(&rng);
+            double cap = q % 2 == 0 ? 0.5 : 0.13;
+            uint64_t before = room_index_examined();
+            double a = room_clearance(&r, x, y, cap);
+            looked += room_index_examined() - before;
+            if (q % 20 == 0) { /* the linear scan looks at all 10^5 */
+                double b = room_clearance(&l, x, y, cap);
+                if (a != b) {
+                    fail_msg("crowd %d at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g",
+                             posts, x, y, cap, a, b);
+                }
+            }
+        }
+        print_message("%s: %.1f of 100000 objects per clearance query\n",
+                      posts ? "posts" : "long walls", (double)looked / 2000.0);
+        assert_true(looked / 2000u <= 60u);
+        room_free(&r);
+    }
+}
+
 /* The simulated robot in such a room: the sonar's cone takes only nearby objects, and its
  * readings are those of the linear scan. */
 static void test_world_in_a_large_room(void **state)
@@ -244,6 +318,7 @@ int main(void)
         cmocka_unit_test(test_index_gives_the_linear_answers),
         cmocka_unit_test(test_degenerate_shapes),
         cmocka_unit_test(test_queries_look_nearby),
+        cmocka_unit_test(test_crowds_stay_cheap),
         cmocka_unit_test(test_world_in_a_large_room),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* Tests of room loading against hostile input: endless files, NUL bytes, huge numbers,
  * crops that cannot be, start poses outside the room; and rooms parsed from memory. */
+#define _POSIX_C_SOURCE 200809L /* mkfifo, truncate */
 #include <math.h>
+#include <sys/stat.h>
 
 #include "host_test.h"
 
@@ -19,16 +21,33 @@ static const char *yaml_for(const char *tag, const char *image, const char *extr
 static void test_size_limits(void **state)
 {
     (void)state;
-    test_load_refused("/dev/zero", NULL, ": larger than 67108864 bytes");
+    /* Inputs are regular files: one that never ends, or a FIFO that no one writes (which
+     * would block for ever), is refused at once. */
+    test_load_refused("/dev/zero", NULL, ": is not a regular file");
     test_load_refused(HOST_TEST_DIR, NULL, ": is a directory");
+    const char *fifo = test_write("fifo.room", "");
+    unlink(fifo);
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    test_load_refused(fifo, NULL, ": is not a regular file (a FIFO");
+    unlink(fifo);
     const char *yaml = yaml_for("zero.yaml", "/dev/zero", "");
-    char want[600];
-    snprintf(want, sizeof want, "/dev/zero: larger than 134217728 bytes");
     room_t r;
     char err[400] = "";
     assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), -1);
-    assert_non_null(strstr(err, want));
+    assert_non_null(strstr(err, "/dev/zero: is not a regular file"));
     unlink(yaml);
+    /* Files larger than a kind's limit: a room, an image (sparse files, no disk used). */
+    const char *big = test_write("big.room", "");
+    assert_int_equal(truncate(big, (off_t)(64 << 20) + 1), 0);
+    test_load_refused(big, NULL, ": larger than 67108864 bytes");
+    const char *bigpgm = test_write("big.pgm", "");
+    assert_int_equal(truncate(bigpgm, (off_t)(128 << 20) + 1), 0);
+    yaml = yaml_for("bigpgm.yaml", bigpgm, "");
+    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), -1);
+    assert_non_null(strstr(err, "big.pgm: larger than 134217728 bytes"));
+    unlink(yaml);
+    unlink(big);
+    unlink(bigpgm);
     /* An image whose header promises more pixels than the limit. */
     const char *pgm = test_write("huge.pgm", "P5\n9000 9000\n255\n");
     yaml = yaml_for("huge.yaml", pgm, "");
@@ -55,6 +74,38 @@ static void test_nul_bytes(void **state)
                                     err, sizeof err),
                      -1);
     assert_string_equal(err, "m.yaml:2: a NUL byte: not a text file");
+}
+
+/* N5: a message quotes the file's words with control bytes escaped, never raw (an xterm
+ * takes ESC ] 0 ; ... BEL as its new title); printable UTF-8 is shown as it is. */
+static void test_messages_escape_control_bytes(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        const char *says;
+    } cases[] = {
+        {"wall \033]0;PWNED\007 0 5 0\nstart 1 1 0\n", "esc.room:1: '\\x1b]0;PWNED\\x07' is not"},
+        {"\033[2Jwall 0 0 5 0\nstart 1 1 0\n", "esc.room:1: unknown keyword '\\x1b[2Jwall'"},
+        {"m\xc3\xbcr 0 0 5 0\nstart 1 1 0\n", "unknown keyword 'm\xc3\xbcr'"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        room_t r;
+        char err[300] = "";
+        assert_int_equal(room_parse(&r, "esc.room", cases[i].text, strlen(cases[i].text), err,
+                                    sizeof err),
+                         -1);
+        if (strstr(err, cases[i].says) == NULL) {
+            fail_msg("case %zu: '%s' does not say '%s'", i, err, cases[i].says);
+        }
+    }
+    static const char yaml[] = "image: \033]0;x\007\nresolution: 0.05\nmode: \033[1m\n";
+    char err[300] = "";
+    room_t r;
+    assert_int_equal(room_parse_ros(&r, "m.yaml", yaml, sizeof yaml - 1u, "x.pgm", "", 0u, NULL,
+                                    err, sizeof err),
+                     -1);
+    assert_string_equal(err, "m.yaml:3: unknown mode '\\x1b[1m'");
 }
 
 /* Numbers a room cannot hold are refused without printing them in full. */
@@ -87,7 +138,27 @@ static void test_huge_numbers(void **state)
         {"image: m.pgm\nresolution: 0.05\norigin: [-2e4, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
          "m.yaml:3: origin lies beyond +-10000 m"},
         {"image: m.pgm\nresolution: 1e-9\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
-         "m.yaml:2: resolution 1e-09 m is out of range 0.001..10 m"},
+         "m.yaml:2: resolution 1e-9 m is out of range 0.001..10 m"},
+        /* Numbers past a double, or far out of range, are out of range, not "not finite". */
+        {"image: m.pgm\nresolution: 1e300\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+         "m.yaml:2: resolution 1e300 m is out of range 0.001..10 m"},
+        {"image: m.pgm\nresolution: 1e999\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+         "m.yaml:2: resolution 1e999 m is out of range 0.001..10 m"},
+        {"image: m.pgm\nresolution: 0x1p-4\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+         "m.yaml:2: resolution needs a decimal number, not '0x1p-4'"},
+        {"image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 2e300\nfree_thresh: 0.2\n",
+         "m.yaml:4: occupied_thresh must lie in 0..1"},
+        /* A long image name says how long, and the limit. */
+        {"image: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+         "aaaaa"
+         ".pgm\nresolution: 0.05\n",
+         "m.yaml:1: image: a file name of 604 characters, longer than the 511 taken"},
         {"image: m.pgm\nresolution: 9\norigin: [9999, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
          "m.yaml:2: the map (2x2 pixels of 9 m from (9999, 0)) reaches beyond +-10000 m"},
     };
@@ -185,6 +256,7 @@ int main(void)
         cmocka_unit_test(test_size_limits),      cmocka_unit_test(test_nul_bytes),
         cmocka_unit_test(test_huge_numbers),     cmocka_unit_test(test_crops),
         cmocka_unit_test(test_parse_equals_load), cmocka_unit_test(test_encloses),
+        cmocka_unit_test(test_messages_escape_control_bytes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -190,6 +190,10 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"sweep_stops = 1\n", "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"},
         {"wheel_base_um = many\n", "wheel_base_um = 'many': expected a whole number"},
         {"sweep_stops = 300\n", "sweep_stops = '300': out of range"},
+        /* Numbers are decimal (hal_common/number.h); control bytes are shown escaped. */
+        {"sonar_timeout_us = 0x7530\n", "sonar_timeout_us = '0x7530': expected a whole number"},
+        {"gpio_chip = \033]0;PWNED\007x\n", "gpio_chip = '\\x1b]0;PWNED\\x07x': holds a control"},
+        {"encoder_bias = \033[31m\n", "encoder_bias = '\\x1b[31m': expected as-is"},
         /* Duplicates of required keys are caught where they repeat. */
         {"sonar_echo = 7\n", ":17: sonar_echo is given twice (first on line 6)"},
         {"encoder_left_a = 18\n", ":17: encoder_left_a is given twice (first on line 1)"},

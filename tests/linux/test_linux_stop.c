@@ -307,6 +307,25 @@ static void test_the_events_thread_killed(void **state)
     assert_stopped_for_a_stall(pid, "watchdog: the events thread (encoders, echo) stopped ");
 }
 
+/* SIGTERM while the output thread hangs in a servo write, before the watchdog's limit (its
+ * clock does not move): the motors stop, the thread is left where it hangs, the maps are
+ * written as the tick left them, and the exit status is 3, a stalled thread, as
+ * documented (it was 0). */
+static void test_sigterm_with_the_output_stuck_exits_3(void **state)
+{
+    (void)state;
+    pid_t pid = start_driving();
+    make_fifo("pwmchip1/pwm0/duty_cycle");
+    wait_until_output_stuck();
+    atomic_store(&sh->quiet, true);
+    assert_int_equal(kill(pid, SIGTERM), 0);
+    assert_int_equal(finish(pid), APP_EXIT_SAFETY);
+    assert_non_null(strstr(file("err.txt"), "a thread did not stop"));
+    assert_motors_ran_and_stopped();
+    assert_true(tmptree_exists(root, "maps/om.pgm"));
+    assert_true(tmptree_exists(root, "maps/tm.pgm"));
+}
+
 /* SIGTERM while the output thread hangs in a servo write and the map cannot be written (its
  * file is a FIFO nobody reads): the first signal stops the motors at once, though a thread
  * is stuck and the program is not done; the second ends it at once. */
@@ -336,6 +355,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_a_servo_write_that_never_returns, setup, teardown),
         cmocka_unit_test_setup_teardown(test_the_events_thread_killed, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sigterm_with_the_output_stuck_exits_3, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sigterm_twice, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -26,11 +26,11 @@ for args, what in [
     (["--seed", "99999999999999999999"], "--seed: '99999999999999999999' is out of range"),
     (["--duration", "1e9"], "--duration: '1e9' is out of range 0.01..1e+06"),
     (["--crop", "1", "2", "3", "1e7"], "--crop: '1e7' is out of range"),
-    (["--start", "1", "x", "0"], "--start: 'x' is not a number"),
+    (["--start", "1", "x", "0"], "--start: 'x' is not a decimal number"),
     (["--error", "noise=0.6"], "--error noise: '0.6' is out of range 0..0.5"),
     (["--crop", "0", "0", "1", "1"], "a crop takes part of a ROS map"),
     (["--start", "6", "2", "0"], "--start 6 2 is outside the room"),
-    (["--room", "/dev/zero"], "/dev/zero: larger than 67108864 bytes"),
+    (["--room", "/dev/zero"], "/dev/zero: is not a regular file"),
     (["--crop", "1", "2", "3"], "--crop"),
     (["--error", "slip"], "NAME=VALUE"),
     (["--error", "wobble=1"], "unknown error source"),
@@ -74,7 +74,7 @@ with open(yaml, "w") as f:
     f.write("image: /dev/zero\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 0.65\n"
             "free_thresh: 0.2\n")
 p = sim.run("--room", yaml, "--out", sim.out("never"), expect=2)
-check("/dev/zero: larger than 134217728 bytes" in p.stderr, "an endless image: exit 2, a stated limit")
+check("/dev/zero: is not a regular file" in p.stderr, "an endless image: exit 2, not a file")
 with open(sim.out("tiny.pgm"), "wb") as f:
     f.write(b"P5\n4 4\n255\n" + bytes([0] * 16))
 yaml = sim.out("tiny.yaml")

@@ -94,7 +94,8 @@ for args, says in [
     (["--set", "cell_um=0"], "--set cell_um=0: cell_um = 0 is out of its valid range: 5000..1000000"),
     (["--set", "sweep_stops=1"], "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"),
     (["--set", "top_speed_mm_s=150"],
-     "configuration: cruise_mm_s = 200 is out of its valid range: 1..5000, at most top_speed_mm_s"),
+     "--set top_speed_mm_s=150: cruise_mm_s = 200 is out of its valid range: 1..5000, at most "
+     "top_speed_mm_s (top_speed_mm_s = 150)"),
     (["--paper", "--set", "om_max=2"],
      "--paper: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"),
     (["--set", "start_cell_a=255"], "--set start_cell_a=255: with the start in cell 255 along x"),

@@ -32,7 +32,8 @@ check(bad + ":6:" in p.stderr and not os.path.exists(sim.out("never")), "a malfo
 cfg = os.path.join(run, "config.txt")
 header = lines[0]
 cases = [
-    ("/dev/null", None, "/dev/null: empty: not a readings.csv"),
+    ("/dev/null", None, "/dev/null: is not a regular file"),
+    ("empty.csv", "", "empty.csv: empty: not a readings.csv"),
     ("nul.csv", header + lines[1][:10] + "\0" + lines[1][10:], ":2: a NUL byte"),
     ("long.csv", header + "1," * 300 + "\n", ":2: line longer than 511 characters"),
     ("fields.csv", header + "1,90,1.0,ok,0\n", ":2: malformed reading: a column is missing"),
@@ -49,12 +50,20 @@ for name, text, says in cases:
     check(says in p.stderr and not os.path.exists(sim.out("never")),
           "%s: exit 2, says '%s', writes nothing" % (name, says))
 
-# A log without readings (a run too short to ping) is a log: an empty map.
+# N8: a log without readings has nothing to replay (an empty map would pass for a result),
+# and a log cut inside its last row would map the cut number: both refused, nothing written.
 hdr = sim.out("header-only.csv")
 with open(hdr, "w") as f:
     f.write(header)
-sim.run("--replay", hdr, "--config", cfg, "--out", sim.out("empty"))
-check(os.path.exists(os.path.join(sim.out("empty"), "om.pgm")), "a header without rows replays to an empty map")
+p = sim.run("--replay", hdr, "--config", cfg, "--out", sim.out("empty"), expect=2)
+check("header-only.csv: a header and no reading" in p.stderr and not os.path.exists(sim.out("empty")),
+      "N8: a header without rows: exit 2, nothing written")
+cut = sim.out("cut.csv")
+with open(cut, "w") as f:
+    f.write("".join(lines[:4]) + lines[4][:-4])  # the heading's last digits lost
+p = sim.run("--replay", cut, "--config", cfg, "--out", sim.out("cut"), expect=2)
+check("cut.csv:5: the last line has no newline" in p.stderr and not os.path.exists(sim.out("cut")),
+      "N8: a file cut inside its last row's heading: exit 2, nothing written")
 
 # The output folder is checked before anything is read or written.
 with open(sim.out("afile"), "w") as f:

@@ -70,10 +70,15 @@ with open(wrong_len, "wb") as f:   # a POSE of 3 bytes with a right CRC, among g
     f.write(good[:hello_end] + slamlink.frame(slamlink.POSE, b"\x01\x02\x03") + good[hello_end:8000])
 cases.append(("dump", wrong_len, 0, "1 bad frames skipped"))
 far_row = sim.out("far-row.log")
-with open(far_row, "wb") as f:     # a map row far outside the grid
-    f.write(good[:hello_end] + slamlink.frame(slamlink.MAP_ROW, struct.pack("<BHH", 0, 60000, 0) + b"\x05" * 10)
+with open(far_row, "wb") as f:     # a map row outside this grid, within what a grid may be
+    f.write(good[:hello_end] + slamlink.frame(slamlink.MAP_ROW, struct.pack("<BHH", 0, 4000, 0) + b"\x05" * 10)
             + good[hello_end:20000])
 cases.append(("view", far_row, 0, "1 map rows outside the grid"))
+beyond = sim.out("beyond-row.log")
+with open(beyond, "wb") as f:      # a row no grid has (4096 cells a side at most): malformed
+    f.write(good[:hello_end] + slamlink.frame(slamlink.MAP_ROW, struct.pack("<BHH", 0, 60000, 0) + b"\x05" * 10)
+            + good[hello_end:20000])
+cases.append(("view", beyond, 0, "1 bad frames skipped"))
 noise = sim.out("noise.log")
 with open(noise, "wb") as f:
     f.write(bytes((i * 7919 + (i >> 3)) % 256 for i in range(20000)) + b"\xa5\x5a\x02\x10" + b"\x00" * 20)
@@ -137,7 +142,7 @@ check(waits == 0 and src.frames > 0,
 p = run_tool("frame", "set", "cruise_mm_s", "150")
 check(p.returncode == 0 and bytes.fromhex(p.stdout.strip()) == slamlink.command(["set", "cruise_mm_s", "150"]),
       "frame prints a command's bytes: %s" % p.stdout.strip())
-for words, what in ((["set", "cruise_mm_s", "x"], "whole number"), (["set", "nokey", "1"], "unknown key"),
+for words, what in ((["set", "cruise_mm_s", "x"], "whole decimal number"), (["set", "nokey", "1"], "unknown key"),
                     (["mode", "spiral"], "spiral"), (["fly"], "expected a command"),
                     (["set", "square_laps", "300"], "does not fit")):
     p = run_tool("frame", *words)

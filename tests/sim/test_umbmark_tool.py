@@ -163,8 +163,10 @@ check(p.returncode == 0 and keys(p.stdout)["cal_base"] != keys(written)["cal_bas
 bad = [
     ("cw,1,2\nccw,3\n", "bad.csv:2:", "expected 'cw|ccw,x_mm,y_mm'"),
     ("cw,1,2\nup,3,4\n", "bad.csv:2:", "neither cw nor ccw"),
-    ("cw,1,2\nccw,three,4\n", "bad.csv:2:", "x_mm 'three' is not a number"),
-    ("cw,1,nan\nccw,3,4\n", "bad.csv:1:", "not a finite number"),
+    ("cw,1,2\nccw,three,4\n", "bad.csv:2:", "x_mm: 'three' is not a decimal number"),
+    ("cw,1,nan\nccw,3,4\n", "bad.csv:1:", "y_mm: 'nan' is not a decimal number"),
+    ("cw,1,0x10\nccw,3,4\n", "bad.csv:1:", "y_mm: '0x10' is not a decimal number"),
+    ("cw,1,1e400\nccw,3,4\n", "bad.csv:1:", "y_mm: '1e400' is out of range"),
     ("cw,,\nccw,3,4\n", "bad.csv:1:", "missing"),
     ("cw,1,2\ndirection,x_mm,y_mm\nccw,3,4\n", "bad.csv:2:", "header must come before"),
     ("cw,1,2\ncw,3,4\n", "bad.csv:", "no ccw runs"),

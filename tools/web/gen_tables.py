@@ -42,7 +42,8 @@ def tables():
         "map": {"occupied": slamlink.MAP_OCCUPIED, "free": slamlink.MAP_FREE,
                 "unknown": slamlink.MAP_UNKNOWN, "evidenceZero": slamlink.EVIDENCE_ZERO,
                 "omCount": slamlink.OM_COUNT, "omEvidence": slamlink.OM_EVIDENCE,
-                "yaml": slamlink.MAP_YAML},
+                "yaml": slamlink.MAP_YAML, "sideMin": slamlink.GRID_SIDE_MIN,
+                "sideMax": slamlink.GRID_SIDE_MAX},
         "tickS": slamlink.TICK_S,
     }
 

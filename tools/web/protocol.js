@@ -145,7 +145,9 @@
 
   /**
    * A frame as an object, the same keys and values as slamlink.decode(); null when its
-   * length is not its type's (a malformed frame, counted as bad).
+   * length is not its type's, or a field the page would trust holds what no robot sends (a
+   * malformed frame, counted as bad): a HELLO's grid is T.map.sideMin..sideMax cells a side,
+   * a map row lies within such a grid.
    */
   function decode(type, p) {
     const n = p.length;
@@ -153,7 +155,11 @@
     const u32 = (o) => v.getUint32(o, true);
     const i32 = (o) => v.getInt32(o, true);
     const u16 = (o) => v.getUint16(o, true);
+    const side = (c) => c >= T.map.sideMin && c <= T.map.sideMax;
     if (type === HELLO && (n === 19 || n === 39 || n === 42)) {
+      if (!side(u16(1)) || !side(u16(3))) {
+        return null;
+      }
       const d = {type: "hello", version: p[0], a: u16(1), b: u16(3), cell_um: u32(5),
         origin_x_um: i32(9), origin_y_um: i32(13), om_max: p[17], tm_max: p[18],
         om_mode: T.map.omCount};
@@ -174,6 +180,9 @@
         range_um: u32(10), x_um: i32(14), y_um: i32(18), heading: u32(22)};
     }
     if (type === MAP_ROW && n >= 5) {
+      if (u16(1) >= T.map.sideMax || u16(3) + n - 5 > T.map.sideMax) {
+        return null;
+      }
       return {type: "map_row", map: p[0], row: u16(1), first: u16(3), cells: p.subarray(5)};
     }
     if (type === STATUS && (n === 32 || n === 42)) {

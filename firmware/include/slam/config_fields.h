@@ -41,8 +41,12 @@
 
 /** A position stays within 1 km of the origin, far from the int32_t µm limits (±2147 m). */
 #define SLAM_CONFIG_WORLD_LIMIT_UM 1000000000
-/** The sonar's servo axis stays within 1 m of the wheel axle. */
-#define SLAM_CONFIG_MOUNT_LIMIT_UM 1000000
+/** The sonar's servo axis sits on the robot: at most 100 mm behind the wheel axle, 200 mm
+ *  ahead of it and 100 mm to a side (farther, in 18 simulated minutes over the shipped
+ *  rooms, the robot ran into walls it had not seen: 1 m behind or beside, every run). */
+#define SLAM_CONFIG_MOUNT_BACK_UM 100000
+#define SLAM_CONFIG_MOUNT_AHEAD_UM 200000
+#define SLAM_CONFIG_MOUNT_SIDE_UM 100000
 
 /** The words of explore_mode: its range and the names of explore_modes.h's rows. */
 #define SLAM_CONFIG_WORDS_MODES NULL
@@ -85,14 +89,17 @@
     X(range_min_um, U32, 20000, 0, 1000000, NONE, 20, LIVE,                                     \
       "0..1000000, below confidence_radius_um")                                                 \
     X(sound_speed_mm_per_s, U32, 343000, 300000, 400000, NONE, 21, LIVE, "300000..400000")      \
-    X(mount_x_um, I32, 50000, -SLAM_CONFIG_MOUNT_LIMIT_UM, SLAM_CONFIG_MOUNT_LIMIT_UM, NONE,   \
-      22, LIVE, "-1000000..1000000")                                                            \
-    X(mount_y_um, I32, 0, -SLAM_CONFIG_MOUNT_LIMIT_UM, SLAM_CONFIG_MOUNT_LIMIT_UM, NONE, 23,   \
-      LIVE, "-1000000..1000000")                                                                \
-    X(mount_yaw_mdeg, I32, 0, -180000, 180000, NONE, 24, LIVE, "-180000..180000")               \
-    /* Sweep. */                                                                                \
-    X(sweep_first_mdeg, I32, 65000, 0, 180000, NONE, 25, FIXED, "0..180000")                    \
-    X(sweep_last_mdeg, I32, 155000, 0, 180000, NONE, 26, FIXED, "0..180000")                    \
+    X(mount_x_um, I32, 50000, -SLAM_CONFIG_MOUNT_BACK_UM, SLAM_CONFIG_MOUNT_AHEAD_UM, NONE,     \
+      22, LIVE, "-100000..200000 (on the robot: behind or ahead of the wheel axle)")            \
+    X(mount_y_um, I32, 0, -SLAM_CONFIG_MOUNT_SIDE_UM, SLAM_CONFIG_MOUNT_SIDE_UM, NONE, 23,      \
+      LIVE, "-100000..100000 (on the robot: beside its middle)")                                \
+    X(mount_yaw_mdeg, I32, 0, -20000, 20000, NONE, 24, LIVE,                                    \
+      "-20000..20000 (a mounting error: the sonar faces forward)")                              \
+    /* Sweep: it always takes in straight ahead, the servo's 90 degrees. */                     \
+    X(sweep_first_mdeg, I32, 65000, 0, 90000, NONE, 25, FIXED,                                  \
+      "0..90000 (the sweep takes in straight ahead, 90 degrees)")                               \
+    X(sweep_last_mdeg, I32, 155000, 90000, 180000, NONE, 26, FIXED,                             \
+      "90000..180000 (the sweep takes in straight ahead, 90 degrees)")                          \
     X(sweep_stops, U8, 6, 1, SLAM_SWEEP_STOPS_MAX, STOPS, 27, FIXED,                            \
       "1..16, and 1 only when sweep_first_mdeg equals sweep_last_mdeg")                         \
     X(settle_ticks, U8, 3, 1, UINT8_MAX, NONE, 28, FIXED, "1..255")                             \
@@ -108,7 +115,8 @@
     /* Motion. */                                                                               \
     X(top_speed_mm_s, U16, 300, 50, 5000, NONE, 35, LIVE,                                       \
       "50..5000, at least cruise_mm_s and turn_mm_s")                                           \
-    X(accel_mm_s2, U16, 500, 10, 50000, NONE, 36, LIVE, "10..50000")                            \
+    X(accel_mm_s2, U16, 500, 100, 50000, NONE, 36, LIVE,                                        \
+      "100..50000 (gentler, the robot runs into a wall before it stops)")                       \
     X(motion_kp_q8, U16, 64, 0, 2048, NONE, 37, LIVE, "0..2048")                                \
     X(motion_ki_q8, U16, 8, 0, 2048, NONE, 38, LIVE, "0..2048")                                 \
     /* Exploration. */                                                                          \

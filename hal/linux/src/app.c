@@ -3,7 +3,6 @@
 #define _GNU_SOURCE /* getopt_long */
 #include "lhal/app.h"
 
-#include <errno.h>
 #include <getopt.h>
 #include <signal.h>
 #include <stdbool.h>
@@ -15,6 +14,7 @@
 
 #include "hal/hal.h"
 #include "hal_common/mapexport.h"
+#include "hal_common/number.h"
 #include "lhal/lconf.h"
 #include "lhal/lhal.h"
 #include "lhal/mapfile.h"
@@ -195,6 +195,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     if (!clean) {
         fprintf(err, APP_NAME ": a thread did not stop; the maps are written as the tick "
                      "left them\n");
+        status = APP_EXIT_SAFETY; /* a stalled thread, whatever ended the run (README) */
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
     if (clean) {
@@ -232,11 +233,8 @@ int app_main(int argc, char **argv, FILE *out, FILE *err)
             check = true;
             break;
         case 't': {
-            char *end = NULL;
-            errno = 0;
-            unsigned long v = strtoul(optarg, &end, 10);
-            if (end == optarg || *end != '\0' || errno != 0 || v == 0u || v > UINT32_MAX ||
-                optarg[0] == '-') {
+            unsigned long long v = 0u;
+            if (num_uint(optarg, 1u, UINT32_MAX, &v) != NUM_OK) {
                 fprintf(err, APP_NAME ": --ticks '%s': expected a whole number of ticks >= 1\n", optarg);
                 return APP_EXIT_USAGE;
             }

@@ -2,12 +2,12 @@
 /* robot.conf's backend keys: one table of keys, value parsing, and the checks of the whole. */
 #include "lhal/lconf.h"
 
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "hal_common/config_text.h"
+#include "hal_common/number.h"
 #include "lhal/serial.h"
 
 typedef enum { K_LINE, K_OPT_LINE, K_PWM, K_OPT_PWM, K_U32, K_BAUD, K_BOOL, K_STR, K_BIAS } key_type_t;
@@ -135,17 +135,10 @@ static int bad(const char *key, const char *value, const char *why, char *err, s
     return -2;
 }
 
-/* A whole decimal number in [lo, hi]. */
+/* A whole number in [lo, hi], by the rule of hal_common/number.h. */
 static bool parse_int(const char *s, long long lo, long long hi, long long *out)
 {
-    char *end = NULL;
-    errno = 0;
-    long long v = strtoll(s, &end, 10);
-    if (end == s || *end != '\0' || errno != 0 || v < lo || v > hi) {
-        return false;
-    }
-    *out = v;
-    return true;
+    return num_int(s, lo, hi, out) == NUM_OK;
 }
 
 static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size_t n)
@@ -220,6 +213,11 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
     default: /* K_STR */
         if (v[0] == '\0') {
             return bad(k->name, v, "must not be empty", err, n);
+        }
+        for (const char *p = v; *p != '\0'; p++) {
+            if ((unsigned char)*p < 0x20u || *p == 0x7F) { /* a name or path, never a control */
+                return bad(k->name, v, "holds a control character", err, n);
+            }
         }
         if (strlen(v) >= k->size) {
             snprintf(why, sizeof why, "longer than %u characters", (unsigned)(k->size - 1u));

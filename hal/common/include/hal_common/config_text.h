@@ -66,9 +66,17 @@ unsigned cfgtext_where_line(const cfgtext_where_t *w, const char *key);
 const char *cfgtext_rule(const char *key);
 
 /**
- * slam_config_check() with a message that gives the key, its value and its valid range.
+ * The other fields the rule of @p key compares it with ("range_min_um" for
+ * confidence_radius_um), space-separated; NULL for none or an unknown key.
+ */
+const char *cfgtext_partners(const char *key);
+
+/**
+ * slam_config_check() with a message that gives the key, its value and its valid range,
+ * and the values of the fields its rule compares it with.
  * @param key  out (may be NULL): the first bad key, a static string
- * @return 0, or -1 with err set ("KEY = VALUE is out of its valid range: RULE")
+ * @return 0, or -1 with err set ("KEY = VALUE is out of its valid range: RULE", then
+ *         "(OTHER = VALUE, ...)" when a rule compares it with others)
  */
 int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t errlen);
 
@@ -110,13 +118,32 @@ int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, v
                  cfgtext_where_t *where, char *err, size_t errlen);
 
 /**
- * A whole file into memory, with a NUL after its @p len bytes; refused when it is a
- * directory or holds more than @p limit bytes (never reading more than one byte beyond).
+ * Open an input file for reading: a regular file only. A directory, a FIFO, a device or a
+ * socket is refused, and opening never waits (a FIFO without a writer would block for
+ * ever, /dev/zero never ends): every input of these programs is a file read to its end.
+ * @return the file, or NULL with "PATH: reason" in err
+ */
+FILE *cfgtext_open_file(const char *path, char *err, size_t errlen);
+
+/**
+ * A whole file into memory, with a NUL after its @p len bytes; refused when it is not a
+ * regular file (cfgtext_open_file()) or holds more than @p limit bytes (never reading more
+ * than one byte beyond).
  * @return the text (free() it), or NULL with "PATH: reason" in err
  */
 char *cfgtext_read_file(const char *path, size_t limit, size_t *len, char *err, size_t errlen);
 
 /** Trim white space at both ends of @p s, in place; returns the new start. */
 char *cfgtext_trim(char *s);
+
+/**
+ * Make a message that quotes input safe to print: in place, every byte that is not
+ * printable ASCII or part of a printable UTF-8 character (control bytes, DEL, C1 controls,
+ * broken UTF-8) becomes "\xNN", so a file cannot retitle or drive the terminal that shows
+ * its error. The result is cut to fit @p cap bytes with its NUL, at a whole character or
+ * escape. Escaping twice changes nothing more. Every message of this library that quotes
+ * input is escaped so; the room loaders and host_sim use it for theirs.
+ */
+void cfgtext_escape(char *s, size_t cap);
 
 #endif /* HAL_COMMON_CONFIG_TEXT_H */
