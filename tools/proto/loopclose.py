@@ -4,32 +4,35 @@
 
 The firmware's own estimate (scoring_estimate.csv, with its Kalman wall matching) is the
 odometry of this method. The path is cut into segments of `seg_hits` hits; a segment is
-moved as one rigid piece by a correction C (map = C ∘ estimate). At the end of every
-segment:
+moved as one rigid piece by a correction C (map = C ∘ estimate). Each segment carries an
+uncertainty u, in metres of path since the pose was last fixed (u grows with the path; a
+closure sets it from the visit it matched). Every `every` segments:
 
-1. the scan: the hits of the last `scan_segs` segments (and, with `far_max`, echoes beyond
-   rc up to that range, for matching only), placed with their segments' corrections;
-2. the reference: the hits of the segments that ended at least `min_age` seconds before
-   the scan began, as a likelihood field (Gaussian of the distance to the nearest cell
-   holding `ref_min` hits, σ `field_sigma`);
-3. a revisit: at least `overlap` of the scan's points lie within `overlap_m` of the
-   reference; otherwise nothing is tried;
-4. a correlative search of the scan's pose over ±window (the pose's uncertainty since the
-   loop's start: `gate_xy0` + `gate_xy1`·√d metres, `gate_th0` + `gate_th1`·√d degrees,
-   d the path since then, clipped to `max_xy`, `max_th`), coarse then fine, rotating about
-   the robot;
-5. gates: the best mean field value at least `min_score` and above the uncorrected pose's
-   by `min_gain`; the peak sharp (the score-weighted spread of the pose `max_spread_m`,
-   `max_spread_deg`); the step outside a dead band (`dead_m`, `dead_deg`), else nothing to do;
-6. confirmation: the next attempt, within `confirm_within` segments, finds the same step
-   within `agree_m`/`agree_deg` (`confirm` = 0 applies the first);
-7. the correction: the loop runs from the later of the last closure and the youngest
-   reference segment the scan matched, to now; the heading step is spread along it by path
-   length, then the remaining shift (`spread` = "path"; "none": only from now on).
+1. the scan: the hits of the last `scan_segs` segments (with `far_max`, also the echoes
+   beyond rc up to that range, for matching only), placed with their corrections;
+2. the visits: the older segments whose hits fall near the scan and that ended at least
+   `d_min` metres of path before the scan began, grouped into runs of consecutive
+   segments (a visit: one pass of the robot by this place); the `max_visits` most
+   certain (lowest u) with at least `visit_min_pts` hits near the scan are matched, each
+   on its own, so that two passes drawn apart never blur one reference;
+3. for each: a likelihood field of the visit's hits (Gaussian of the distance to the
+   nearest hit cell, σ `field_sigma`) and a correlative search of the scan's pose over
+   ±window (the pose's uncertainty relative to that visit: `gate_xy0` + `gate_xy1`·√d
+   metres, `gate_th0` + `gate_th1`·√d degrees, d the path between them through the
+   anchors, clipped to `max_xy`, `max_th`), coarse then fine, turning about the robot;
+4. gates: mean field value at least `min_score`; the peak sharp (score-weighted spread
+   of the pose under `max_spread_m`, `max_spread_deg`); not at the window's edge;
+5. confirmation (`confirm`): two matches that agree within `agree_m`/`agree_deg`, from
+   two visits in one attempt or from consecutive attempts;
+6. the correction: a step inside the dead band (`dead_m`, `dead_deg`) only fixes u; a
+   larger one runs from the later of the last closure and the matched visit's last
+   segment to now: the heading step is spread along the path by length, then the
+   remaining shift (`spread` "path"; "none": from now on only).
 
 Every reading's final pose is its segment's final correction ∘ its estimate; the pose
 the robot held then (for counting wrong closures and for the integrity flag) is the
-correction of that moment ∘ its estimate.
+correction of that moment ∘ its estimate. A closure is wrong when it moves the robot's
+pose away from the truth by more than `wrong_m` or `wrong_deg`.
 
     tools/proto/evaluate.py dev lc [--set key=value ...]
     tools/proto/loopclose.py RUN_DIR [key=value ...]   # one run, with the closures listed
@@ -43,53 +46,65 @@ from scipy import ndimage
 import lpcommon as lp
 
 DEFAULTS = dict(
-    seg_hits=32, scan_segs=6, min_age=60.0, far_max=0.0,
-    field_sigma=0.06, ref_min=1,
-    overlap=0.5, overlap_m=0.3,
-    gate_xy0=0.10, gate_xy1=0.04, gate_th0=1.5, gate_th1=0.4, max_xy=0.5, max_th=8.0,
-    min_score=0.45, min_gain=0.05, max_spread_m=0.06, max_spread_deg=1.5,
-    dead_m=0.0, dead_deg=0.0,
-    confirm=1, confirm_within=2, agree_m=0.06, agree_deg=1.0,
-    spread="path", min_pts=60, ref_truth=0, u_margin=-1.0, u_frac=1.0, u_close=1.0,
+    seg_hits=32, scan_segs=6, every=1, d_min=15.0, far_max=0.0,
+    field_sigma=0.06, margin=0.3,
+    max_visits=3, visit_min_pts=40, min_pts=60,
+    gate_xy0=0.10, gate_xy1=0.05, gate_th0=1.5, gate_th1=0.4, max_xy=0.8, max_th=8.0,
+    min_score=0.5, max_spread_m=0.05, max_spread_deg=1.5,
+    dead_m=0.03, dead_deg=0.5,
+    confirm=1, agree_m=0.05, agree_deg=1.0,
+    spread="path", pick="u",
     coarse_xy=0.05, coarse_th=1.0, fine_xy=0.0125, fine_th=0.25,
     wrong_m=0.05, wrong_deg=1.0,
 )
 
 
-class Grid:
-    """A raster over the run's whole area, at the map's cell size."""
-
-    def __init__(self, pts, cell):
-        lo = pts.min(axis=0) - 3.0
-        hi = pts.max(axis=0) + 3.0
-        self.cell = cell
-        self.o = lo
-        self.shape = (int((hi[1] - lo[1]) / cell) + 1, int((hi[0] - lo[0]) / cell) + 1)
-
-    def idx(self, p):
-        """(row, col) of points, clipped to the raster."""
-        c = np.floor((p - self.o) / self.cell).astype(np.int64)
-        return (np.clip(c[..., 1], 0, self.shape[0] - 1), np.clip(c[..., 0], 0, self.shape[1] - 1))
+def transform_pts(C, p):
+    """Points p (n×2) under the correction C (x, y, th)."""
+    c, s = math.cos(C[2]), math.sin(C[2])
+    return np.stack([c * p[:, 0] - s * p[:, 1] + C[0], s * p[:, 0] + c * p[:, 1] + C[1]], axis=1)
 
 
-def transform_about(p, pivot, d):
-    """Points turned by d[2] about pivot, then shifted by d[:2]."""
+def turn_about(p, pivot, d):
     c, s = math.cos(d[2]), math.sin(d[2])
     q = p - pivot
     return np.stack([c * q[:, 0] - s * q[:, 1], s * q[:, 0] + c * q[:, 1]], axis=1) + pivot + d[:2]
 
 
-def search(field, grid, pts, pivot, win_xy, win_th, P):
-    """Best (dx, dy, dth) of pts over the field, coarse then fine; with the score of the
-    uncorrected pose and the score-weighted spread of the fine grid's poses."""
+class Field:
+    """A likelihood field of reference points over a local window."""
+
+    def __init__(self, ref, lo, hi, cell, sigma):
+        self.o = lo
+        self.cell = cell
+        self.shape = (int((hi[1] - lo[1]) / cell) + 1, int((hi[0] - lo[0]) / cell) + 1)
+        occ = np.zeros(self.shape, bool)
+        r, c = self.idx(ref)
+        occ[r, c] = True
+        d = ndimage.distance_transform_edt(~occ)
+        self.f = np.exp(-0.5 * (d * cell / sigma) ** 2)
+        self.f[0, :] = self.f[-1, :] = 0.0
+        self.f[:, 0] = self.f[:, -1] = 0.0
+
+    def idx(self, p):
+        c = np.floor((p - self.o) / self.cell).astype(np.int64)
+        return (np.clip(c[..., 1], 0, self.shape[0] - 1), np.clip(c[..., 0], 0, self.shape[1] - 1))
+
+    def score(self, p):
+        r, c = self.idx(p)
+        return self.f[r, c]
+
+
+def search(field, pts, pivot, win_xy, win_th, P):
+    """Best (dx, dy, dth) of pts over the field, coarse then fine; the score there, the
+    score of the unmoved scan, and the score-weighted spread of the coarse poses."""
     def scores(dxs, dys, dths):
         out = np.empty((len(dths), len(dys), len(dxs)))
         for k, th in enumerate(dths):
-            q = transform_about(pts, pivot, (0.0, 0.0, th))
+            q = turn_about(pts, pivot, (0.0, 0.0, th))
             qx = q[:, 0][None, None, :] + dxs[None, :, None]
             qy = q[:, 1][None, None, :] + dys[:, None, None]
-            r, c = grid.idx(np.stack(np.broadcast_arrays(qx, qy), axis=-1))
-            out[k] = field[r, c].mean(axis=-1)
+            out[k] = field.score(np.stack(np.broadcast_arrays(qx, qy), axis=-1)).mean(axis=-1)
         return out
 
     n_xy = max(1, int(round(win_xy / P["coarse_xy"])))
@@ -104,209 +119,237 @@ def search(field, grid, pts, pivot, win_xy, win_th, P):
     sf = scores(fx, fy, fth)
     k2, j2, i2 = np.unravel_index(np.argmax(sf), sf.shape)
     best = np.array([fx[i2], fy[j2], fth[k2]])
-    zero = scores(np.array([0.0]), np.array([0.0]), np.array([0.0]))[0, 0, 0]
-    # Spread: poses of the coarse grid weighted by how close their score is to the best
-    # (a ridge along a lone wall spreads along it).
+    zero = float(field.score(pts).mean())
     w = np.exp((sc - sc.max()) / 0.02)
     W = w.sum()
     TH, Y, X = np.meshgrid(cth, cx, cx, indexing="ij")
     mx, my, mt = (w * X).sum() / W, (w * Y).sum() / W, (w * TH).sum() / W
-    cxx = (w * (X - mx) ** 2).sum() / W
-    cyy = (w * (Y - my) ** 2).sum() / W
-    cxy = (w * (X - mx) * (Y - my)).sum() / W
+    cov = np.array([[(w * (X - mx) ** 2).sum(), (w * (X - mx) * (Y - my)).sum()],
+                    [(w * (X - mx) * (Y - my)).sum(), (w * (Y - my) ** 2).sum()]]) / W
+    ev = np.linalg.eigvalsh(cov)
     ctt = (w * (TH - mt) ** 2).sum() / W
-    ev = np.linalg.eigvalsh(np.array([[cxx, cxy], [cxy, cyy]]))
-    return best, float(sf.max()), float(zero), math.sqrt(max(ev[1], 0)), math.sqrt(ctt), \
-        int(sc.size + sf.size)
+    edge = abs(i) == len(cx) - 1 or i == 0 or j == 0 or j == len(cx) - 1 or \
+        (n_th > 1 and (k == 0 or k == len(cth) - 1))
+    return {"step": best, "score": float(sf.max()), "zero": zero,
+            "spread_m": math.sqrt(max(ev[1], 0.0)), "spread_deg": math.degrees(math.sqrt(ctt)),
+            "edge": bool(edge), "poses": int(sc.size + sf.size + 1)}
 
 
 def spread_loop(C, anchors, a, b, delta, pivot, mode):
     """New corrections of nodes a..b (inclusive) so that node b moves by delta (turned
     about pivot, then shifted) and node a stays; later nodes take node b's."""
-    P = lp.compose(C[a:b + 1], anchors[a:b + 1])          # corrected anchor poses
+    P = lp.compose(C[a:b + 1], anchors[a:b + 1])
     Pb = P[-1].copy()
-    tgt_xy = transform_about(Pb[None, :2], pivot, delta)[0]
+    tgt_xy = turn_about(Pb[None, :2], pivot, delta)[0]
     tgt = np.array([tgt_xy[0], tgt_xy[1], lp.wrap(Pb[2] + delta[2])])
     if mode == "none" or b == a:
-        newC = lp.compose(tgt, lp.inverse(anchors[b]))
-        C[b:] = newC
+        C[b:] = lp.compose(tgt, lp.inverse(anchors[b]))
         return
-    seg = np.hypot(np.diff(P[:, 0]), np.diff(P[:, 1]))
-    s = np.r_[0.0, np.cumsum(seg)]
+    s = np.r_[0.0, np.cumsum(np.hypot(np.diff(P[:, 0]), np.diff(P[:, 1])))]
     w = s / s[-1] if s[-1] > 1e-6 else np.linspace(0, 1, len(s))
     Q = P.copy()
     for i in range(1, len(P)):
-        u = lp.between(P[i - 1], P[i])
-        Q[i] = lp.compose(Q[i - 1], u)
+        Q[i] = lp.compose(Q[i - 1], lp.between(P[i - 1], P[i]))
         Q[i, 2] = lp.wrap(Q[i, 2] + (w[i] - w[i - 1]) * delta[2])
-    r = tgt[:2] - Q[-1, :2]
-    Q[:, :2] += w[:, None] * r[None, :]
+    Q[:, :2] += w[:, None] * (tgt[:2] - Q[-1, :2])[None, :]
     Q[-1] = tgt
     C[a:b + 1] = lp.compose(Q, lp.inverse(anchors[a:b + 1]))
     C[b + 1:] = C[b]
 
 
+class Closer:
+    """The state of the method over one run."""
+
+    def __init__(self, run, P):
+        self.run, self.P = run, P
+        est = run.est
+        hit = run.hits_mask()
+        hit_idx = np.nonzero(hit)[0]
+        nseg = max(1, len(hit_idx) // P["seg_hits"])
+        ends = hit_idx[np.minimum(np.arange(1, nseg + 1) * P["seg_hits"] - 1, len(hit_idx) - 1)]
+        ends[-1] = run.n - 1
+        self.starts = np.r_[0, ends[:-1] + 1]
+        self.ends = ends
+        self.nseg = nseg
+        self.seg_of = np.repeat(np.arange(nseg), self.ends - self.starts + 1)
+        self.anchors = est[self.starts]
+        self.C = np.zeros((nseg, 3))
+        self.held = np.zeros((run.n, 3))
+        pts = run.points(est)
+        far = np.isfinite(run.range) & (run.range >= run.rc) & (run.range < P["far_max"]) \
+            if P["far_max"] > 0 else np.zeros(run.n, bool)
+        self.hit_pts = [pts[s:e + 1][hit[s:e + 1]] for s, e in zip(self.starts, self.ends)]
+        self.scan_pts = [pts[s:e + 1][(hit | far)[s:e + 1]] for s, e in zip(self.starts, self.ends)]
+        self.path = np.r_[0.0, np.cumsum(np.hypot(np.diff(est[:, 0]), np.diff(est[:, 1])))]
+        self.p_start = self.path[self.starts]
+        self.p_end = self.path[self.ends]
+        seg_len = self.p_end - self.p_start
+        self.seg_len = np.r_[self.p_start[1:] - self.p_start[:-1], seg_len[-1]]
+        self.u = np.cumsum(self.seg_len)
+        self.bbox = np.zeros((nseg, 4))
+        for j in range(nseg):
+            self.update_bbox(j)
+        self.last_closure = 0
+        self.pending = None
+        self.log = []
+        self.counts = {"attempts": 0, "accepted": 0, "consistent": 0, "wrong": 0,
+                       "refused_score": 0, "refused_spread": 0, "refused_edge": 0,
+                       "refused_confirm": 0, "no_visit": 0, "lookups": 0, "fields": 0}
+        self.attempt_log = []
+
+    def update_bbox(self, j):
+        p = self.hit_pts[j]
+        if len(p) == 0:
+            self.bbox[j] = (np.inf, np.inf, -np.inf, -np.inf)
+            return
+        q = transform_pts(self.C[j], p)
+        self.bbox[j] = (q[:, 0].min(), q[:, 1].min(), q[:, 0].max(), q[:, 1].max())
+
+    def placed(self, j, which="hit"):
+        return transform_pts(self.C[j], (self.hit_pts if which == "hit" else self.scan_pts)[j])
+
+    def visits(self, k0, lo, hi):
+        """Runs of consecutive old segments with hits in the box lo..hi."""
+        P = self.P
+        jmax = int(np.searchsorted(self.p_end, self.p_start[k0] - P["d_min"], side="right"))
+        if jmax <= 0:
+            return []
+        b = self.bbox[:jmax]
+        near = (b[:, 0] <= hi[0]) & (b[:, 2] >= lo[0]) & (b[:, 1] <= hi[1]) & (b[:, 3] >= lo[1])
+        js = np.nonzero(near)[0]
+        out = []
+        for j in js:
+            if out and j - out[-1][-1] <= 2:
+                out[-1].append(j)
+            else:
+                out.append([j])
+        return out
+
+    def attempt(self, k):
+        P, run = self.P, self.run
+        k0 = k - P["scan_segs"] + 1
+        scan = np.concatenate([self.placed(j, "scan") for j in range(k0, k + 1)])
+        if len(scan) < P["min_pts"]:
+            return
+        pose_now = lp.compose(self.C[k], run.est[self.ends[k]])
+        pivot = pose_now[:2]
+        m = P["max_xy"] + P["margin"]
+        lo, hi = scan.min(axis=0) - m, scan.max(axis=0) + m
+        cands = []
+        for v in self.visits(k0, lo, hi):
+            ref = np.concatenate([self.placed(j) for j in v])
+            inside = np.all((ref >= lo) & (ref <= hi), axis=1)
+            if inside.sum() < P["visit_min_pts"]:
+                continue
+            # The uncertainty between the visit and now: through the anchors, or along
+            # the path between them.
+            uv = float(self.u[v].min())
+            d = min(self.u[k] + uv, self.p_end[k] - self.p_end[v[-1]])
+            cands.append((uv if P["pick"] == "u" else v[0], v, ref[inside], d))
+        if not cands:
+            self.counts["no_visit"] += 1
+            return
+        self.counts["attempts"] += 1
+        cands.sort(key=lambda c: c[0])
+        good = []
+        for _, v, ref, d in cands[:P["max_visits"]]:
+            win_xy = min(P["max_xy"], P["gate_xy0"] + P["gate_xy1"] * math.sqrt(d))
+            win_th = math.radians(min(P["max_th"], P["gate_th0"] + P["gate_th1"] * math.sqrt(d)))
+            f = Field(ref, lo, hi, run.cell, P["field_sigma"])
+            r = search(f, scan, pivot, win_xy, win_th, P)
+            self.counts["fields"] += 1
+            self.counts["lookups"] += r["poses"] * len(scan)
+            why = None
+            if r["score"] < P["min_score"]:
+                why = "score"
+            elif r["spread_m"] > P["max_spread_m"] or r["spread_deg"] > P["max_spread_deg"]:
+                why = "spread"
+            elif r["edge"]:
+                why = "edge"
+            self.attempt_log.append((k, v[0], v[-1], d, r["step"].tolist(), r["score"], r["zero"],
+                                     r["spread_m"], r["spread_deg"], why))
+            if why:
+                self.counts["refused_" + why] += 1
+                continue
+            good.append((v, r, d))
+        if not good:
+            return
+        v, r, d = good[0]
+        step = r["step"]
+        confirmed = not P["confirm"]
+        for v2, r2, _ in good[1:]:
+            if self.agree(step, r2["step"]):
+                confirmed = True
+        if self.pending is not None and self.pending[0] >= k - P["every"] and \
+                self.agree(step, self.pending[1]):
+            confirmed = True
+        if not confirmed:
+            self.pending = (k, step)
+            self.counts["refused_confirm"] += 1
+            return
+        self.pending = None
+        self.apply(k, v, step, pivot, pose_now, r, d)
+
+    def agree(self, a, b):
+        P = self.P
+        return math.hypot(a[0] - b[0], a[1] - b[1]) <= P["agree_m"] and \
+            abs(math.degrees(a[2] - b[2])) <= P["agree_deg"]
+
+    def apply(self, k, v, step, pivot, pose_now, r, d):
+        P, run = self.P, self.run
+        uv = float(self.u[v].min())
+        small = math.hypot(step[0], step[1]) < P["dead_m"] and abs(math.degrees(step[2])) < P["dead_deg"]
+        a = max(self.last_closure, v[-1])
+        if small:
+            self.counts["consistent"] += 1
+        else:
+            before = lp.pose_err(pose_now[None, :], run.true[self.ends[k]][None, :])
+            spread_loop(self.C, self.anchors, a, k, step, pivot, P["spread"])
+            after_pose = lp.compose(self.C[k], run.est[self.ends[k]])
+            after = lp.pose_err(after_pose[None, :], run.true[self.ends[k]][None, :])
+            bad = (after[0][0] > before[0][0] + P["wrong_m"]) or \
+                (math.degrees(after[1][0] - before[1][0]) > P["wrong_deg"])
+            self.counts["accepted"] += 1
+            self.counts["wrong"] += int(bad)
+            self.log.append({"t": float(run.t[self.ends[k]]), "seg": k, "from": int(a),
+                             "visit": [int(v[0]), int(v[-1])], "d_m": float(d),
+                             "step": [float(step[0]), float(step[1]), float(math.degrees(step[2]))],
+                             "score": r["score"], "zero": r["zero"],
+                             "spread": [r["spread_m"], r["spread_deg"]],
+                             "err_before": [float(before[0][0]), float(math.degrees(before[1][0]))],
+                             "err_after": [float(after[0][0]), float(math.degrees(after[1][0]))],
+                             "wrong": bool(bad)})
+            for j in range(a, k + 1):
+                self.update_bbox(j)
+        s = self.p_end[k] - self.p_end[a:k + 1]
+        self.u[a:k + 1] = np.minimum(self.u[a:k + 1], uv + s)
+        self.u[k + 1:] = self.u[k] + np.cumsum(self.seg_len[k + 1:])
+        self.last_closure = k
+
+    def run_all(self):
+        P = self.P
+        for k in range(self.nseg):
+            self.held[self.starts[k]:self.ends[k] + 1] = self.C[k]
+            if k >= P["scan_segs"] - 1 and k % P["every"] == 0:
+                self.attempt(k)
+        final = lp.compose(self.C[self.seg_of], self.run.est)
+        held = lp.compose(self.held, self.run.est)
+        return final, held
+
+
 def close_loops(run, **kw):
     P = dict(DEFAULTS)
     P.update(kw)
-    est = run.est
-    hit = run.hits_mask()
-    hit_idx = np.nonzero(hit)[0]
-    far = np.isfinite(run.range) & (run.range >= run.rc) & (run.range < P["far_max"]) \
-        if P["far_max"] > 0 else np.zeros(run.n, bool)
-    # Segments: every seg_hits hits; a reading belongs to the segment of the next hit.
-    nseg = max(1, len(hit_idx) // P["seg_hits"])
-    ends = hit_idx[np.minimum((np.arange(1, nseg + 1) * P["seg_hits"]) - 1, len(hit_idx) - 1)]
-    ends[-1] = run.n - 1
-    starts = np.r_[0, ends[:-1] + 1]
-    seg_of = np.zeros(run.n, np.int64)
-    for k in range(nseg):
-        seg_of[starts[k]:ends[k] + 1] = k
-    anchors = est[starts]
-    C = np.zeros((nseg, 3))                       # correction of each segment, now
-    held = np.zeros((run.n, 3))                   # correction the robot held at each reading
-    # Local points of each hit in the estimate frame (placed by C of its segment later).
-    pts_est = run.points(est)
-    path = np.r_[0.0, np.cumsum(np.hypot(np.diff(est[:, 0]), np.diff(est[:, 1])))]
-    grid = Grid(pts_est[hit | far], run.cell)
-    cell = run.cell
-    sig_cells = P["field_sigma"] / cell
-    last_closure = 0
-    pending = None
-    log = []
-    acc = ref_cnt = wrong = 0
-    refused = {"score": 0, "gain": 0, "spread": 0, "gate": 0, "confirm": 0}
-    ops = 0
-    attempts = 0
-    ref_valid_upto = -1
-    seg_len = np.r_[path[starts[1:]] - path[starts[:-1]], path[-1] - path[starts[-1]]]
-    u = np.cumsum(seg_len)                        # uncertainty: path since an anchor
-    ref_u = np.full(grid.shape, np.inf)
-    ref_count = np.zeros(grid.shape, np.int32)
-    ref_young = np.full(grid.shape, -1, np.int64)
-    field = None
-
-    def place(ks, mask, truth=False):
-        """World points of the readings of segments ks selected by mask, with the
-        segment ids."""
-        sel = np.concatenate([np.arange(starts[k], ends[k] + 1) for k in ks])
-        sel = sel[mask[sel]]
-        corr = C[seg_of[sel]]
-        p = run.true[sel] if truth else lp.compose(corr, est[sel])
-        sx, sy, b = run.beam(p, sel)
-        r = run.range[sel]
-        return np.stack([sx + r * np.cos(b), sy + r * np.sin(b)], axis=1), seg_of[sel]
-
-    def rebuild(upto, u_max):
-        nonlocal ref_count, ref_young, field
-        ref_count[:] = 0
-        ref_young[:] = -1
-        ref_u[:] = np.inf
-        ks = [j for j in range(upto + 1) if u[j] <= u_max]
-        if ks:
-            p, sid = place(ks, hit, bool(P["ref_truth"]))
-            r, c = grid.idx(p)
-            np.add.at(ref_count, (r, c), 1)
-            np.maximum.at(ref_young, (r, c), sid)
-            np.minimum.at(ref_u, (r, c), u[sid])
-        occ = ref_count >= P["ref_min"]
-        if occ.any():
-            d = ndimage.distance_transform_edt(~occ)
-            field = np.exp(-0.5 * (d / sig_cells) ** 2)
-        else:
-            field = None
-
-    for k in range(nseg):
-        held[starts[k]:ends[k] + 1] = C[k]
-        t_now = run.t[ends[k]]
-        k0 = max(0, k - P["scan_segs"] + 1)
-        t_scan = run.t[starts[k0]]
-        # The reference: every segment that ended min_age before the scan began.
-        upto = int(np.searchsorted(run.t[ends], t_scan - P["min_age"], side="right")) - 1
-        u_max = np.inf if P["u_margin"] < 0 else min(u[k] - P["u_margin"], u[k] * P["u_frac"])
-        rebuild(upto, u_max)
-        ref_valid_upto = upto
-        if field is None or k - k0 + 1 < P["scan_segs"]:
-            continue
-        pts, _ = place(range(k0, k + 1), hit | far)
-        if len(pts) < P["min_pts"]:
-            continue
-        rr, cc = grid.idx(pts)
-        near = field[rr, cc] > math.exp(-0.5 * (P["overlap_m"] / P["field_sigma"]) ** 2)
-        if near.mean() < P["overlap"]:
-            continue
-        attempts += 1
-        # The loop's start: the later of the last closure and the youngest reference
-        # segment near the scan.
-        young = ref_young[rr, cc]
-        youngest = int(young.max()) if (young >= 0).any() else 0
-        a = max(last_closure, youngest)
-        d = path[ends[k]] - path[starts[a]]
-        win_xy = min(P["max_xy"], P["gate_xy0"] + P["gate_xy1"] * math.sqrt(max(d, 0)))
-        win_th = math.radians(min(P["max_th"], P["gate_th0"] + P["gate_th1"] * math.sqrt(max(d, 0))))
-        pose_now = lp.compose(C[k], est[ends[k]])
-        pivot = pose_now[:2]
-        best, s_best, s_zero, spr_xy, spr_th, nops = search(field, grid, pts, pivot, win_xy,
-                                                             win_th, P)
-        ops += nops * len(pts)
-        why = None
-        if s_best < P["min_score"]:
-            why = "score"
-        elif s_best - s_zero < P["min_gain"] and (abs(best[0]) > 1e-9 or abs(best[1]) > 1e-9 or abs(best[2]) > 1e-9):
-            why = "gain"
-        elif spr_xy > P["max_spread_m"] or math.degrees(spr_th) > P["max_spread_deg"]:
-            why = "spread"
-        elif math.hypot(best[0], best[1]) > 0.9 * win_xy or abs(best[2]) > 0.9 * win_th:
-            why = "gate"  # at the edge of the window: the peak may lie outside it
-        if why:
-            refused[why] += 1
-            pending = None
-            continue
-        if math.hypot(best[0], best[1]) < P["dead_m"] and abs(math.degrees(best[2])) < P["dead_deg"]:
-            pending = None
-            continue
-        if P["confirm"]:
-            if pending is None or k - pending[0] > P["confirm_within"] or \
-                    math.hypot(*(best[:2] - pending[1][:2])) > P["agree_m"] or \
-                    abs(math.degrees(best[2] - pending[1][2])) > P["agree_deg"]:
-                if pending is not None:
-                    refused["confirm"] += 1
-                pending = (k, best)
-                continue
-        pending = None
-        # Apply.
-        before = lp.pose_err(pose_now[None, :], run.true[ends[k]][None, :])
-        spread_loop(C, anchors, a, k, best, pivot, P["spread"])
-        after_pose = lp.compose(C[k], est[ends[k]])
-        after = lp.pose_err(after_pose[None, :], run.true[ends[k]][None, :])
-        bad = (after[0][0] > before[0][0] + P["wrong_m"]) or \
-            (math.degrees(after[1][0] - before[1][0]) > P["wrong_deg"])
-        acc += 1
-        wrong += bool(bad)
-        log.append({"t": float(t_now), "seg": k, "from": a, "d_m": float(d),
-                    "step": [float(best[0]), float(best[1]), float(math.degrees(best[2]))],
-                    "score": s_best, "gain": s_best - s_zero, "spread": [spr_xy, math.degrees(spr_th)],
-                    "err_before": [float(before[0][0]), float(math.degrees(before[1][0]))],
-                    "err_after": [float(after[0][0]), float(math.degrees(after[1][0]))],
-                    "wrong": bool(bad)})
-        last_closure = k
-        # The loop's segments are now as certain as its two ends make them.
-        matched = ref_u[rr, cc][np.isfinite(ref_u[rr, cc])]
-        u_ref = float(np.median(matched)) if len(matched) else u[a]
-        s_loop = np.cumsum(seg_len[a:k + 1])
-        s_loop = s_loop[-1] - s_loop
-        u[a:k + 1] = np.minimum(u[a:k + 1], u_ref * P["u_close"] + s_loop)
-        u[k + 1:] = u[k] + np.cumsum(seg_len[k + 1:])
-    final = lp.compose(C[seg_of], est)
-    held_pose = lp.compose(held, est)
-    info = {"accepted": acc, "refused": sum(refused.values()), "wrong": wrong,
-            "refused_by": refused, "attempts": attempts, "segments": nseg,
-            "lookups": ops}
-    return final, held_pose, info, log
+    c = Closer(run, P)
+    final, held = c.run_all()
+    info = dict(c.counts)
+    info["refused"] = sum(v for k, v in c.counts.items() if k.startswith("refused_"))
+    info["segments"] = c.nseg
+    return final, held, info, c
 
 
 def run_method(run, **kw):
-    final, held, info, log = close_loops(run, **kw)
+    final, held, info, _ = close_loops(run, **kw)
     pe, he = lp.pose_err(held, run.true)
     info["held_pos_mean"] = float(pe.mean())
     info["held_bad_share"] = float(((pe > 0.3) | (he > math.radians(5))).mean())
@@ -319,16 +362,19 @@ def main(argv):
     for a in argv[2:]:
         k, v = a.split("=", 1)
         kw[k] = type(DEFAULTS[k])(v) if not isinstance(DEFAULTS[k], str) else v
-    final, held, info, log = close_loops(run, **kw)
-    for e in log:
-        print("t %7.1f seg %4d from %4d d %6.1f m step %+.3f %+.3f %+.2f° score %.2f gain %.2f "
-              "spread %.3f %.2f err %.3f/%.1f° -> %.3f/%.1f°%s" % (
-                  e["t"], e["seg"], e["from"], e["d_m"], *e["step"], e["score"], e["gain"],
-                  *e["spread"], *e["err_before"], *e["err_after"], " WRONG" if e["wrong"] else ""))
+    final, held, info, c = close_loops(run, **kw)
+    for e in c.log:
+        print("t %7.1f seg %4d from %4d visit %d-%d d %6.1f m step %+.3f %+.3f %+.2f° score %.2f "
+              "(%.2f) spread %.3f %.2f err %.3f/%.1f° -> %.3f/%.1f°%s" % (
+                  e["t"], e["seg"], e["from"], *e["visit"], e["d_m"], *e["step"], e["score"],
+                  e["zero"], *e["spread"], *e["err_before"], *e["err_after"],
+                  " WRONG" if e["wrong"] else ""))
     print(info)
     s_est = run.score(run.est)["f1"]
     s = run.score(final)["f1"]
-    print("F1 own %.3f est %.3f lc %.3f true %.3f" % (run.own_f1(), s_est, s, run.true_f1()))
+    pe, _ = lp.pose_err(held, run.true)
+    print("F1 own %.3f est %.3f lc %.3f true %.3f; held pos err mean %.3f (est %.3f)" % (
+        run.own_f1(), s_est, s, run.true_f1(), pe.mean(), lp.pose_err(run.est, run.true)[0].mean()))
 
 
 if __name__ == "__main__":

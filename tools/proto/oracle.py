@@ -17,9 +17,11 @@ import numpy as np
 import lpcommon as lp
 
 
-def returns(run, radius=0.5, away=60.0):
-    """Indices of the readings at which the robot returns to a place left `away` s ago."""
+def returns(run, radius=0.5, away=60.0, with_earlier=False):
+    """Indices of the readings at which the robot returns to a place left `away` s ago
+    (with the index of the first and of the last earlier visit)."""
     last = {}
+    first = {}
     events = []
     prev_ev_t = -1e9
     for i in range(0, run.n):
@@ -27,11 +29,12 @@ def returns(run, radius=0.5, away=60.0):
         key = (int(np.floor(x / radius)), int(np.floor(y / radius)))
         t = run.t[i]
         was = last.get(key)
-        if was is not None and t - was >= away and t - prev_ev_t >= 5.0:
-            events.append(i)
+        if was is not None and t - run.t[was] >= away and t - prev_ev_t >= 5.0:
+            events.append((i, first[key], was))
             prev_ev_t = t
-        last[key] = t
-    return events
+        last[key] = i
+        first.setdefault(key, i)
+    return events if with_earlier else [e[0] for e in events]
 
 
 def corrections_at(run, idx):
@@ -64,3 +67,80 @@ def oracle_fwd(run):
 
 def oracle_rep(run):
     return oracle(run, True)
+
+
+def consistent(run, which=1, repair=True):
+    """Closures that are perfect but only consistent: at a return, the pose error is set
+    to the one the robot had at its first (which=1) or last (which=2) earlier visit of
+    the place, as a match against the map drawn then would set it."""
+    ev = returns(run, with_earlier=True)
+    corr = np.zeros((run.n, 3))
+    if not ev:
+        return run.est.copy(), {"closures": 0}
+    idx = [e[0] for e in ev]
+    tgt = []
+    for i, f, l in ev:
+        j = f if which == 1 else l
+        e = run.est[j] - run.true[j]
+        p = run.true[i] + e
+        tgt.append(p)
+    cs = lp.compose(np.array(tgt), lp.inverse(run.est[idx]))
+    for k, i in enumerate(idx):
+        end = idx[k + 1] if k + 1 < len(idx) else run.n
+        corr[i:end] = cs[k]
+        if repair:
+            i0 = idx[k - 1] if k > 0 else 0
+            c0 = cs[k - 1] if k > 0 else np.zeros(3)
+            w = (run.t[i0:i] - run.t[i0]) / max(run.t[i] - run.t[i0], 1e-9)
+            d = cs[k] - c0
+            d[2] = lp.wrap(d[2])
+            corr[i0:i] = c0 + w[:, None] * d
+    return lp.compose(corr, run.est), {"closures": len(idx)}
+
+
+def oracle_first(run):
+    return consistent(run, 1)
+
+
+def oracle_last(run):
+    return consistent(run, 2)
+
+
+def graph(run, which=(1, 2), node_every=20, sxy=0.03, sth_deg=0.5, loop_sxy=0.02,
+          loop_sth_deg=0.3, noise_m=0.0, noise_deg=0.0, ev_gap=5.0):
+    """The ceiling of loop closure: a pose graph over the firmware's estimate (nodes
+    every `node_every` readings, edges of its relative motion) with a perfect constraint
+    (the true relative pose) at every return to a place, to its first (1) and/or last (2)
+    earlier visit; node 0 fixed. Each reading takes its node's correction."""
+    import posegraph
+    ev = returns(run, with_earlier=True)
+    keep, last_t = [], -1e9
+    for e in ev:
+        if run.t[e[0]] - last_t >= ev_gap:
+            keep.append(e)
+            last_t = run.t[e[0]]
+    ev = keep
+    rng = np.random.default_rng(1)
+    nodes = np.arange(0, run.n, node_every)
+    path = np.r_[0.0, np.cumsum(np.hypot(np.diff(run.est[:, 0]), np.diff(run.est[:, 1])))]
+    x0 = run.est[nodes]
+    edges = posegraph.odometry_edges(x0, path[nodes], sxy, sth_deg)
+    info = np.array([1 / loop_sxy ** 2, 1 / loop_sxy ** 2, 1 / np.radians(loop_sth_deg) ** 2])
+    for i, f, l in ev:
+        for w, j in ((1, f), (2, l)):
+            if w in which:
+                ni, nj = i // node_every, j // node_every
+                if ni != nj:
+                    z = lp.between(run.true[nodes[nj]], run.true[nodes[ni]])
+                    z = z + rng.normal(0, 1, 3) * [noise_m, noise_m, np.radians(noise_deg)]
+                    edges.append((nj, ni, z, info))
+    x = posegraph.solve(x0, edges)
+    corr = lp.compose(x, lp.inverse(x0))
+    seg = np.minimum(np.arange(run.n) // node_every, len(nodes) - 1)
+    return lp.compose(corr[seg], run.est), {"closures": len(ev)}
+
+
+def oracle_graph(run, **kw):
+    if "which" in kw:
+        kw["which"] = tuple(kw["which"])
+    return graph(run, **kw)

@@ -1,0 +1,86 @@
+# SPDX-License-Identifier: MIT
+"""A small 2-D pose graph: nodes are poses (x, y, th), edges relative poses with a
+diagonal information; solved by Gauss-Newton on a sparse system, node 0 held fixed.
+
+Used by oracle.py (perfect loop constraints: the ceiling of any loop closure given the
+firmware's odometry) and loopclose.py (the matched constraints).
+"""
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.linalg import spsolve
+
+import lpcommon as lp
+
+
+def solve(x0, edges, iters=8, fixed=(0,)):
+    """x0: n×3 initial poses; edges: list of (i, j, z (3,), info (3,)) meaning
+    between(x_i, x_j) ≈ z with information diag(info). Returns the optimised poses."""
+    x = np.array(x0, dtype=float)
+    n = len(x)
+    E = len(edges)
+    I = np.array([e[0] for e in edges])
+    J = np.array([e[1] for e in edges])
+    Z = np.array([e[2] for e in edges], dtype=float)
+    W = np.array([e[3] for e in edges], dtype=float)
+    fixed = set(fixed)
+    for _ in range(iters):
+        xi, xj = x[I], x[J]
+        c, s = np.cos(xi[:, 2]), np.sin(xi[:, 2])
+        dx, dy = xj[:, 0] - xi[:, 0], xj[:, 1] - xi[:, 1]
+        # predicted relative pose
+        px = c * dx + s * dy
+        py = -s * dx + c * dy
+        pt = lp.wrap(xj[:, 2] - xi[:, 2])
+        r = np.stack([px - Z[:, 0], py - Z[:, 1], lp.wrap(pt - Z[:, 2])], axis=1)
+        # Jacobians (3×3 each) w.r.t. xi and xj
+        Ji = np.zeros((E, 3, 3))
+        Jj = np.zeros((E, 3, 3))
+        Ji[:, 0, 0], Ji[:, 0, 1], Ji[:, 0, 2] = -c, -s, -s * dx + c * dy
+        Ji[:, 1, 0], Ji[:, 1, 1], Ji[:, 1, 2] = s, -c, -c * dx - s * dy
+        Ji[:, 2, 2] = -1.0
+        Jj[:, 0, 0], Jj[:, 0, 1] = c, s
+        Jj[:, 1, 0], Jj[:, 1, 1] = -s, c
+        Jj[:, 2, 2] = 1.0
+        rows, cols, vals = [], [], []
+        b = np.zeros(3 * n)
+        for (A, ia), (B, ib) in (((Ji, I), (Ji, I)), ((Ji, I), (Jj, J)), ((Jj, J), (Ji, I)),
+                                 ((Jj, J), (Jj, J))):
+            H = np.einsum("eki,ek,ekj->eij", A, W, B)
+            for p in range(3):
+                for q in range(3):
+                    rows.append(3 * ia + p)
+                    cols.append(3 * ib + q)
+                    vals.append(H[:, p, q])
+        for A, ia in ((Ji, I), (Jj, J)):
+            g = np.einsum("eki,ek,ek->ei", A, W, r)
+            for p in range(3):
+                np.add.at(b, 3 * ia + p, g[:, p])
+        rows = np.concatenate(rows)
+        cols = np.concatenate(cols)
+        vals = np.concatenate(vals)
+        # fix nodes: strong prior
+        for f in fixed:
+            for p in range(3):
+                rows = np.append(rows, 3 * f + p)
+                cols = np.append(cols, 3 * f + p)
+                vals = np.append(vals, 1e12)
+        H = coo_matrix((vals, (rows, cols)), shape=(3 * n, 3 * n)).tocsc()
+        dxv = spsolve(H, -b)
+        x += dxv.reshape(n, 3)
+        x[:, 2] = lp.wrap(x[:, 2])
+        if np.abs(dxv).max() < 1e-6:
+            break
+    return x
+
+
+def odometry_edges(poses, path, sxy=0.02, sth_deg=0.3, floor_m=0.05):
+    """Edges between consecutive poses, their information falling with the path between
+    them (σ² = s² · max(d, floor))."""
+    out = []
+    for i in range(len(poses) - 1):
+        d = max(path[i + 1] - path[i], floor_m)
+        z = lp.between(poses[i], poses[i + 1])
+        info = np.array([1.0 / (sxy ** 2 * d), 1.0 / (sxy ** 2 * d),
+                         1.0 / (np.radians(sth_deg) ** 2 * d)])
+        out.append((i, i + 1, z, info))
+    return out
