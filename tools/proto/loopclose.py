@@ -42,20 +42,23 @@ import sys
 
 import numpy as np
 from scipy import ndimage
+from scipy.spatial import cKDTree
 
 import lpcommon as lp
+import posegraph
 
 DEFAULTS = dict(
     seg_hits=32, scan_segs=6, every=1, d_min=15.0, far_max=0.0,
-    field_sigma=0.06, margin=0.3,
-    max_visits=3, visit_min_pts=40, min_pts=60,
+    field_sigma=0.06, margin=0.3, overlap=0.6,
+    max_visits=2, visit_min_pts=40, min_pts=60, visit_segs=8, visit_pick="first,last",
     gate_xy0=0.10, gate_xy1=0.05, gate_th0=1.5, gate_th1=0.4, max_xy=0.8, max_th=8.0,
-    min_score=0.5, max_spread_m=0.05, max_spread_deg=1.5,
+    min_score=0.7, max_spread_m=0.04, max_spread_deg=99.0,
     dead_m=0.03, dead_deg=0.5,
     confirm=1, agree_m=0.05, agree_deg=1.0,
-    spread="path", pick="u",
+    spread="graph", pick="u",
+    odo_sxy=0.03, odo_sth=0.5, loop_sxy=0.04, loop_sth=3.0, gn_iters=3,
     coarse_xy=0.05, coarse_th=1.0, fine_xy=0.0125, fine_th=0.25,
-    wrong_m=0.05, wrong_deg=1.0,
+    wrong_m=0.05, wrong_deg=1.0, truth_z=0, est_truth=0, robust=0.0, theta=1, base="est", sig_m=0.0, sig_deg=0.0, keep_small=1,
 )
 
 
@@ -98,24 +101,40 @@ class Field:
 def search(field, pts, pivot, win_xy, win_th, P):
     """Best (dx, dy, dth) of pts over the field, coarse then fine; the score there, the
     score of the unmoved scan, and the score-weighted spread of the coarse poses."""
+    H, W = field.shape
+    flat = field.f.ravel()
+    cell = field.cell
+
     def scores(dxs, dys, dths):
         out = np.empty((len(dths), len(dys), len(dxs)))
+        ux, uy = dxs / cell, dys / cell
+        ix, fx = np.floor(ux).astype(np.int64), ux - np.floor(ux)
+        iy, fy = np.floor(uy).astype(np.int64), uy - np.floor(uy)
+        fxs = np.unique(np.round(fx, 6))
+        fys = np.unique(np.round(fy, 6))
         for k, th in enumerate(dths):
-            q = turn_about(pts, pivot, (0.0, 0.0, th))
-            qx = q[:, 0][None, None, :] + dxs[None, :, None]
-            qy = q[:, 1][None, None, :] + dys[:, None, None]
-            out[k] = field.score(np.stack(np.broadcast_arrays(qx, qy), axis=-1)).mean(axis=-1)
+            q = (turn_about(pts, pivot, (0.0, 0.0, th)) - field.o) / cell
+            for a in fxs:
+                sx = np.nonzero(np.abs(fx - a) < 1e-6)[0]
+                bx = np.floor(q[:, 0] + a).astype(np.int64)
+                for b in fys:
+                    sy = np.nonzero(np.abs(fy - b) < 1e-6)[0]
+                    by = np.floor(q[:, 1] + b).astype(np.int64)
+                    base = by * W + bx
+                    off = (iy[sy] * W)[:, None] + ix[sx][None, :]
+                    idx = np.clip(base[None, None, :] + off[:, :, None], 0, H * W - 1)
+                    out[k][np.ix_(sy, sx)] = flat[idx].mean(axis=-1)
         return out
 
     n_xy = max(1, int(round(win_xy / P["coarse_xy"])))
-    n_th = max(1, int(round(win_th / math.radians(P["coarse_th"]))))
+    n_th = max(1, int(round(win_th / math.radians(P["coarse_th"])))) if P["theta"] else 0
     cx = np.arange(-n_xy, n_xy + 1) * P["coarse_xy"]
     cth = np.arange(-n_th, n_th + 1) * math.radians(P["coarse_th"])
     sc = scores(cx, cx, cth)
     k, j, i = np.unravel_index(np.argmax(sc), sc.shape)
     fx = cx[i] + np.arange(-4, 5) * P["fine_xy"]
     fy = cx[j] + np.arange(-4, 5) * P["fine_xy"]
-    fth = cth[k] + np.arange(-4, 5) * math.radians(P["fine_th"])
+    fth = cth[k] + np.arange(-4, 5) * math.radians(P["fine_th"]) if P["theta"] else cth[:1]
     sf = scores(fx, fy, fth)
     k2, j2, i2 = np.unravel_index(np.argmax(sf), sf.shape)
     best = np.array([fx[i2], fy[j2], fth[k2]])
@@ -162,6 +181,10 @@ class Closer:
 
     def __init__(self, run, P):
         self.run, self.P = run, P
+        if P["est_truth"]:
+            run.est = run.true.copy()
+        if P["base"] == "odom":
+            run.est = run.odom.copy()
         est = run.est
         hit = run.hits_mask()
         hit_idx = np.nonzero(hit)[0]
@@ -172,7 +195,7 @@ class Closer:
         self.ends = ends
         self.nseg = nseg
         self.seg_of = np.repeat(np.arange(nseg), self.ends - self.starts + 1)
-        self.anchors = est[self.starts]
+        self.anchors = est[self.ends]
         self.C = np.zeros((nseg, 3))
         self.held = np.zeros((run.n, 3))
         pts = run.points(est)
@@ -191,6 +214,9 @@ class Closer:
             self.update_bbox(j)
         self.last_closure = 0
         self.pending = None
+        self.generation = 0
+        self.loops = []
+        self.odo = posegraph.odometry_edges(self.anchors, self.p_end, P["odo_sxy"], P["odo_sth"])
         self.log = []
         self.counts = {"attempts": 0, "accepted": 0, "consistent": 0, "wrong": 0,
                        "refused_score": 0, "refused_spread": 0, "refused_edge": 0,
@@ -208,8 +234,10 @@ class Closer:
     def placed(self, j, which="hit"):
         return transform_pts(self.C[j], (self.hit_pts if which == "hit" else self.scan_pts)[j])
 
-    def visits(self, k0, lo, hi):
-        """Runs of consecutive old segments with hits in the box lo..hi."""
+    def visits(self, k0, lo, hi, scan_tree, R):
+        """Passes of the robot by the scan that ended d_min of path before segment k0:
+        runs of consecutive old segments with hits within R of the scan's points, each
+        cut to the visit_segs segments that hold most such hits."""
         P = self.P
         jmax = int(np.searchsorted(self.p_end, self.p_start[k0] - P["d_min"], side="right"))
         if jmax <= 0:
@@ -217,12 +245,27 @@ class Closer:
         b = self.bbox[:jmax]
         near = (b[:, 0] <= hi[0]) & (b[:, 2] >= lo[0]) & (b[:, 1] <= hi[1]) & (b[:, 3] >= lo[1])
         js = np.nonzero(near)[0]
-        out = []
+        cnt = {}
         for j in js:
-            if out and j - out[-1][-1] <= 2:
-                out[-1].append(j)
+            if len(self.hit_pts[j]):
+                dist, _ = scan_tree.query(self.placed(j), distance_upper_bound=R)
+                cnt[j] = int(np.isfinite(dist).sum())
+        js = [j for j in js if cnt.get(j, 0) > 0]
+        runs = []
+        for j in js:
+            if runs and j - runs[-1][-1] <= 2:
+                runs[-1].append(j)
             else:
-                out.append([j])
+                runs.append([j])
+        out = []
+        for r in runs:
+            r = list(range(r[0], r[-1] + 1))
+            if len(r) > P["visit_segs"]:
+                c = np.array([cnt.get(j, 0) for j in r])
+                win = np.convolve(c, np.ones(P["visit_segs"]), "valid")
+                i = int(np.argmax(win))
+                r = r[i:i + P["visit_segs"]]
+            out.append(r)
         return out
 
     def attempt(self, k):
@@ -235,24 +278,32 @@ class Closer:
         pivot = pose_now[:2]
         m = P["max_xy"] + P["margin"]
         lo, hi = scan.min(axis=0) - m, scan.max(axis=0) + m
+        tree = cKDTree(scan)
+        R = min(P["max_xy"], P["gate_xy0"] + P["gate_xy1"] * math.sqrt(max(self.u[k], 0.0))) + 0.05
         cands = []
-        for v in self.visits(k0, lo, hi):
+        for v in self.visits(k0, lo, hi, tree, R):
             ref = np.concatenate([self.placed(j) for j in v])
             inside = np.all((ref >= lo) & (ref <= hi), axis=1)
             if inside.sum() < P["visit_min_pts"]:
                 continue
-            # The uncertainty between the visit and now: through the anchors, or along
-            # the path between them.
-            uv = float(self.u[v].min())
-            d = min(self.u[k] + uv, self.p_end[k] - self.p_end[v[-1]])
-            cands.append((uv if P["pick"] == "u" else v[0], v, ref[inside], d))
+            d = min(self.u[k] + float(self.u[v].min()), self.p_end[k] - self.p_end[v[-1]])
+            win_xy = min(P["max_xy"], P["gate_xy0"] + P["gate_xy1"] * math.sqrt(d))
+            dist, _ = cKDTree(ref[inside]).query(scan, distance_upper_bound=win_xy + 0.05)
+            if np.isfinite(dist).mean() < P["overlap"]:
+                continue
+            cands.append((v, ref[inside], d))
         if not cands:
             self.counts["no_visit"] += 1
             return
         self.counts["attempts"] += 1
-        cands.sort(key=lambda c: c[0])
+        pick = []
+        for how in P["visit_pick"].split(","):
+            c = cands[0] if how == "first" else cands[-1] if how == "last" else \
+                min(cands, key=lambda c: float(self.u[c[0]].min()))
+            if all(c is not q for q in pick):
+                pick.append(c)
         good = []
-        for _, v, ref, d in cands[:P["max_visits"]]:
+        for v, ref, d in pick[:P["max_visits"]]:
             win_xy = min(P["max_xy"], P["gate_xy0"] + P["gate_xy1"] * math.sqrt(d))
             win_th = math.radians(min(P["max_th"], P["gate_th0"] + P["gate_th1"] * math.sqrt(d)))
             f = Field(ref, lo, hi, run.cell, P["field_sigma"])
@@ -266,61 +317,124 @@ class Closer:
                 why = "spread"
             elif r["edge"]:
                 why = "edge"
+            # What the truth says of this match (diagnostics only): the constraint it
+            # would add against the true relative pose.
+            x = lp.compose(self.C, self.anchors)
+            j = self.nearest(x, v, k)
+            txy = turn_about(x[k][None, :2], pivot, r["step"])[0]
+            xk = np.array([txy[0], txy[1], lp.wrap(x[k, 2] + r["step"][2])])
+            zt = lp.between(run.true[self.ends[j]], run.true[self.ends[k]])
+            ez = lp.between(zt, lp.between(x[j], xk))
+            ez0 = lp.between(zt, lp.between(x[j], x[k]))
             self.attempt_log.append((k, v[0], v[-1], d, r["step"].tolist(), r["score"], r["zero"],
-                                     r["spread_m"], r["spread_deg"], why))
+                                     r["spread_m"], r["spread_deg"], why, ez.tolist(), ez0.tolist(),
+                                     len(scan), len(ref)))
             if why:
                 self.counts["refused_" + why] += 1
                 continue
             good.append((v, r, d))
         if not good:
             return
-        v, r, d = good[0]
-        step = r["step"]
-        confirmed = not P["confirm"]
-        for v2, r2, _ in good[1:]:
-            if self.agree(step, r2["step"]):
-                confirmed = True
-        if self.pending is not None and self.pending[0] >= k - P["every"] and \
-                self.agree(step, self.pending[1]):
-            confirmed = True
+        confirmed = [] if P["confirm"] else [good[0]]
+        for g2 in good[1:]:
+            if self.agree(good[0][1]["step"], g2[1]["step"]):
+                confirmed = [good[0], g2]
+        if not confirmed and self.pending is not None and self.pending[0] >= k - P["every"] \
+                and self.agree(good[0][1]["step"], self.pending[1][1]["step"]):
+            confirmed = [good[0]] + ([self.pending[1]] if self.pending[2] == self.generation else [])
         if not confirmed:
-            self.pending = (k, step)
+            self.pending = (k, good[0], self.generation)
             self.counts["refused_confirm"] += 1
             return
         self.pending = None
-        self.apply(k, v, step, pivot, pose_now, r, d)
+        step = confirmed[0][1]["step"]
+        if math.hypot(step[0], step[1]) < P["sig_m"] and abs(math.degrees(step[2])) < P["sig_deg"]:
+            # Consistent: an edge for the next solve, nothing moves now.
+            self.counts["consistent"] += 1
+            if P["spread"] == "lin" and P["keep_small"]:
+                x = lp.compose(self.C, self.anchors)
+                for v, r, d in confirmed:
+                    j = self.nearest(x, v, k)
+                    self.loops.append((j, k, x[k, :2] + r["step"][:2] - x[j, :2],
+                                       max(P["loop_sxy"], r["spread_m"])))
+            return
+        if P["spread"] != "off":
+            self.apply(k, confirmed, pivot, pose_now)
+
+    @staticmethod
+    def nearest(x, v, k):
+        """The visit's node nearest the robot: a constraint to it has the shortest lever
+        arm, so the heading of either end hardly moves the other's position."""
+        v = np.asarray(v)
+        return int(v[np.argmin(np.hypot(x[v, 0] - x[k, 0], x[v, 1] - x[k, 1]))])
 
     def agree(self, a, b):
         P = self.P
         return math.hypot(a[0] - b[0], a[1] - b[1]) <= P["agree_m"] and \
             abs(math.degrees(a[2] - b[2])) <= P["agree_deg"]
 
-    def apply(self, k, v, step, pivot, pose_now, r, d):
+    def apply(self, k, matches, pivot, pose_now):
         P, run = self.P, self.run
-        uv = float(self.u[v].min())
-        small = math.hypot(step[0], step[1]) < P["dead_m"] and abs(math.degrees(step[2])) < P["dead_deg"]
-        a = max(self.last_closure, v[-1])
-        if small:
-            self.counts["consistent"] += 1
+        before = lp.pose_err(pose_now[None, :], run.true[self.ends[k]][None, :])
+        v, r, d = matches[0]
+        step = r["step"]
+        if P["spread"] == "lin":
+            x = lp.compose(self.C, self.anchors)
+            for v, r, d in matches:
+                j = self.nearest(x, v, k)
+                m = x[k, :2] + r["step"][:2] - x[j, :2]
+                if P["truth_z"]:
+                    m = run.true[self.ends[k], :2] - run.true[self.ends[j], :2]
+                sxy = max(P["loop_sxy"], r["spread_m"])
+                self.loops.append((j, k, m, sxy))
+            n = k + 1
+            p = posegraph.solve_lin(x[:n, :2], self.p_end[:n], self.loops, P["odo_sxy"],
+                                    robust=P["robust"] or None)
+            self.C[:n] = 0.0
+            self.C[:n, :2] = p - self.anchors[:n, :2]
+            self.C[n:] = self.C[k]
+            self.generation += 1
+            a = 0
+        elif P["spread"] == "graph":
+            x = lp.compose(self.C, self.anchors)
+            for v, r, d in matches:
+                tgt_xy = turn_about(x[k][None, :2], pivot, r["step"])[0]
+                xk = np.array([tgt_xy[0], tgt_xy[1], lp.wrap(x[k, 2] + r["step"][2])])
+                j = self.nearest(x, v, k)
+                z = lp.between(x[j], xk)
+                if P["truth_z"]:
+                    z = lp.between(run.true[self.ends[j]], run.true[self.ends[k]])
+                sxy = max(P["loop_sxy"], r["spread_m"])
+                sth = math.radians(max(P["loop_sth"], r["spread_deg"]))
+                self.loops.append((j, k, z, np.array([1 / sxy ** 2, 1 / sxy ** 2, 1 / sth ** 2])))
+            n = k + 1
+            edges = self.odo[:k] + self.loops
+            xs = posegraph.solve(x[:n], edges, iters=P["gn_iters"],
+                                 robust=P["robust"] or None, robust_from=k)
+            self.C[:n] = lp.compose(xs, lp.inverse(self.anchors[:n]))
+            self.C[n:] = self.C[k]
+            self.generation += 1
+            a = 0
         else:
-            before = lp.pose_err(pose_now[None, :], run.true[self.ends[k]][None, :])
+            a = max(self.last_closure, v[-1])
             spread_loop(self.C, self.anchors, a, k, step, pivot, P["spread"])
-            after_pose = lp.compose(self.C[k], run.est[self.ends[k]])
-            after = lp.pose_err(after_pose[None, :], run.true[self.ends[k]][None, :])
-            bad = (after[0][0] > before[0][0] + P["wrong_m"]) or \
-                (math.degrees(after[1][0] - before[1][0]) > P["wrong_deg"])
-            self.counts["accepted"] += 1
-            self.counts["wrong"] += int(bad)
-            self.log.append({"t": float(run.t[self.ends[k]]), "seg": k, "from": int(a),
-                             "visit": [int(v[0]), int(v[-1])], "d_m": float(d),
-                             "step": [float(step[0]), float(step[1]), float(math.degrees(step[2]))],
-                             "score": r["score"], "zero": r["zero"],
-                             "spread": [r["spread_m"], r["spread_deg"]],
-                             "err_before": [float(before[0][0]), float(math.degrees(before[1][0]))],
-                             "err_after": [float(after[0][0]), float(math.degrees(after[1][0]))],
-                             "wrong": bool(bad)})
-            for j in range(a, k + 1):
-                self.update_bbox(j)
+        after_pose = lp.compose(self.C[k], run.est[self.ends[k]])
+        after = lp.pose_err(after_pose[None, :], run.true[self.ends[k]][None, :])
+        bad = (after[0][0] > before[0][0] + P["wrong_m"]) or \
+            (math.degrees(after[1][0] - before[1][0]) > P["wrong_deg"])
+        self.counts["accepted"] += 1
+        self.counts["wrong"] += int(bad)
+        self.log.append({"t": float(run.t[self.ends[k]]), "seg": k, "from": int(a),
+                         "visit": [int(v[0]), int(v[-1])], "d_m": float(d),
+                         "step": [float(step[0]), float(step[1]), float(math.degrees(step[2]))],
+                         "score": r["score"], "zero": r["zero"],
+                         "spread": [r["spread_m"], r["spread_deg"]],
+                         "err_before": [float(before[0][0]), float(math.degrees(before[1][0]))],
+                         "err_after": [float(after[0][0]), float(math.degrees(after[1][0]))],
+                         "wrong": bool(bad), "n": len(matches)})
+        for j in range(a, k + 1):
+            self.update_bbox(j)
+        uv = float(self.u[v].min())
         s = self.p_end[k] - self.p_end[a:k + 1]
         self.u[a:k + 1] = np.minimum(self.u[a:k + 1], uv + s)
         self.u[k + 1:] = self.u[k] + np.cumsum(self.seg_len[k + 1:])

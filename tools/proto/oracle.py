@@ -144,3 +144,33 @@ def oracle_graph(run, **kw):
     if "which" in kw:
         kw["which"] = tuple(kw["which"])
     return graph(run, **kw)
+
+
+def odom_true_heading(run, heading=None, **kw):
+    """Odometry's distance increments integrated along the true heading: what a perfect
+    heading alone (no position correction at all) would give."""
+    o = run.odom
+    ds = np.hypot(np.diff(o[:, 0]), np.diff(o[:, 1]))
+    # sign: backwards motion (odometry moved against its heading)
+    fwd = np.cos(np.arctan2(np.diff(o[:, 1]), np.diff(o[:, 0])) - o[:-1, 2])
+    ds = ds * np.sign(np.where(np.abs(fwd) < 1e-9, 1.0, fwd))
+    th = run.true[:, 2] if heading is None else heading
+    mid = th[:-1] + lp.wrap(th[1:] - th[:-1]) / 2
+    p = np.zeros((run.n, 3))
+    p[0] = run.true[0]
+    p[1:, 0] = p[0, 0] + np.cumsum(ds * np.cos(mid))
+    p[1:, 1] = p[0, 1] + np.cumsum(ds * np.sin(mid))
+    p[:, 2] = th
+    return p, {}
+
+
+def oracle_heading(run, white_deg=0.0, bias_deg=0.0, walk_deg=0.0, src="true", **kw):
+    """Odometry distances along a heading: the true one with white noise, a constant bias
+    or a random walk (σ per √minute) added; or the firmware's estimate (src "est")."""
+    rng = np.random.default_rng(7)
+    th = (run.true[:, 2] if src == "true" else run.est[:, 2]).copy()
+    th += np.radians(bias_deg) + rng.normal(0, np.radians(white_deg) if white_deg else 0, run.n)
+    if walk_deg:
+        dt = np.diff(run.t, prepend=run.t[0])
+        th += np.cumsum(rng.normal(0, 1, run.n) * np.radians(walk_deg) * np.sqrt(dt / 60.0))
+    return odom_true_heading(run, th)

@@ -12,7 +12,7 @@ from scipy.sparse.linalg import spsolve
 import lpcommon as lp
 
 
-def solve(x0, edges, iters=8, fixed=(0,)):
+def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0):
     """x0: n×3 initial poses; edges: list of (i, j, z (3,), info (3,)) meaning
     between(x_i, x_j) ≈ z with information diag(info). Returns the optimised poses."""
     x = np.array(x0, dtype=float)
@@ -23,6 +23,7 @@ def solve(x0, edges, iters=8, fixed=(0,)):
     Z = np.array([e[2] for e in edges], dtype=float)
     W = np.array([e[3] for e in edges], dtype=float)
     fixed = set(fixed)
+    W0 = W.copy()
     for _ in range(iters):
         xi, xj = x[I], x[J]
         c, s = np.cos(xi[:, 2]), np.sin(xi[:, 2])
@@ -32,6 +33,13 @@ def solve(x0, edges, iters=8, fixed=(0,)):
         py = -s * dx + c * dy
         pt = lp.wrap(xj[:, 2] - xi[:, 2])
         r = np.stack([px - Z[:, 0], py - Z[:, 1], lp.wrap(pt - Z[:, 2])], axis=1)
+        if robust:
+            # Huber: an edge whose Mahalanobis residual exceeds `robust` counts less
+            # (edges before robust_from, the odometry, never).
+            m = np.sqrt((W0 * r * r).sum(axis=1))
+            f = np.where(m > robust, robust / np.maximum(m, 1e-12), 1.0)
+            f[:robust_from] = 1.0
+            W = W0 * f[:, None]
         # Jacobians (3×3 each) w.r.t. xi and xj
         Ji = np.zeros((E, 3, 3))
         Jj = np.zeros((E, 3, 3))
@@ -84,3 +92,43 @@ def odometry_edges(poses, path, sxy=0.02, sth_deg=0.3, floor_m=0.05):
                          1.0 / (np.radians(sth_deg) ** 2 * d)])
         out.append((i, i + 1, z, info))
     return out
+
+
+def solve_lin(p0, path, loops, sxy=0.03, floor_m=0.05, robust=None, iters=3):
+    """Positions only: nodes p (n×2) linked by their estimated displacements (σ² = sxy² ·
+    path between them) and by loop edges (j, k, m (2,), σ): p_k − p_j ≈ m, in the world
+    frame, p_0 held. The heading of the estimate is corrected by its own filter and hardly
+    couples into its positions (a wall fixes the position across it whatever the heading
+    did), so the chain is a linear least-squares problem, x and y apart. With `robust`,
+    loop edges whose residual exceeds that many σ are down-weighted (Huber, iterated)."""
+    n = len(p0)
+    d = np.diff(p0, axis=0)
+    w_odo = 1.0 / (sxy ** 2 * np.maximum(np.diff(path), floor_m))
+    L = len(loops)
+    J = np.array([l[0] for l in loops], dtype=np.int64)
+    K = np.array([l[1] for l in loops], dtype=np.int64)
+    M = np.array([l[2] for l in loops], dtype=float).reshape(L, 2)
+    w_loop0 = np.array([1.0 / l[3] ** 2 for l in loops], dtype=float)
+    w_loop = w_loop0.copy()
+    idx = np.arange(n - 1)
+    p = np.array(p0, dtype=float)
+    for _ in range(iters if robust else 1):
+        rows = np.concatenate([idx, idx + 1, idx, idx + 1, J, K, J, K, [0]])
+        cols = np.concatenate([idx, idx + 1, idx + 1, idx, J, K, K, J, [0]])
+        vals = np.concatenate([w_odo, w_odo, -w_odo, -w_odo, w_loop, w_loop, -w_loop, -w_loop,
+                               [1e12]])
+        H = coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+        for ax in range(2):
+            b = np.zeros(n)
+            np.add.at(b, idx, -w_odo * d[:, ax])
+            np.add.at(b, idx + 1, w_odo * d[:, ax])
+            if L:
+                np.add.at(b, J, -w_loop * M[:, ax])
+                np.add.at(b, K, w_loop * M[:, ax])
+            b[0] += 1e12 * p0[0, ax]
+            p[:, ax] = spsolve(H, b)
+        if not robust or not L:
+            break
+        r = np.hypot(*(p[K] - p[J] - M).T) * np.sqrt(w_loop0)
+        w_loop = w_loop0 * np.where(r > robust, robust / np.maximum(r, 1e-12), 1.0)
+    return p
