@@ -24,18 +24,39 @@ closure sets it from the visit it matched). Every `every` segments:
    of the pose under `max_spread_m`, `max_spread_deg`); not at the window's edge;
 5. confirmation (`confirm`): two matches that agree within `agree_m`/`agree_deg`, from
    two visits in one attempt or from consecutive attempts;
-6. the correction: a step inside the dead band (`dead_m`, `dead_deg`) only fixes u; a
-   larger one runs from the later of the last closure and the matched visit's last
-   segment to now: the heading step is spread along the path by length, then the
-   remaining shift (`spread` "path"; "none": from now on only).
+6. the correction (`spread`): "graph" (the default) adds the match as an edge between the
+   visit's node nearest the robot and the newest node of a pose graph whose other edges
+   are the estimate's own relative motion (posegraph.solve), and takes every node's new
+   pose; "lin" the same with positions only (posegraph.solve_lin); "path" spreads the
+   step along the path since the later of the last closure and the visit, "none" moves
+   only what follows. A confirmed step smaller than `sig_m` and `sig_deg` (both 0: none
+   is) moves nothing and is kept as an edge for the next solve (`keep_small`); a larger
+   one whose visit lies less than `d_accept` m of path back is refused as uncertain;
+7. `manhattan`: the home taken as rectilinear. Each node gets the walls' direction in
+   its own frame (walldir.dominant over its and the previous segment's hits, modulo 90°);
+   the home's direction is learned from the first `m_learn_s` seconds; every `m_every`
+   segments, while `manhattan_check` finds at least `m_check_share` of the nodes within
+   `m_check_deg` of it, the graph is solved with a unary heading factor on every such node
+   (σ `m_sigma`°, Huber beyond `m_huber` σ), the home's direction one more unknown.
 
 Every reading's final pose is its segment's final correction ∘ its estimate; the pose
 the robot held then (for counting wrong closures and for the integrity flag) is the
 correction of that moment ∘ its estimate. A closure is wrong when it moves the robot's
 pose away from the truth by more than `wrong_m` or `wrong_deg`.
 
-    tools/proto/evaluate.py dev lc [--set key=value ...]
+Diagnostics, not methods: `truth_z` takes a closure's edge from the truth (a perfect
+match at the same moment), `est_truth` runs on the true poses, `base` "odom" on the
+odometry instead of the estimate.
+
+The work of the matches is counted (`lookups`: likelihood-field reads; `fields`: fields
+built) for the MCU estimate; `integrity` scores candidate pose-integrity flags.
+
+    tools/proto/evaluate.py dev lc [--set key=value ...] [--tag NAME]
     tools/proto/loopclose.py RUN_DIR [key=value ...]   # one run, with the closures listed
+
+The figures of firmware/experiments_loop_closure.md: `evaluate.py SET lc --tag f2 --set
+sig_m=0.08 --set sig_deg=2.5 --set d_accept=30` (and `--set manhattan=1`, tag g1) for SET
+dev and held.
 """
 import math
 import sys
@@ -58,7 +79,10 @@ DEFAULTS = dict(
     spread="graph", pick="u",
     odo_sxy=0.03, odo_sth=0.5, loop_sxy=0.04, loop_sth=3.0, gn_iters=3,
     coarse_xy=0.05, coarse_th=1.0, fine_xy=0.0125, fine_th=0.25,
-    wrong_m=0.05, wrong_deg=1.0, truth_z=0, est_truth=0, robust=0.0, theta=1, base="est", sig_m=0.0, sig_deg=0.0, keep_small=1,
+    wrong_m=0.05, wrong_deg=1.0, truth_z=0, est_truth=0, robust=0.0, theta=1, base="est",
+    sig_m=0.0, sig_deg=0.0, keep_small=1, d_accept=0.0,
+    manhattan=0, m_prom=5.0, m_learn_s=60.0, m_sigma=3.0, m_huber=1.5, m_every=10,
+    m_check_deg=3.0, m_check_share=0.5, m_check_win=15,
 )
 
 
@@ -209,17 +233,46 @@ class Closer:
         seg_len = self.p_end - self.p_start
         self.seg_len = np.r_[self.p_start[1:] - self.p_start[:-1], seg_len[-1]]
         self.u = np.cumsum(self.seg_len)
+        # Walls' direction in each node's frame (modulo 90°), from the node's and the
+        # previous segment's hits: a unary heading factor once the home's direction is
+        # known (`manhattan`).
+        self.wdir = np.full(nseg, np.nan)
+        if P["manhattan"]:
+            import walldir
+            WP = dict(walldir.DEFAULTS)
+            WP.update(prom=P["m_prom"])
+            for k in range(nseg):
+                p_ = np.concatenate([self.hit_pts[j] for j in range(max(0, k - 1), k + 1)])
+                if len(p_) < 32:
+                    continue
+                r_ = walldir.dominant(p_, WP, math.pi / 2)
+                if r_ is not None and r_[1] >= P["m_prom"] and r_[2] >= WP["peak_pairs"]:
+                    self.wdir[k] = (r_[0] - self.anchors[k, 2]) % (math.pi / 2)
+            # The home's direction: the robust mean of the first m_learn_s seconds' walls,
+            # where the estimate's heading is still right.
+            early = [k for k in range(nseg) if run.t[self.ends[k]] <= P["m_learn_s"] and
+                     np.isfinite(self.wdir[k])]
+            if early:
+                w = np.array([(self.wdir[k] + self.anchors[k, 2]) % (math.pi / 2) for k in early])
+                ang = w * 4
+                self.theta_m = (math.atan2(np.sin(ang).mean(), np.cos(ang).mean()) / 4) % (math.pi / 2)
+            else:
+                self.theta_m = None
+        self.m_on = False
+        self.m_share = 0.0
         self.bbox = np.zeros((nseg, 4))
         for j in range(nseg):
             self.update_bbox(j)
         self.last_closure = 0
         self.pending = None
         self.generation = 0
+        self.history = []               # (segment, corrections after each closure)
         self.loops = []
         self.odo = posegraph.odometry_edges(self.anchors, self.p_end, P["odo_sxy"], P["odo_sth"])
         self.log = []
         self.counts = {"attempts": 0, "accepted": 0, "consistent": 0, "wrong": 0,
                        "refused_score": 0, "refused_spread": 0, "refused_edge": 0,
+                       "refused_uncertain": 0,
                        "refused_confirm": 0, "no_visit": 0, "lookups": 0, "fields": 0}
         self.attempt_log = []
 
@@ -348,18 +401,72 @@ class Closer:
             return
         self.pending = None
         step = confirmed[0][1]["step"]
-        if math.hypot(step[0], step[1]) < P["sig_m"] and abs(math.degrees(step[2])) < P["sig_deg"]:
-            # Consistent: an edge for the next solve, nothing moves now.
-            self.counts["consistent"] += 1
-            if P["spread"] == "lin" and P["keep_small"]:
+        small = math.hypot(step[0], step[1]) < P["sig_m"] and abs(math.degrees(step[2])) < P["sig_deg"]
+        if small or confirmed[0][2] < P["d_accept"]:
+            # Consistent, or a step the pose's uncertainty does not allow yet: an edge for
+            # the next solve (keep_small), nothing moves now.
+            self.counts["consistent" if small else "refused_uncertain"] += 1
+            if P["keep_small"] and small:
                 x = lp.compose(self.C, self.anchors)
                 for v, r, d in confirmed:
                     j = self.nearest(x, v, k)
-                    self.loops.append((j, k, x[k, :2] + r["step"][:2] - x[j, :2],
-                                       max(P["loop_sxy"], r["spread_m"])))
+                    if P["spread"] == "lin":
+                        self.loops.append((j, k, x[k, :2] + r["step"][:2] - x[j, :2],
+                                           max(P["loop_sxy"], r["spread_m"])))
+                    else:
+                        txy = turn_about(x[k][None, :2], pivot, r["step"])[0]
+                        xk = np.array([txy[0], txy[1], lp.wrap(x[k, 2] + r["step"][2])])
+                        sxy = max(P["loop_sxy"], r["spread_m"])
+                        sth = math.radians(max(P["loop_sth"], r["spread_deg"]))
+                        self.loops.append((j, k, lp.between(x[j], xk),
+                                           np.array([1 / sxy ** 2, 1 / sxy ** 2, 1 / sth ** 2])))
             return
         if P["spread"] != "off":
             self.apply(k, confirmed, pivot, pose_now)
+
+    def heading_factors(self, n):
+        """Unary heading factors of nodes 0..n-1 (the wall direction ψ seen in the node's
+        frame: θ + ψ is the home's direction, modulo 90°), with the current guess of it;
+        none until the home is found rectilinear (manhattan_check)."""
+        if not self.P["manhattan"] or self.theta_m is None or not self.m_on:
+            return None
+        idx = np.nonzero(np.isfinite(self.wdir[:n]))[0]
+        return idx, self.wdir[idx], np.full(len(idx), 1.0 / math.radians(self.P["m_sigma"]) ** 2), \
+            self.theta_m
+
+    def manhattan_solve(self, k):
+        """Solve the graph with the heading factors (every m_every segments)."""
+        P = self.P
+        x = lp.compose(self.C, self.anchors)
+        n = k + 1
+        xs = posegraph.solve(x[:n], self.odo[:k] + self.loops, iters=P["gn_iters"],
+                             robust=P["robust"] or None, robust_from=k,
+                             headings=self.heading_factors(n), head_huber=P["m_huber"] or None)
+        if self.heading_factors(n) is not None:
+            self.theta_m = posegraph.solve.last_m
+        self.C[:n] = lp.compose(xs, lp.inverse(self.anchors[:n]))
+        self.C[n:] = self.C[k]
+        self.generation += 1
+        self.history.append((k, self.C.copy()))
+        for j in range(n):
+            self.update_bbox(j)
+
+    def manhattan_check(self, k):
+        """Whether the walls seen so far share one direction modulo 90° (a rectilinear
+        home): the share of the nodes' wall directions, at their current headings,
+        within m_check_deg of the home's. Checked again at every solve."""
+        x = lp.compose(self.C, self.anchors)
+        idx = np.nonzero(np.isfinite(self.wdir[:k + 1]))[0]
+        if len(idx) < 10:
+            return False
+        r = ((x[idx, 2] + self.wdir[idx] - self.theta_m + math.pi / 4) % (math.pi / 2)) - math.pi / 4
+        # Against the median of the neighbours (±m_check_win nodes): a heading that
+        # drifted slowly does not hide a rectilinear home, walls at every angle do.
+        h = self.P["m_check_win"]
+        loc = np.array([np.median(r[max(0, i - h):i + h + 1]) for i in range(len(r))])
+        share = float((np.abs(r - loc) <= math.radians(self.P["m_check_deg"])).mean())
+        self.m_share = share
+        return share >= self.P["m_check_share"]
 
     @staticmethod
     def nearest(x, v, k):
@@ -410,7 +517,11 @@ class Closer:
             n = k + 1
             edges = self.odo[:k] + self.loops
             xs = posegraph.solve(x[:n], edges, iters=P["gn_iters"],
-                                 robust=P["robust"] or None, robust_from=k)
+                                 robust=P["robust"] or None, robust_from=k,
+                                 headings=self.heading_factors(n),
+                                 head_huber=P["m_huber"] or None)
+            if self.heading_factors(n) is not None:
+                self.theta_m = posegraph.solve.last_m
             self.C[:n] = lp.compose(xs, lp.inverse(self.anchors[:n]))
             self.C[n:] = self.C[k]
             self.generation += 1
@@ -418,6 +529,7 @@ class Closer:
         else:
             a = max(self.last_closure, v[-1])
             spread_loop(self.C, self.anchors, a, k, step, pivot, P["spread"])
+        self.history.append((k, self.C.copy()))
         after_pose = lp.compose(self.C[k], run.est[self.ends[k]])
         after = lp.pose_err(after_pose[None, :], run.true[self.ends[k]][None, :])
         bad = (after[0][0] > before[0][0] + P["wrong_m"]) or \
@@ -442,10 +554,24 @@ class Closer:
 
     def run_all(self):
         P = self.P
+        self.sig_u = np.zeros(self.nseg)        # path since the last closure, as held then
+        self.sig_step = np.zeros(self.nseg)     # the last good match's step (m)
+        last_step = 0.0
         for k in range(self.nseg):
             self.held[self.starts[k]:self.ends[k] + 1] = self.C[k]
+            self.sig_u[k] = self.p_end[k] - self.p_end[self.last_closure] if self.last_closure else self.p_end[k]
+            n_log = len(self.attempt_log)
             if k >= P["scan_segs"] - 1 and k % P["every"] == 0:
                 self.attempt(k)
+            if P["manhattan"] and self.theta_m is not None and k % P["m_every"] == 0 and \
+                    self.run.t[self.ends[k]] > P["m_learn_s"]:
+                self.m_on = self.manhattan_check(k)
+                if self.m_on:
+                    self.manhattan_solve(k)
+            for a in self.attempt_log[n_log:]:
+                if a[9] is None or a[9] == "spread":
+                    last_step = math.hypot(a[4][0], a[4][1])
+            self.sig_step[k] = last_step
         final = lp.compose(self.C[self.seg_of], self.run.est)
         held = lp.compose(self.held, self.run.est)
         return final, held
@@ -462,8 +588,29 @@ def close_loops(run, **kw):
     return final, held, info, c
 
 
+def integrity(run, c, held):
+    """Hit and false-alarm counts of candidate integrity flags against the truth (the pose
+    the robot held is > 0.3 m or > 5° off): per reading, for thresholds of the path since
+    the last closure and of the last good match's step."""
+    pe, he = lp.pose_err(held, run.true)
+    bad = (pe > 0.3) | (he > math.radians(5))
+    u = c.sig_u[c.seg_of]
+    st = c.sig_step[c.seg_of]
+    out = {"bad": int(bad.sum()), "good": int((~bad).sum())}
+    for U in (10, 20, 40, 80):
+        f = u > U
+        out["u%d" % U] = [int((f & bad).sum()), int((f & ~bad).sum())]
+    for S in (0.05, 0.1, 0.15):
+        f = st > S
+        out["s%g" % S] = [int((f & bad).sum()), int((f & ~bad).sum())]
+        f = (st > S) | (u > 40)
+        out["s%g_u40" % S] = [int((f & bad).sum()), int((f & ~bad).sum())]
+    return out
+
+
 def run_method(run, **kw):
-    final, held, info, _ = close_loops(run, **kw)
+    final, held, info, c = close_loops(run, **kw)
+    info["integrity"] = integrity(run, c, held)
     pe, he = lp.pose_err(held, run.true)
     info["held_pos_mean"] = float(pe.mean())
     info["held_bad_share"] = float(((pe > 0.3) | (he > math.radians(5))).mean())

@@ -12,9 +12,12 @@ from scipy.sparse.linalg import spsolve
 import lpcommon as lp
 
 
-def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0):
+def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0, headings=None,
+          period=np.pi / 2, head_huber=None):
     """x0: n×3 initial poses; edges: list of (i, j, z (3,), info (3,)) meaning
-    between(x_i, x_j) ≈ z with information diag(info). Returns the optimised poses."""
+    between(x_i, x_j) ≈ z with information diag(info); headings: (idx (m,), target (m,),
+    info (m,)), unary factors on θ_i modulo `period` (a wall seen at a known direction of
+    the home's walls; Huber beyond head_huber σ). Returns the optimised poses."""
     x = np.array(x0, dtype=float)
     n = len(x)
     E = len(edges)
@@ -24,6 +27,8 @@ def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0):
     W = np.array([e[3] for e in edges], dtype=float)
     fixed = set(fixed)
     W0 = W.copy()
+    use_m = headings is not None and len(headings[0]) > 0
+    mvar = [headings[3] if use_m else 0.0]
     for _ in range(iters):
         xi, xj = x[I], x[J]
         c, s = np.cos(xi[:, 2]), np.sin(xi[:, 2])
@@ -50,7 +55,8 @@ def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0):
         Jj[:, 1, 0], Jj[:, 1, 1] = -s, c
         Jj[:, 2, 2] = 1.0
         rows, cols, vals = [], [], []
-        b = np.zeros(3 * n)
+        b = np.zeros(3 * n + 1)
+        bm = 0.0
         for (A, ia), (B, ib) in (((Ji, I), (Ji, I)), ((Ji, I), (Jj, J)), ((Jj, J), (Ji, I)),
                                  ((Jj, J), (Jj, J))):
             H = np.einsum("eki,ek,ekj->eij", A, W, B)
@@ -66,18 +72,43 @@ def solve(x0, edges, iters=8, fixed=(0,), robust=None, robust_from=0):
         rows = np.concatenate(rows)
         cols = np.concatenate(cols)
         vals = np.concatenate(vals)
+        if headings is not None and len(headings[0]):
+            # θ_i + ψ_i ≡ m (mod period): m, the home's wall direction, is one more
+            # unknown (index 3n), solved with the poses, so that no early guess of it
+            # turns the map.
+            hi, psi, hw = headings[:3]
+            rh = ((x[hi, 2] + psi - mvar[0] + period / 2) % period) - period / 2
+            w = hw.copy()
+            if head_huber:
+                mm = np.abs(rh) * np.sqrt(hw)
+                w = hw * np.where(mm > head_huber, head_huber / np.maximum(mm, 1e-12), 1.0)
+            ti = 3 * hi + 2
+            tm = np.full(len(hi), 3 * n)
+            rows = np.concatenate([rows, ti, tm, ti, tm])
+            cols = np.concatenate([cols, ti, tm, tm, ti])
+            vals = np.concatenate([vals, w, w, -w, -w])
+            np.add.at(b, ti, w * rh)
+            bm = -(w * rh).sum()
         # fix nodes: strong prior
         for f in fixed:
             for p in range(3):
                 rows = np.append(rows, 3 * f + p)
                 cols = np.append(cols, 3 * f + p)
                 vals = np.append(vals, 1e12)
-        H = coo_matrix((vals, (rows, cols)), shape=(3 * n, 3 * n)).tocsc()
+        b[3 * n] = bm
+        rows = np.append(rows, 3 * n)
+        cols = np.append(cols, 3 * n)
+        vals = np.append(vals, 1e-6)
+        H = coo_matrix((vals, (rows, cols)), shape=(3 * n + 1, 3 * n + 1)).tocsc()
         dxv = spsolve(H, -b)
+        mvar[0] += dxv[3 * n]
+        dxv = dxv[:3 * n]
         x += dxv.reshape(n, 3)
         x[:, 2] = lp.wrap(x[:, 2])
         if np.abs(dxv).max() < 1e-6:
             break
+    if use_m:
+        solve.last_m = mvar[0]
     return x
 
 
