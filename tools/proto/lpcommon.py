@@ -130,10 +130,11 @@ class Run:
         bearing = th + math.pi / 2 - np.radians(servo) + self.mount_yaw
         return sx, sy, bearing
 
-    def points(self, pose, mask=None):
-        """Echo points (n×2) of the readings under the given ping poses."""
-        sx, sy, b = self.beam(pose)
-        r = np.nan_to_num(self.range)
+    def points(self, pose, mask=None, sel=None):
+        """Echo points (n×2) of the readings under the given ping poses (of the readings
+        `sel`, all when None)."""
+        sx, sy, b = self.beam(pose, sel)
+        r = np.nan_to_num(self.range if sel is None else self.range[sel])
         p = np.stack([sx + r * np.cos(b), sy + r * np.sin(b)], axis=1)
         return p if mask is None else p[mask]
 
