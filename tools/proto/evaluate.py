@@ -9,7 +9,9 @@ F1, of the gap to the true poses, the pose errors and the closures.
                             [--set KEY=VALUE ...] [--tag NAME]
 
 METHOD: own (the run's own map, metrics.json), est (its estimated poses re-mapped), odom,
-true, oracle_fwd, oracle_rep, lc (tools/proto/loopclose.py; --set passes its parameters).
+true, oracle_fwd, oracle_rep, oracle_first, oracle_last, oracle_graph, oracle_heading
+(tools/proto/oracle.py), lc (tools/proto/loopclose.py), walldir (tools/proto/walldir.py);
+--set passes the method's parameters.
 Results are cached in out/proto/results/SET/<method>[-tag].json, run by run, and reused
 when the parameters match.
 """
@@ -34,6 +36,9 @@ def method_fn(name):
     if name == "lc":
         import loopclose
         return loopclose.run_method
+    if name == "walldir":
+        import walldir
+        return walldir.run_method
     raise SystemExit("unknown method %s" % name)
 
 
