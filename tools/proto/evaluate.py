@@ -92,6 +92,12 @@ def table(results):
             gap[1] if not math.isnan(gap[1]) else 0, gp95, pos[0], hd[0], bad[0], cl))
 
 
+def save(path, params, cache):
+    with open(path + ".tmp", "w") as f:
+        json.dump({"params": params, "runs": cache}, f, indent=0)
+    os.replace(path + ".tmp", path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -125,8 +131,9 @@ def main():
                     print("%s %s f1 %.3f (est-true gap %.3f) acc %s wrong %s" % (
                         m, res["name"], res["f1"], res["f1_true"] - res["f1"],
                         res.get("accepted", "-"), res.get("wrong", "-")), file=sys.stderr)
-        with open(path, "w") as f:
-            json.dump({"params": params, "runs": cache}, f, indent=0)
+                # Saved as it goes: an interrupted evaluation resumes where it stopped.
+                save(path, params, cache)
+        save(path, params, cache)
         print("\n### %s on %s %s\n" % (m, a.set, json.dumps(params) if params else ""))
         table([cache[r["name"]] for r in runs])
 
