@@ -1,16 +1,31 @@
 # SPDX-License-Identifier: MIT
-"""Oracle closures (DESIGN §7's yardstick): at every return to a place after an excursion,
-the pose error is known and taken out. Not a method: what perfect closures would buy.
+"""Oracle closures (DESIGN §7's yardstick): what perfect information would buy. Not
+methods: ceilings, each using the true pose.
 
-- "fwd": from the return on, the corrected pose is the truth's correction of that moment
-  applied to the firmware's estimate (relocalization: the map drawn before stays).
-- "rep": also between the previous return and this one the correction is spread linearly
-  over time (a pose graph with perfect constraints, crudely smoothed).
+- oracle_fwd: at every return to a place, the pose error is taken out from then on
+  (relocalization: the map drawn before stays);
+- oracle_rep: also spread linearly back to the previous return (a crude repair);
+- oracle_first, oracle_last: a return set to the error the robot had at its first or
+  last earlier visit (a perfect match that is only consistent with the old map);
+- oracle_graph: a pose graph over the estimate with the true relative pose as a
+  constraint at every return (to the first and last earlier visit), node 0 fixed;
+  `noise_m`, `noise_deg` add noise to the constraints, `loop_sxy`, `loop_sth_deg` weigh
+  them, `ev_gap` thins the returns, `node_every` coarsens the nodes;
+- oracle_heading: odometry's distance increments integrated along the true heading (no
+  position correction at all), with `white_deg`, `bias_deg` or `walk_deg` (σ per √min)
+  of heading error added, or along the estimate's heading (`src` "est").
 
-A return: the true position comes within `radius` of where the robot was at least `away`
-seconds earlier, while it has not been within that radius of there in the last `away`
-seconds... simplified: a place (a cell of `radius`) whose last visit ended `away` seconds
-or more ago. tools/proto/evaluate.py runs it: `evaluate.py dev oracle_fwd oracle_rep`.
+A return: a 0.5 m cell of the true path whose last visit was at least 60 s before
+(`returns`). The figures of firmware/experiments_loop_closure.md:
+
+    tools/proto/evaluate.py SET oracle_fwd oracle_rep oracle_first oracle_last \
+        oracle_graph oracle_heading
+    tools/proto/evaluate.py dev oracle_graph --tag noise --set noise_m=0.03 --set noise_deg=1
+    tools/proto/evaluate.py dev oracle_graph --tag noisew --set noise_m=0.03 \
+        --set noise_deg=1 --set loop_sxy=0.03 --set loop_sth_deg=1     # noisew2: 0.3°
+    tools/proto/evaluate.py dev oracle_graph --tag gap30 --set ev_gap=30
+    tools/proto/evaluate.py dev oracle_heading --tag b1 --set bias_deg=1   # w1: white_deg=1,
+        # rw02 / rw05: walk_deg=0.2 / 0.5, est: src='"est"'
 """
 import numpy as np
 
