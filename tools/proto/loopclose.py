@@ -52,7 +52,8 @@ The work of the matches is counted (`lookups`: likelihood-field reads; `fields`:
 built) for the MCU estimate; `integrity` scores candidate pose-integrity flags.
 
     tools/proto/evaluate.py dev lc [--set key=value ...] [--tag NAME]
-    tools/proto/loopclose.py RUN_DIR [key=value ...]   # one run, with the closures listed
+    tools/proto/loopclose.py RUN_DIR [key=value ...] [noscore]
+        # one run: its closures, and how well the matches measure the relative pose
 
 The figures of firmware/experiments_loop_closure.md: `evaluate.py SET lc --tag f2 --set
 sig_m=0.08 --set sig_deg=2.5 --set d_accept=30` (and `--set manhattan=1`, tag g1) for SET
@@ -617,12 +618,32 @@ def run_method(run, **kw):
     return final, info
 
 
+def precision(c):
+    """How well the matches measure the relative pose, against the truth: the median and
+    90th percentile of the constraint's error (position m, heading °) for the matches that
+    passed every gate and for those the scan's unmoved pose would have given."""
+    ok = [a for a in c.attempt_log if a[9] is None]
+    if not ok:
+        return "no match passed the gates"
+    ez = np.array([a[10] for a in ok])
+    ez0 = np.array([a[11] for a in ok])
+
+    def fig(e):
+        xy = np.hypot(e[:, 0], e[:, 1])
+        th = np.degrees(np.abs(lp.wrap(e[:, 2])))
+        return "%.3f / %.3f m, %.2f / %.2f°" % (np.median(xy), np.percentile(xy, 90),
+                                                  np.median(th), np.percentile(th, 90))
+    return "%d matches passed the gates; error of the match's constraint (median / p90) %s;" \
+        " of the unmoved scan's %s" % (len(ok), fig(ez), fig(ez0))
+
+
 def main(argv):
     run = lp.Run(argv[1])
     kw = {}
     for a in argv[2:]:
-        k, v = a.split("=", 1)
-        kw[k] = type(DEFAULTS[k])(v) if not isinstance(DEFAULTS[k], str) else v
+        k, v = (a.split("=", 1) + [""])[:2]
+        if k in DEFAULTS:
+            kw[k] = type(DEFAULTS[k])(v) if not isinstance(DEFAULTS[k], str) else v
     final, held, info, c = close_loops(run, **kw)
     for e in c.log:
         print("t %7.1f seg %4d from %4d visit %d-%d d %6.1f m step %+.3f %+.3f %+.2f° score %.2f "
@@ -631,6 +652,9 @@ def main(argv):
                   e["zero"], *e["spread"], *e["err_before"], *e["err_after"],
                   " WRONG" if e["wrong"] else ""))
     print(info)
+    print(precision(c))
+    if "noscore" in sys.argv[2:]:
+        return
     s_est = run.score(run.est)["f1"]
     s = run.score(final)["f1"]
     pe, _ = lp.pose_err(held, run.true)
