@@ -55,9 +55,13 @@ built) for the MCU estimate; `integrity` scores candidate pose-integrity flags.
     tools/proto/loopclose.py RUN_DIR [key=value ...] [noscore]
         # one run: its closures, and how well the matches measure the relative pose
 
-The figures of firmware/experiments_loop_closure.md: `evaluate.py SET lc --tag f2 --set
-sig_m=0.08 --set sig_deg=2.5 --set d_accept=30` (and `--set manhattan=1`, tag g1) for SET
-dev and held.
+The figures of firmware/experiments_loop_closure.md, for SET dev and held (`--only` picks
+groups): `evaluate.py SET lc --tag f2 --set sig_m=0.08 --set sig_deg=2.5 --set d_accept=30`;
+the same with `--set manhattan=1` (tag g1c), with `--set theta=0 --set loop_sth=30` (h1) or
+`--set theta=0 --set spread='"lin"'` (h2). Rows a–e and v3, v4 of the page were made with
+earlier states of this file (their parameters are in out/proto/results/dev/lc-*.json).
+The match precision: `loopclose.py RUN_DIR sig_m=0.08 sig_deg=2.5 d_accept=30
+scan_segs=6|12 noscore`.
 """
 import math
 import sys
