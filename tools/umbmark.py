@@ -298,11 +298,21 @@ def report(a, source):
     return "\n".join(lines) + "\n"
 
 
+def umask_mode():
+    """The mode open() gives a new file: 0666 less the process's umask."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def write_atomic(path, text):
-    """Write a whole file or nothing: a temporary file beside it, renamed over it."""
+    """Write a whole file or nothing: a temporary file beside it, renamed over it. The file
+    gets the mode open() would give it (mkstemp makes 0600, which would lock other users
+    out of a shared calibration)."""
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".umbmark-", dir=d)
     try:
+        os.fchmod(fd, umask_mode())
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
         os.replace(tmp, path)

@@ -81,8 +81,14 @@ static const long long type_hi[] = {UINT8_MAX, UINT16_MAX, UINT32_MAX, INT32_MAX
 
 static int out_of_range(const field_t *f, const char *value, char *err, size_t n)
 {
-    char why[80];
-    snprintf(why, sizeof why, "out of range %lld..%lld", type_lo[f->type], type_hi[f->type]);
+    /* The field's own range: its type's would tell a negative wheel base 0..4294967295. */
+    const char *rule = cfgtext_rule(f->name);
+    char why[160];
+    if (rule != NULL) {
+        snprintf(why, sizeof why, "out of its valid range: %s", rule);
+    } else {
+        snprintf(why, sizeof why, "out of range %lld..%lld", type_lo[f->type], type_hi[f->type]);
+    }
     return bad_value(f->name, value, why, err, n);
 }
 
@@ -124,7 +130,10 @@ static const field_t *known_field(const char *key, char *err, size_t n)
 {
     int i = field_index(key);
     if (i < 0) {
-        snprintf(err, n, "unknown key '%.64s'", key);
+        snprintf(err, n,
+                 "unknown key '%.64s' (the keys are the fields of "
+                 "firmware/include/slam/config_fields.h; a run's config.txt lists them all)",
+                 key);
         return NULL;
     }
     return &fields[i];

@@ -189,7 +189,8 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"wheel_base_um = 1\n", ":17: wheel_base_um = 1 is out of its valid range: 50000..1000000"},
         {"sweep_stops = 1\n", "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"},
         {"wheel_base_um = many\n", "wheel_base_um = 'many': expected a whole number"},
-        {"sweep_stops = 300\n", "sweep_stops = '300': out of range"},
+        {"sweep_stops = 300\n", "sweep_stops = '300': out of its valid range: 1..16"},
+        {"wheel_base_um = -130000\n", "wheel_base_um = '-130000': out of its valid range: 50000..1000000"},
         /* Duplicates of required keys are caught where they repeat. */
         {"sonar_echo = 7\n", ":17: sonar_echo is given twice (first on line 6)"},
         {"encoder_left_a = 18\n", ":17: encoder_left_a is given twice (first on line 1)"},

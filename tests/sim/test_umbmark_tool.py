@@ -155,6 +155,16 @@ check(p.returncode == 0 and written == p.stdout.replace("# written to %s\n" % de
       and "(Borenstein & Feng drive 5 each way)" in written
       and set(keys(written)) == {"cal_left", "cal_right", "cal_base"},
       "robot.conf gives L, b and the calibration in force; --out holds what was printed")
+# The file written keeps the mode a new file gets under the umask, as any program's
+# output does (a temporary file of mkstemp is 0600: another user could not read it).
+for mask in (0o022, 0o002, 0o077):
+    dest_m = sim.out("cal-%03o.conf" % mask)
+    p = subprocess.run(["/bin/sh", "-c", "umask %03o && exec /usr/bin/python3 \"$@\"" % mask, "sh",
+                        tool, runs, "--config", conf, "--out", dest_m],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    mode = os.stat(dest_m).st_mode & 0o777 if p.returncode == 0 else None
+    check(mode == 0o666 & ~mask, "--out under umask %03o: mode %s, as a new file gets (%03o)"
+          % (mask, "%03o" % mode if mode is not None else p.stderr.strip(), 0o666 & ~mask))
 p = run_tool(runs, "--side-mm", 1200)
 check(p.returncode == 0 and keys(p.stdout)["cal_base"] != keys(written)["cal_base"],
       "--side-mm without a configuration: no calibration in force")
