@@ -9,6 +9,7 @@ a leak on any of these paths into another exit status.
 """
 import hashlib
 import os
+import subprocess
 
 from simtest import Sim, check
 
@@ -82,6 +83,18 @@ check(after.keys() == before.keys() and after["readings.csv"] != before["reading
 with open(trace) as f:
     lines = f.read().splitlines()
 check(lines[-1].startswith("end "), "the trace is complete (%d lines)" % len(lines))
+
+# A run that will write more than 100 MB says so before it starts; a short one says nothing.
+proc = subprocess.Popen([sim.bin, "--no-plot", "--quiet", "--duration", "100000", "--out",
+                         sim.out("long"), "--telemetry", sim.out("long.tel")],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+first = proc.stderr.readline()
+proc.kill()
+proc.wait()
+check("100000 simulated seconds will write about 772 MB (readings.csv 140 MB, trajectory.csv "
+      "72 MB, --telemetry 560 MB)" in first, "a long run announces its size: %s" % first.strip())
+p = sim.run("--duration", 5, "--out", sim.out("short"))
+check("will write" not in p.stderr, "a short run says nothing of its size")
 
 # Files renamed into place keep the mode a new file gets under the umask (another user of
 # a shared folder reads them), whatever the temporary name was made with.
