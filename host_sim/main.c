@@ -500,6 +500,10 @@ static int run(options_t *o, held_t *h)
         (o->bag != NULL && bag_check(o->bag) != 0)) {
         return EXIT_USAGE;
     }
+    bool umbmark = h->sc.cfg.explore_mode == EXPLORE_UMBMARK;
+    if (umbmark && !o->has_duration) {
+        o->duration_s = EXPERIMENTER_MAX_S; /* until the last run is measured */
+    }
     announce_size(o);
     /* From here on only a failure while running can go wrong: exit 1, and every file of
      * --out that was there before stays as it was. */
@@ -510,6 +514,25 @@ static int run(options_t *o, held_t *h)
     outcome_t out;
     if (drive(o, h, &out) != 0 || close_logs(o, h, out.tape_rc) != 0) {
         return 1;
+    }
+    if (umbmark && !o->has_duration) {
+        o->duration_s = (double)out.ticks * TICK_S; /* what the test took */
+    }
+    unsigned runs = 2u * fw.robot.umbmark.runs;
+    if (umbmark && out.tape_rc >= 0 && h->tape.measured < runs) {
+        /* A csv with the first runs only would leave umbmark.py without a direction. */
+        double each = h->tape.measured > 0u ? o->duration_s / h->tape.measured : 0.0;
+        fprintf(stderr,
+                "host_sim: UMBmark stopped after %u of its %u runs: --duration %.0f s ended "
+                "the run first (",
+                h->tape.measured, runs, o->duration_s);
+        if (each > 0.0) {
+            fprintf(stderr, "a run takes about %.0f s; give --duration %.0f or more, or leave it "
+                            "out to run until the last run)\n",
+                    each, each * runs * 1.1);
+        } else {
+            fprintf(stderr, "leave --duration out to run until the last run)\n");
+        }
     }
     return finish(o, h, &out);
 }

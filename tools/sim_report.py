@@ -246,6 +246,7 @@ def report(args):
     for acc in ACCELS:
         for s in seeds:
             jobs["accel-%d-%d" % (acc, s)] = ["--explore", "square", "--set", "square_laps=10",
+                                              "--set", "square_side_um=1000000",
                                               "--set", "accel_mm_s2=%d" % acc, "--seed", s,
                                               "--duration", 400]
     for cell in (25, 50, 100):
