@@ -116,10 +116,17 @@ try:
     drv.find_element("id", "download").click()
     names = ("om.pgm", "om.yaml", "tm.pgm")
     end = time.monotonic() + webtest.TIMEOUT_S
-    while not all(os.path.exists(os.path.join(downloads, n)) for n in names):
+    # Chromium may reserve a download's name before its bytes are all in: wait for each
+    # file to reach the size of the run's, then compare the bytes.
+    def whole(n):
+        p = os.path.join(downloads, n)
+        return os.path.exists(p) and os.path.getsize(p) == os.path.getsize(os.path.join(out, n))
+    while not (all(whole(n) for n in names)
+               and not any(f.endswith(".crdownload") for f in os.listdir(downloads))):
         if time.monotonic() > end:
-            fail("the downloads did not come: %s" % os.listdir(downloads))
-        time.sleep(0.1)  # (a download takes its name only once it is whole)
+            fail("the downloads did not come whole: %s" % {f: os.path.getsize(os.path.join(downloads, f))
+                                                           for f in os.listdir(downloads)})
+        time.sleep(0.1)
     for n in names:
         check(read(os.path.join(downloads, n)) == read(os.path.join(out, n)),
               "Download the map: %s is the run's %s byte for byte" % (n, n))

@@ -48,7 +48,7 @@ bool explore_memory_points(explore_t *e)
             continue;
         }
         int32_t side;
-        int32_t ahead = explore_frame_point(&f, m->pt_x_um[i], m->pt_y_um[i], &side);
+        int32_t ahead = fix_frame_point(&f, m->pt_x_um[i], m->pt_y_um[i], &side);
         if (ahead <= -EXPLORE_RIGHT_BEHIND_UM || ahead >= EXPLORE_SLOW_UM + e->cfg.mount_x_um) {
             continue; /* behind the robot, or too far ahead to matter */
         }

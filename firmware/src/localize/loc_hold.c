@@ -157,8 +157,7 @@ void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr
                     const odom_pose_t *ping, int32_t pt[2])
 {
     odom_pose_t at = loc_apply(corr, ping);
-    q1_30_t c = fix_cos(at.heading);
-    q1_30_t s = fix_sin(at.heading);
+    const fix_frame_t frame = {at.x_um, at.y_um, fix_cos(at.heading), fix_sin(at.heading)};
     const int64_t far2 = corridor_far2(h->clear_um);
     /* A hit's offset from the ping in the odometry frame is its point (hold_odom()) from
      * the grid's origin, plus the origin's offset from the ping. Differences modulo 2^32,
@@ -190,10 +189,8 @@ void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr
         int32_t y;
         uint32_t cell;
         loc_corr_point(corr, ox, oy, &x, &y);
-        int32_t dx = (int32_t)((uint32_t)x - (uint32_t)at.x_um);
-        int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
-        int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
-        int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        int32_t side;
+        int32_t ahead = fix_frame_point(&frame, x, y, &side);
         /* The corridor first, the map after: most hits lie outside it, and a hit at or
          * beyond the second nearest is out whatever its cell (near[0] <= near[1]). */
         if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -h->clear_um ||
