@@ -1,6 +1,9 @@
 # SPDX-License-Identifier: MIT
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
+# make's "Entering directory" lines say nothing a reader of make test needs.
+MAKEFLAGS += --no-print-directory
+
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 TEST_PRESETS := host host-asan host-m32 host-tsan host-clang stm32f4
 # The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
@@ -116,25 +119,14 @@ $(addprefix build-,$(TEST_PRESETS)): build-%: deps
 	cmake --preset $*
 	cmake --build --preset $* -j $(JOBS)
 
-$(addprefix test-,$(filter-out host-m32,$(TEST_PRESETS))): test-%: build-%
-	ctest --preset $*
+# A line a build (its tests' count, time and skips with their reasons), progress every
+# 30 s, the whole output in build/PRESET/test.log, a failure's output in full
+# (tools/test_builds.py). host-m32's tests run only where the kernel runs 32-bit programs.
+$(addprefix test-,$(TEST_PRESETS)): test-%: deps
+	@tools/test_builds.py --jobs $(JOBS) $*
 
-# Some kernels (virtual machines built without IA-32 emulation) cannot run 32-bit programs.
-# There the 32-bit build is still built, warnings as errors, but its tests cannot run: said
-# loudly, and in the last line of make test.
-M32_PROBE := build/host-m32/m32_probe
-test-host-m32: build-host-m32
-	@rm -f build/host-m32/tests-not-run
-	@printf 'int main(void) { return 0; }\n' > $(M32_PROBE).c
-	@$(CC) -m32 $(M32_PROBE).c -o $(M32_PROBE)
-	@if $(M32_PROBE) 2>/dev/null; then ctest --preset host-m32; \
-	else echo "make test: this kernel cannot run 32-bit programs: host-m32 is built but its tests NOT run"; \
-	     touch build/host-m32/tests-not-run; fi
-
-test: $(addprefix test-,$(TEST_PRESETS))
-	@if [ -e build/host-m32/tests-not-run ]; then rm -f build/host-m32/tests-not-run; \
-	 echo "All tests passed in: $(filter-out host-m32,$(TEST_PRESETS)); host-m32 built, its tests not run (no 32-bit support in this kernel)."; \
-	 else echo "All tests passed in: $(TEST_PRESETS)."; fi
+test: deps
+	@tools/test_builds.py --jobs $(JOBS) $(TEST_PRESETS)
 
 linux:
 	@tools/install-deps.sh linux

@@ -82,7 +82,9 @@ static int load(const char *extra, slam_config_t *core, lconf_t *lc, char *err, 
         strncat(into, line, len);
         line += len;
     }
-    char text[4096];
+    /* Room for both halves whole and the minimal file besides, which the optimiser of a
+     * Debug build cannot see the length of (-Wformat-truncation). */
+    char text[sizeof top + sizeof section + 4096];
     snprintf(text, sizeof text, "%s%s%s", top, minimal, section);
     return load_text(text, core, lc, err, n);
 }
