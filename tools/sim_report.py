@@ -12,8 +12,8 @@ threshold/template that maximise F1; odometry error under high and moderate
 acceleration; the map with perfect odometry; per cell size, F1, odometry error and RAM;
 the exploration modes over every shipped room (collisions, the closest approach, wall
 coverage and when it reached 50, 80 and 90 %, raw F1) and the time they take to visit the
-free cells; the wall coverage of each shipped room; and, when the building maps lie
-beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
+free cells; the wall coverage of each shipped room; and, when the building maps
+of host_sim/maps (or --maps DIR) are there, the same in crops of them; and
 every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
 alone, each run that touched a wall as the arguments that repeat it with when and where
@@ -640,8 +640,8 @@ def main():
                     help="only the faults' table, and the runs that touch (many seeds in minutes)")
     ap.add_argument("--levels-only", action="store_true",
                     help="only the sonar levels' table, and the runs that touch")
-    ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
-                    help="the building maps (default: ../shared/maps beside the repository)")
+    ap.add_argument("--maps", default=os.path.join(SRC, "host_sim", "maps"),
+                    help="the building maps (default: host_sim/maps)")
     add_host_arg(ap, "--host-arg=--set --host-arg=sweep_stops=7")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
