@@ -22,7 +22,7 @@ CORPUS_ARGS ?=
 COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
 
-.PHONY: help sim calibrate test bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
+.PHONY: help sim calibrate test docs docs-check bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
         deps-fuzz firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
@@ -37,6 +37,8 @@ help:
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, the simulator's instructions per"
 	@echo "               control period, against the budgets"
+	@echo "make docs      the READMEs' generated figures and pictures, from this build"
+	@echo "               (make docs-check: which are out of date, changing nothing)"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
 	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
 	@echo "make corpus    the corpus report: shipped rooms x 20 seeds, 100 generated rooms"
@@ -77,6 +79,14 @@ calibrate: deps-sim
 	cmake --preset host
 	cmake --build --preset host -j $(JOBS) --target host_sim
 	tools/calibrate_sim.py build/host/host_sim/host_sim --out out/calibrate
+
+# The READMEs' generated figures (<!-- figures: NAME --> blocks and the pictures beside
+# them), made again from this build; docs-check says which differ, and changes nothing.
+docs: build-host
+	tools/docs.py build/host/host_sim/host_sim
+
+docs-check: build-host
+	tools/docs.py build/host/host_sim/host_sim --check
 
 report: build-host
 	tools/sim_report.py
