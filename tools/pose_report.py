@@ -19,8 +19,8 @@ difference on − off over the seeds with its standard error. With --figure, als
 (host_sim/figures/pose_correction.png in the README). With --perfect-odometry every run's
 odometry is exact (no E_d, E_b, wheel noise or slip, no calibration file): what gap is
 left is the matcher's own. Each run keeps its metrics.json and small files in DIR/NAME
-(default out/pose_report); its logs and maps are deleted once read, unless --keep (the
-figure's one-hour runs keep theirs).
+(default out/pose_report); its logs and maps are deleted once read, unless --keep (with
+--figure, the one-hour runs it draws keep theirs).
 Exit status: 0 done, 1 a run failed, 2 bad options.
 """
 import argparse
@@ -130,10 +130,11 @@ def report(args):
     base = args.out
     total = len(jobs)
     print("pose_report: %d runs of host_sim into %s" % (total, base), file=sys.stderr)
-    # The figure draws the first seed's one-hour runs: their maps and trajectories stay.
+    # A figure draws the first seed's one-hour runs: their maps and trajectories stay.
     first_long = "long%d-" % (600 if args.quick else LONG[0])
     res = run_all(args.host_sim, base, jobs, args.jobs, "pose_report",
-                  keep=lambda n: args.keep or n.startswith(first_long) and n.endswith("-1"))
+                  keep=lambda n: args.keep or bool(args.figure) and n.startswith(first_long)
+                  and n.endswith("-1"))
 
     def group(prefix):
         return [res[n] for n in sorted(res) if n.rsplit("-", 1)[0] == prefix]
