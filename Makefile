@@ -31,7 +31,7 @@ help:
 	@echo "               (more: make sim SIM_ARGS='--room host_sim/rooms/obstacles.room --seed 2')"
 	@echo "make calibrate UMBmark on the simulated robot: the calibration make sim uses"
 	@echo "               (host_sim/calibration/default_robot.conf), E_max,syst before and after on 5 seeds"
-	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
+	@echo "make test      install what is missing, build and run every test, a line a build, ~10 min (host, sanitizers,"
 	@echo "               32-bit, ThreadSanitizer on the Linux backend, clang, the STM32F4 images in QEMU)"
 	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
