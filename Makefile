@@ -1,6 +1,9 @@
 # SPDX-License-Identifier: MIT
 # Thin wrapper over the CMake presets. `make help` lists the targets.
 
+# make's "Entering directory" lines say nothing a reader of make test needs.
+MAKEFLAGS += --no-print-directory
+
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 TEST_PRESETS := host host-asan host-m32 host-tsan host-clang stm32f4
 # The STM32F4 board: a table hal/stm32f4/board_<BOARD>.h. The preset's own board
@@ -20,7 +23,7 @@ COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
 FUZZ_EXAMPLES ?= 100000
 
-.PHONY: help sim calibrate test bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
+.PHONY: help sim calibrate test docs docs-check bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
         deps-fuzz firmware flash debug linux clean \
         $(addprefix build-,$(TEST_PRESETS)) $(addprefix test-,$(TEST_PRESETS))
 
@@ -30,11 +33,14 @@ help:
 	@echo "make calibrate UMBmark on the simulated robot: the calibration make sim uses"
 	@echo "               (host_sim/calibration/default_robot.conf), E_max,syst before and after on 5 seeds"
 	@echo "make test      install what is missing, build and run every test (host, sanitizers,"
-	@echo "               32-bit, ThreadSanitizer on the Linux backend, clang, the STM32F4 images in QEMU)"
+	@echo "               32-bit, ThreadSanitizer on the Linux backend, clang, the STM32F4 images in QEMU):"
+	@echo "               a line a build, logs in build/PRESET/test.log, ~10 min on 2 idle cores"
 	@echo "make fuzz-core the core fuzz under ASan + UBSan: $(FUZZ_RUNS) random configurations (minutes)"
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, the simulator's instructions per"
 	@echo "               control period, against the budgets"
+	@echo "make docs      the READMEs' generated figures and pictures, from this build"
+	@echo "               (make docs-check: which are out of date, changing nothing)"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
 	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
 	@echo "make corpus    the corpus report: shipped rooms x 20 seeds, 100 generated rooms"
@@ -77,6 +83,14 @@ calibrate: deps-sim
 	cmake --build --preset host -j $(JOBS) --target host_sim
 	tools/calibrate_sim.py build/host/host_sim/host_sim --out out/calibrate
 
+# The READMEs' generated figures (<!-- figures: NAME --> blocks and the pictures beside
+# them), made again from this build; docs-check says which differ, and changes nothing.
+docs: build-host
+	tools/docs.py build/host/host_sim/host_sim
+
+docs-check: build-host
+	tools/docs.py build/host/host_sim/host_sim --check
+
 report: build-host
 	tools/sim_report.py
 	tools/pose_report.py
@@ -118,25 +132,14 @@ $(addprefix build-,$(TEST_PRESETS)): build-%: deps
 	cmake --preset $*
 	cmake --build --preset $* -j $(JOBS)
 
-$(addprefix test-,$(filter-out host-m32,$(TEST_PRESETS))): test-%: build-%
-	ctest --preset $*
+# A line a build (its tests' count, time and skips with their reasons), progress every
+# 30 s, the whole output in build/PRESET/test.log, a failure's output in full
+# (tools/test_builds.py). host-m32's tests run only where the kernel runs 32-bit programs.
+$(addprefix test-,$(TEST_PRESETS)): test-%: deps
+	@tools/test_builds.py --jobs $(JOBS) $*
 
-# Some kernels (virtual machines built without IA-32 emulation) cannot run 32-bit programs.
-# There the 32-bit build is still built, warnings as errors, but its tests cannot run: said
-# loudly, and in the last line of make test.
-M32_PROBE := build/host-m32/m32_probe
-test-host-m32: build-host-m32
-	@rm -f build/host-m32/tests-not-run
-	@printf 'int main(void) { return 0; }\n' > $(M32_PROBE).c
-	@$(CC) -m32 $(M32_PROBE).c -o $(M32_PROBE)
-	@if $(M32_PROBE) 2>/dev/null; then ctest --preset host-m32; \
-	else echo "make test: this kernel cannot run 32-bit programs: host-m32 is built but its tests NOT run"; \
-	     touch build/host-m32/tests-not-run; fi
-
-test: $(addprefix test-,$(TEST_PRESETS))
-	@if [ -e build/host-m32/tests-not-run ]; then rm -f build/host-m32/tests-not-run; \
-	 echo "All tests passed in: $(filter-out host-m32,$(TEST_PRESETS)); host-m32 built, its tests not run (no 32-bit support in this kernel)."; \
-	 else echo "All tests passed in: $(TEST_PRESETS)."; fi
+test: deps
+	@tools/test_builds.py --jobs $(JOBS) $(TEST_PRESETS)
 
 linux:
 	@tools/install-deps.sh linux

@@ -116,7 +116,7 @@ static int check_config(const cfg_origin_t *w, const slam_config_t *cfg)
     return -1;
 }
 
-int build_config(const options_t *o, const room_t *room, double sx, double sy, double sth,
+int build_config(options_t *o, const room_t *room, double sx, double sy, double sth,
                  slam_config_t *cfg)
 {
     slam_config_default(cfg);
@@ -134,6 +134,11 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
         fprintf(stderr, "host_sim: %s\n", err);
         return -1;
     }
+    /* A robot's own file (robot.conf) that holds its calibration is where the calibration
+     * came from: the report names it, not the calibration file it overrode. */
+    bool cal_in_config = o->config != NULL && (cfgtext_where_line(&w.file, "cal_left") != 0u ||
+                                               cfgtext_where_line(&w.file, "cal_right") != 0u ||
+                                               cfgtext_where_line(&w.file, "cal_base") != 0u);
     if (o->paper) {
         slam_config_paper(cfg);
     }
@@ -250,5 +255,11 @@ int build_config(const options_t *o, const room_t *room, double sx, double sy, d
     }
     cfg->start_cell_a = (uint16_t)a0;
     cfg->start_cell_b = (uint16_t)b0;
-    return check_config(&w, cfg);
+    if (check_config(&w, cfg) != 0) {
+        return -1;
+    }
+    if (cal_in_config) {
+        o->calibration = o->config;
+    }
+    return 0;
 }

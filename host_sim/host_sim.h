@@ -171,7 +171,7 @@ typedef struct {
     uint64_t seed;
     double cell_mm;
     int explore;
-    bool has_seed, has_cell, has_explore; /* given on the command line */
+    bool has_seed, has_cell, has_explore, has_duration; /* given on the command line */
     const char *out;
     bool has_out;  /* --out given: a replay's default is beside its log, not out/sim */
     bool ideal;
@@ -229,10 +229,12 @@ int apply_error(sim_errors_t *e, const char *nv);
  * middle of the grid, unless start_cell_a/b were set). Refused with a message naming the
  * option, or the file, line and key: a value two options set differently, a key given
  * twice, a start pose in the file that is not the scenario's, a room that does not fit
- * the grid, any value slam_config_check() refuses (with its valid range).
+ * the grid, any value slam_config_check() refuses (with its valid range). A --config file
+ * that sets cal_left, cal_right or cal_base becomes o->calibration: where the calibration
+ * the firmware runs with came from.
  * @return 0, or -1 with a message
  */
-int build_config(const options_t *o, const room_t *room, double sx, double sy, double sth,
+int build_config(options_t *o, const room_t *room, double sx, double sy, double sth,
                  slam_config_t *cfg);
 
 /** The firmware's explore_seed for a run's --seed: distinct for seeds 0 .. 2^32 - 3. */
@@ -496,6 +498,10 @@ void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t 
 /* ---- the UMBmark experimenter (experimenter.c) ------------------------------------------ */
 
 #define EXPERIMENTER_CSV "umbmark.csv" /* the measurements, in the output folder */
+
+/* Without --duration, a robot that runs UMBmark runs until its last run is measured; no
+ * test takes ten hours (50 runs each way of a 100 m square would: the longest allowed). */
+#define EXPERIMENTER_MAX_S 36000.0
 
 /** A person with a tape measure beside the UMBmark test (firmware/include/slam/umbmark.h). */
 typedef struct {

@@ -492,6 +492,44 @@ __attribute__((noinline)) static int finish(const options_t *o, held_t *h, const
 
 /* ---- main ----------------------------------------------------------------------------- */
 
+/* What a run writes grows with its simulated time; a long one is said before it starts,
+ * so a typo in --duration does not fill a disk unannounced. Bytes a simulated second,
+ * measured in the default room (a sweep's 15 pings and 10 poses a second). */
+#define ANNOUNCE_BYTES 100e6
+static void announce_size(const options_t *o)
+{
+    const struct {
+        bool on;
+        const char *name;
+        double bytes_s;
+    } logs[] = {
+        {true, "readings.csv", 1400.0},
+        {true, "trajectory.csv", 720.0},
+        {o->scoring, "scoring_estimate.csv", 600.0},
+        {o->telemetry != NULL, "--telemetry", 5600.0},
+        {o->trace != NULL, "--trace", 3700.0},
+        {o->bag != NULL, "--bag", 23000.0},
+    };
+    double total = 0.0;
+    for (size_t i = 0; i < sizeof logs / sizeof logs[0]; i++) {
+        total += logs[i].on ? logs[i].bytes_s * o->duration_s : 0.0;
+    }
+    if (total < ANNOUNCE_BYTES) {
+        return;
+    }
+    char parts[512] = "";
+    size_t used = 0;
+    for (size_t i = 0; i < sizeof logs / sizeof logs[0] && used < sizeof parts; i++) {
+        if (logs[i].on) {
+            int n = snprintf(parts + used, sizeof parts - used, "%s%s %.0f MB", used ? ", " : "",
+                             logs[i].name, logs[i].bytes_s * o->duration_s / 1e6);
+            used += n > 0 ? (size_t)n : 0u;
+        }
+    }
+    fprintf(stderr, "host_sim: %.0f simulated seconds will write about %.0f MB (%s)\n",
+            o->duration_s, total / 1e6, parts);
+}
+
 /* Checks the input, then the outputs, then runs: 0, EXIT_USAGE or 1. */
 static int run(options_t *o, held_t *h)
 {
@@ -504,6 +542,11 @@ static int run(options_t *o, held_t *h)
         (o->bag != NULL && bag_check(o->bag) != 0)) {
         return EXIT_USAGE;
     }
+    bool umbmark = h->sc.cfg.explore_mode == EXPLORE_UMBMARK;
+    if (umbmark && !o->has_duration) {
+        o->duration_s = EXPERIMENTER_MAX_S; /* until the last run is measured */
+    }
+    announce_size(o);
     /* From here on only a failure while running can go wrong: exit 1, and every file of
      * --out that was there before stays as it was. */
     if (alloc_buffers(h) != 0 || open_logs(o, h) != 0 || start_firmware(o, h) != 0 ||
@@ -513,6 +556,25 @@ static int run(options_t *o, held_t *h)
     outcome_t out;
     if (drive(o, h, &out) != 0 || close_logs(o, h, out.tape_rc) != 0) {
         return 1;
+    }
+    if (umbmark && !o->has_duration) {
+        o->duration_s = (double)out.ticks * TICK_S; /* what the test took */
+    }
+    unsigned runs = 2u * fw.robot.umbmark.runs;
+    if (umbmark && out.tape_rc >= 0 && h->tape.measured < runs) {
+        /* A csv with the first runs only would leave umbmark.py without a direction. */
+        double each = h->tape.measured > 0u ? o->duration_s / h->tape.measured : 0.0;
+        fprintf(stderr,
+                "host_sim: UMBmark stopped after %u of its %u runs: --duration %.0f s ended "
+                "the run first (",
+                h->tape.measured, runs, o->duration_s);
+        if (each > 0.0) {
+            fprintf(stderr, "a run takes about %.0f s; give --duration %.0f or more, or leave it "
+                            "out to run until the last run)\n",
+                    each, each * runs * 1.1);
+        } else {
+            fprintf(stderr, "leave --duration out to run until the last run)\n");
+        }
     }
     return finish(o, h, &out);
 }

@@ -46,7 +46,8 @@ static void usage(FILE *f)
         "  --crop X Y W H       take this part of a ROS map (metres, map frame); its edges\n"
         "                       become walls\n"
         "  --start X Y DEG      start pose (default: the room's, or a free spot)\n"
-        "  --duration S         simulated seconds (default 600)\n"
+        "  --duration S         simulated seconds (default 600; a robot running UMBmark,\n"
+        "                       --explore umbmark: until its last run is measured)\n"
         "  --seed N             seed of every random error and of the exploration (default 1;\n"
         "                       sets explore_seed)\n"
         "  --cell MM            grid cell size in mm (default 50; sets cell_um)\n"
@@ -87,7 +88,8 @@ static void usage(FILE *f)
         "                       Default: host_sim/calibration/default_robot.conf,\n"
         "                       what make calibrate measured on the default robot; none\n"
         "                       with --ideal or another ed or eb (another robot)\n"
-        "  --config FILE        firmware configuration, key = value lines\n"
+        "  --config FILE        firmware configuration, key = value lines: a robot's\n"
+        "                       robot.conf as it is (its [linux] section is skipped)\n"
         "  --set KEY=VALUE      one firmware configuration value (repeatable); one that\n"
         "                       disagrees with --cell or --explore is refused\n"
         "                       The configuration is built in this order, a later one\n"
@@ -254,6 +256,7 @@ int parse_options(int argc, char **argv, options_t *o)
             if (r != NUM_OK) {
                 return bad_number("--duration", argv[i], r, 0.01, 1e6);
             }
+            o->has_duration = true;
         } else if (strcmp(a, "--seed") == 0) {
             if (!take(argc, argv, &i, 1)) {
                 return fail_usage("--seed needs a whole number >= 0");

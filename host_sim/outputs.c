@@ -174,6 +174,16 @@ static int writable_dir(const char *what, const char *path, const char *dir)
                 strerror(errno));
         return -1;
     }
+    /* access() answers yes to root in /proc and /sys, where nothing can be created: a
+     * folder made and removed at once is the only test that holds everywhere. */
+    char probe[4096 + 64];
+    snprintf(probe, sizeof probe, "%s/.host_sim-probe-%ld", dir, (long)getpid());
+    if (mkdir(probe, 0700) != 0) {
+        fprintf(stderr, "host_sim: %s %s: cannot create files in %s: %s\n", what, path, dir,
+                strerror(errno));
+        return -1;
+    }
+    (void)rmdir(probe);
     return 0;
 }
 

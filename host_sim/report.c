@@ -365,5 +365,29 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
     }
     printf("\n");
     printf("  calibration     %s\n", o->calibration != NULL ? o->calibration : "none");
+    /* A first run is read by someone who has not met the paper's words yet. */
+    printf("\n  what these mean (every term: host_sim/GLOSSARY.md)\n"
+           "    precision     of the cells the map calls wall, the share that are wall (within "
+           "a cell)\n"
+           "    recall        of the walls the sonar came within 1 m of, the share the map has\n"
+           "    F1            precision and recall in one score: 1 is a perfect map\n"
+           "    perfect odometry F1  the map drawn from where the robot really was at each "
+           "ping:\n"
+           "                  what the sonar alone allows; the difference is the gap\n"
+           "    raw OM        the robot's obstacle map; threshold (TH), template (K) and insert "
+           "are\n"
+           "                  the paper's clean-up steps, off unless --paper%s\n"
+           "    pose error    how far the robot's idea of where it is ended from the truth, and "
+           "its worst\n"
+           "    pose correction  how often the robot lined its last sonar hits up with its map "
+           "to fix its pose\n"
+           "    coverage      the floor the robot drove over; collisions: touches; closest: its "
+           "nearest approach\n"
+           "    walls         the walls the sonar looked at from within 1 m (its confidence "
+           "sector)\n"
+           "    calibration   the wheels' correction in use (README.md, Calibration)\n\n",
+           ps != NULL ? "; best TH, K: the steps'\n                  settings that would have "
+                        "scored best"
+                      : "");
     printf("  outputs         %s/\n", o->out);
 }

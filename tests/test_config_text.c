@@ -167,7 +167,7 @@ static void test_file_errors_name_file_and_line(void **state)
          ":3: wheel_base_um is given twice (first on line 1)"},
         /* Numbers beyond the type say so, not "not a number". */
         {"wheel_base_um = 99999999999999999999999\n", ":1: wheel_base_um = '99999999999999999999999': "
-                                                   "out of range 0..4294967295"},
+                                                   "out of its valid range: 50000..1000000"},
         {"cal_left = 1e999\n", ":1: cal_left = '1e999': must lie between -2 and 2"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

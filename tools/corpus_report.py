@@ -13,7 +13,7 @@ Runs host_sim, --jobs at a time (default: every core), over four groups:
   (default 600,1800 s);
 - flats: M flats of tools/roomgen.py (--flats, default 12), 60 min;
 - buildings: the crops of the building maps tools/sim_report.py uses (BUILDINGS), seeds
-  1-3, 30 min, when ../shared/maps beside the repository (or --maps DIR) holds them.
+  1-3, 30 min, when host_sim/maps (or --maps DIR) holds them.
 For each group and duration it prints a Markdown table: the runs, then the mean ± its
 standard error and the bad 5 % (the 5th percentile of F1, the 95th of the others) of
 the raw F1 of OM built from the robot's own pose (metrics.json maps.odometry.raw.f1), of
@@ -314,8 +314,8 @@ def main():
     ap.add_argument("--first-seed", type=int, metavar="S", default=1,
                     help="of the generated rooms and flats (default 1)")
     ap.add_argument("--maps", metavar="DIR",
-                    default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
-                    help="the building maps (default: ../shared/maps beside the repository)")
+                    default=os.path.join(SRC, "host_sim", "maps"),
+                    help="the building maps (default: host_sim/maps)")
     ap.add_argument("--quick", action="store_true",
                     help="a smoke test: 2 seeds, 6 rooms and 2 flats, runs of 1-2 min")
     add_host_arg(ap, "--host-arg=--set --host-arg=localize=0")

@@ -5,9 +5,15 @@
 #   tools/install-deps.sh [GROUP...]     groups: test sim firmware flash linux compare fuzz
 #                                        web ros all (default: all)
 #
-# Idempotent: when everything is present it installs nothing and says so.
-# Uses sudo when not run as root. Exit status is non-zero when an install fails.
+# Idempotent: when everything is present it installs nothing and says so. Before
+# installing it says how many packages that means and their size. When another program
+# holds apt's lock (a fresh Debian's unattended upgrades, say) it says so and waits, up to
+# INSTALL_DEPS_LOCK_WAIT seconds (default 900), then gives up with a message naming the
+# process. Uses sudo when not run as root. Exit status is non-zero when an install fails.
 set -eu
+
+LOCK_WAIT=${INSTALL_DEPS_LOCK_WAIT:-900}
+LOCK_POLL=${INSTALL_DEPS_LOCK_POLL:-5}
 
 usage() {
     echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|compare|fuzz|web|ros|all]...   (default: all)"
@@ -84,10 +90,40 @@ else
     exit 1
 fi
 
-echo "install-deps: installing:$missing"
-case " $missing " in
-    *" chromium "*) echo "install-deps: (chromium, for the browser page's tests, is large: with chromium-driver about 140 MB to download, 470 MB installed)" ;;
-esac
+# apt-get "$@", waited for while another program holds apt's or dpkg's lock: apt-get gives
+# up at once then, and the message it gives ("Could not get lock") is the only sign.
+apt_locked() {
+    log=$(mktemp)
+    waited=0
+    told=""
+    while :; do
+        if $SUDO env DEBIAN_FRONTEND=noninteractive apt-get "$@" 2>"$log"; then
+            cat "$log" >&2; rm -f "$log"; return 0
+        fi
+        if ! grep -q -e 'Could not get lock' -e 'Unable to acquire the dpkg frontend lock' \
+                -e 'Unable to lock' "$log"; then
+            cat "$log" >&2; rm -f "$log"; return 1
+        fi
+        # "It is held by process 1234 (unattended-upgr)"
+        holder=$(sed -n 's/.*held by process \([0-9]*\).*/\1/p' "$log" | head -n 1)
+        name=$(sed -n 's/.*held by process [0-9]* (\([^)]*\)).*/\1/p' "$log" | head -n 1)
+        who="${name:-another program}"
+        [ -n "$holder" ] && who="$who, process $holder"
+        if [ "$waited" -ge "$LOCK_WAIT" ]; then
+            echo "install-deps: apt is still busy after ${LOCK_WAIT} s (its lock is held by $who);" \
+                 "try again when it is done, or set INSTALL_DEPS_LOCK_WAIT=SECONDS to wait longer" >&2
+            rm -f "$log"; return 1
+        fi
+        if [ -z "$told" ]; then
+            echo "install-deps: apt is busy (its lock is held by $who: often the daily" \
+                 "unattended upgrade); waiting up to ${LOCK_WAIT} s..." >&2
+            told=yes
+        fi
+        sleep "$LOCK_POLL"
+        waited=$((waited + LOCK_POLL))
+    done
+}
+
 case "$missing" in
     *":i386"*)
         if ! dpkg --print-foreign-architectures | grep -qx i386; then
@@ -98,9 +134,24 @@ case "$missing" in
 esac
 
 # An index that fails to download must not stop the install: judge by the install itself.
-$SUDO apt-get update -q || echo "install-deps: apt-get update reported errors; trying the install anyway" >&2
+apt_locked update -q || echo "install-deps: apt-get update reported errors; trying the install anyway" >&2
+
+# What the install brings, before it starts: the packages (those asked for and what they
+# depend on) and their size, from the package index.
 # shellcheck disable=SC2086
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends $missing
+new=$(apt-get -s -q install --no-install-recommends $missing 2>/dev/null | sed -n 's/^Inst \([^ ]*\).*/\1/p' || true)
+if [ -n "$new" ]; then
+    # shellcheck disable=SC2086
+    sizes=$(apt-cache show --no-all-versions $new 2>/dev/null |
+            awk '/^Size:/ {d += $2} /^Installed-Size:/ {i += $2} END {printf "%.0f %.0f", d / 1e6, i * 1024 / 1e6}')
+    count=$(echo "$new" | wc -l)
+    echo "install-deps: installing$missing"
+    echo "install-deps: that is $count packages with what they need: about ${sizes% *} MB to download, ${sizes#* } MB on disk"
+else
+    echo "install-deps: installing$missing"
+fi
+# shellcheck disable=SC2086
+apt_locked install -y -q --no-install-recommends $missing || true
 
 still=""
 for p in $missing; do installed "$p" || still="$still $p"; done

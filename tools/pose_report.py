@@ -4,7 +4,7 @@
 
 usage: tools/pose_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--jobs N]
                             [--quick] [--no-long] [--long-seeds N] [--host-arg ARG]...
-                            [--perfect-odometry] [--figure PNG]
+                            [--perfect-odometry] [--figure PNG] [--keep]
 
 Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 simulated
 minutes each, once with the pose correction (the default, `localize = 1`) and once
@@ -18,7 +18,9 @@ difference on − off over the seeds with its standard error. With --figure, als
 1-hour maps side by side and the heading error over time
 (host_sim/figures/pose_correction.png in the README). With --perfect-odometry every run's
 odometry is exact (no E_d, E_b, wheel noise or slip, no calibration file): what gap is
-left is the matcher's own.
+left is the matcher's own. Each run keeps its metrics.json and small files in DIR/NAME
+(default out/pose_report); its logs and maps are deleted once read, unless --keep (with
+--figure, the one-hour runs it draws keep theirs).
 Exit status: 0 done, 1 a run failed, 2 bad options.
 """
 import argparse
@@ -128,7 +130,11 @@ def report(args):
     base = args.out
     total = len(jobs)
     print("pose_report: %d runs of host_sim into %s" % (total, base), file=sys.stderr)
-    res = run_all(args.host_sim, base, jobs, args.jobs, "pose_report")
+    # A figure draws the first seed's one-hour runs: their maps and trajectories stay.
+    first_long = "long%d-" % (600 if args.quick else LONG[0])
+    res = run_all(args.host_sim, base, jobs, args.jobs, "pose_report",
+                  keep=lambda n: args.keep or bool(args.figure) and n.startswith(first_long)
+                  and n.endswith("-1"))
 
     def group(prefix):
         return [res[n] for n in sorted(res) if n.rsplit("-", 1)[0] == prefix]
@@ -270,6 +276,9 @@ def main():
                     help="odometry without any error in every run: the gap that is left is "
                     "the matcher's own")
     ap.add_argument("--figure", help="also draw the 1-hour maps and heading error into this PNG")
+    ap.add_argument("--keep", action="store_true",
+                    help="keep every run's logs and maps (by default each keeps its "
+                         "metrics.json and small files only)")
     args = ap.parse_args()
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs need at least 1")

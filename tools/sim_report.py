@@ -4,6 +4,7 @@
 
 usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
                            [--maps DIR] [--faults-only] [--levels-only] [--host-arg ARG]...
+                           [--keep]
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
@@ -11,8 +12,8 @@ threshold/template that maximise F1; odometry error under high and moderate
 acceleration; the map with perfect odometry; per cell size, F1, odometry error and RAM;
 the exploration modes over every shipped room (collisions, the closest approach, wall
 coverage and when it reached 50, 80 and 90 %, raw F1) and the time they take to visit the
-free cells; the wall coverage of each shipped room; and, when the building maps lie
-beside the repository (../shared/maps, or --maps DIR), the same in crops of them; and
+free cells; the wall coverage of each shipped room; and, when the building maps
+of host_sim/maps (or --maps DIR) are there, the same in crops of them; and
 every fault the simulator can inject at three levels (FAULTS), with the F1 floor each
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
 alone, each run that touched a wall as the arguments that repeat it with when and where
@@ -25,6 +26,8 @@ and the wall cells of the true-pose map that they and the other readings lowered
 every run (a configuration to weigh: --host-arg=--set --host-arg=sweep_stops=7; with the
 levels, a --sonar there would override theirs).
 With --figure, also draws those results (host_sim/figures/report.png in the README).
+Each run keeps its metrics.json, configuration and timing in DIR/NAME (default
+out/report); its logs and maps are deleted once read, unless --keep.
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
@@ -122,24 +125,41 @@ def fault_rows(group, baseline):
     return rows
 
 
-def run(bin_, out, args):
+# What a run writes that grows with its length: deleted once its metrics.json is read,
+# unless the run is kept (--keep, or a figure draws it), so that a report's hundreds of
+# runs leave megabytes, not gigabytes (the ten-hour runs' logs alone are 70 MB each).
+BULKY_FILES = ("readings.csv", "trajectory.csv", "scoring_estimate.csv")
+BULKY_EXT = (".pgm", ".yaml")
+
+
+def bulky(out):
+    return [n for n in os.listdir(out) if n in BULKY_FILES or n.endswith(BULKY_EXT)]
+
+
+def run(bin_, out, args, keep=False):
     """One host_sim run (cached: an existing metrics.json of the same args and the same
-    host_sim binary is reused; a rebuilt binary runs again)."""
+    host_sim binary is reused; a rebuilt binary runs again, and so does a run to keep whose
+    files were deleted). Unless keep, its bulky files are deleted once it is read."""
     stamp = os.path.join(out, "args.json")
     key = {"args": [str(a) for a in args], "host_sim_mtime_ns": os.stat(bin_).st_mtime_ns}
+    cached = False
     if os.path.exists(stamp) and os.path.exists(os.path.join(out, "metrics.json")):
         with open(stamp) as f:
-            if json.load(f) == key:
-                with open(os.path.join(out, "metrics.json")) as g:
-                    return json.load(g)
-    cmd = [bin_, "--quiet", "--no-plot", "--out", out] + [str(a) for a in args]
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        sys.exit("sim_report: %s failed:\n%s" % (" ".join(cmd), p.stderr))
-    with open(stamp, "w") as f:
-        json.dump(key, f)
+            cached = json.load(f) == key and \
+                (not keep or os.path.exists(os.path.join(out, "trajectory.csv")))
+    if not cached:
+        cmd = [bin_, "--quiet", "--no-plot", "--out", out] + [str(a) for a in args]
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            sys.exit("sim_report: %s failed:\n%s" % (" ".join(cmd), p.stderr))
+        with open(stamp, "w") as f:
+            json.dump(key, f)
     with open(os.path.join(out, "metrics.json")) as f:
-        return json.load(f)
+        m = json.load(f)
+    if not keep:
+        for name in bulky(out):
+            os.remove(os.path.join(out, name))
+    return m
 
 
 def cores():
@@ -162,10 +182,10 @@ def duration(args):
     return 600.0
 
 
-def run_all(bin_, base, jobs, workers, what="sim_report"):
+def run_all(bin_, base, jobs, workers, what="sim_report", keep=lambda name: False):
     """jobs: {name: args}; returns {name: metrics}, running `workers` at a time, the longest
     runs first (a ten-hour run started last would finish alone on one core), and says on
-    stderr how long it took."""
+    stderr how long it took. keep(name): whether that run keeps its bulky files."""
     names = sorted(jobs)
     order = sorted(names, key=lambda n: -duration(jobs[n]))
     fresh = []
@@ -174,7 +194,7 @@ def run_all(bin_, base, jobs, workers, what="sim_report"):
     def one(n):
         stamp = os.path.join(base, n, "args.json")  # run() rewrites it when it runs
         before = os.stat(stamp).st_mtime_ns if os.path.exists(stamp) else None
-        m = run(bin_, os.path.join(base, n), jobs[n])
+        m = run(bin_, os.path.join(base, n), jobs[n], keep(n))
         if before is None or os.stat(stamp).st_mtime_ns != before:
             fresh.append(n)
         return m
@@ -226,6 +246,7 @@ def report(args):
     for acc in ACCELS:
         for s in seeds:
             jobs["accel-%d-%d" % (acc, s)] = ["--explore", "square", "--set", "square_laps=10",
+                                              "--set", "square_side_um=1000000",
                                               "--set", "accel_mm_s2=%d" % acc, "--seed", s,
                                               "--duration", 400]
     for cell in (25, 50, 100):
@@ -270,7 +291,9 @@ def report(args):
     elif args.levels_only:
         jobs = {n: a for n, a in jobs.items() if n.startswith("level-")}
     jobs = {n: a + args.host_arg for n, a in jobs.items()}
-    res = run_all(args.host_sim, base, jobs, args.jobs)
+    # The figure draws the odometry error of the acceleration runs from their trajectories.
+    res = run_all(args.host_sim, base, jobs, args.jobs,
+                  keep=lambda n: args.keep or n.startswith("accel-"))
 
     def group(prefix):
         return [res[n] for n in sorted(res) if n.startswith(prefix + "-")]
@@ -609,13 +632,16 @@ def main():
     ap.add_argument("--jobs", type=int, default=cores(),
                     help="runs at a time (default: every core, %d)" % cores())
     ap.add_argument("--quick", action="store_true", help="shorter runs, for a first look")
+    ap.add_argument("--keep", action="store_true",
+                    help="keep every run's logs and maps (by default each run keeps its "
+                         "metrics.json and small files only: the report stays a few MB)")
     ap.add_argument("--figure", help="also draw the results into this PNG")
     ap.add_argument("--faults-only", action="store_true",
                     help="only the faults' table, and the runs that touch (many seeds in minutes)")
     ap.add_argument("--levels-only", action="store_true",
                     help="only the sonar levels' table, and the runs that touch")
-    ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
-                    help="the building maps (default: ../shared/maps beside the repository)")
+    ap.add_argument("--maps", default=os.path.join(SRC, "host_sim", "maps"),
+                    help="the building maps (default: host_sim/maps)")
     add_host_arg(ap, "--host-arg=--set --host-arg=sweep_stops=7")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):

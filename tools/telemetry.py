@@ -4,8 +4,8 @@
 sends, turns a log into readings for host_sim --replay or a ROS bag, sends it commands.
 
 usage:
-  tools/telemetry.py dump SOURCE [--follow]        one line per frame
-  tools/telemetry.py view SOURCE [--follow] [--png FILE [--every S]]
+  tools/telemetry.py dump SOURCE [--follow [--until-idle S]]  one line per frame
+  tools/telemetry.py view SOURCE [--follow [--until-idle S]] [--png FILE [--every S]]
                                                    OM, TM and the path, drawn as they grow
   tools/telemetry.py to-readings LOG [--out DIR]   DIR/readings.csv and DIR/config.txt,
                                                    for host_sim --replay DIR/readings.csv
@@ -21,7 +21,8 @@ usage:
 
 SOURCE is a serial device (/dev/ttyUSB0, /dev/ttyAMA0, a pseudo-terminal /dev/pts/N;
 needs python3-serial) or a file of raw bytes, such as `host_sim --telemetry FILE` writes.
---follow keeps reading a file that is still growing (host_sim --realtime).
+--follow keeps reading a file that is still growing (host_sim --realtime) until Ctrl-C,
+or, with --until-idle S, until the file has not grown for S seconds (the run ended).
 
 view draws into a window; without a display, give --png FILE: the picture is written
 at the end, and rewritten every --every seconds (default 5) while --follow reads on.
@@ -30,7 +31,8 @@ Commands: start, stop, mode MODE, get KEY, set KEY VALUE, save, map, calibrate.
 MODE is one of: %(modes)s.
 KEY is a field of slam_config_t (firmware/include/slam/config_fields.h); cal_left,
 cal_right and cal_base take decimal factors such as 0.9901. `send PORT map --out DIR`
-waits for both maps and writes them as DIR/om.pgm and DIR/tm.pgm with ROS YAML.
+waits for both maps and writes DIR/om.pgm with its ROS YAML, and DIR/tm.pgm (where the
+robot drove: a picture, no YAML, since no map loader should read it as obstacles).
 
 Every field a frame gives that the tool sizes memory by is bounded: a HELLO's grid is
 %(grid_min)d..%(grid_max)d cells a side (firmware/include/slam/grid.h), a map row lies within it; frames
@@ -81,7 +83,7 @@ class Source:
     # exceptions (a finalizer inside matplotlib, say); this cannot.
     stopping = False
 
-    def __init__(self, path, baud=115200, follow=False):
+    def __init__(self, path, baud=115200, follow=False, until_idle=None):
         try:
             mode = os.stat(path).st_mode
         except OSError as e:
@@ -91,6 +93,7 @@ class Source:
         self.path = path
         self.device = stat.S_ISCHR(mode)
         self.follow = follow
+        self.until_idle = until_idle  # s without new bytes that end a --follow of a file
         self.dec = Decoder()
         self.frames = 0
         self.malformed = 0
@@ -106,11 +109,17 @@ class Source:
 
     def __iter__(self):
         """Decoded frames; None now and then while waiting for more bytes."""
+        last_data = time.monotonic()
         while True:
             try:
                 data = self.read()
             except OSError as e:
                 raise Fatal("reading %s: %s" % (self.path, e), 1)
+            if data:
+                last_data = time.monotonic()
+            elif not self.device and self.until_idle is not None and \
+                    time.monotonic() - last_data >= self.until_idle:
+                return
             if not data:
                 if (self.device or self.follow) and not Source.stopping:
                     time.sleep(0.05)
@@ -143,7 +152,7 @@ class Source:
 
 
 def cmd_dump(args):
-    src = Source(args.source, args.baud, args.follow)
+    src = Source(args.source, args.baud, args.follow, args.until_idle)
     for fr in src:
         if fr is not None:
             print(slamlink.describe(fr), flush=args.follow)
@@ -233,7 +242,7 @@ def cmd_view(args):
                     % (matplotlib.get_backend(), "" if os.environ.get("DISPLAY") else
                        ", DISPLAY is not set", args.source,
                        " --follow (rewritten every %g s)" % args.every if args.follow else ""))
-    src = Source(args.source, args.baud, args.follow)
+    src = Source(args.source, args.baud, args.follow, args.until_idle)
     m = Maps(np)
     fig, axes = plt.subplots(1, 2, figsize=(12, 6))
     last = time.time()
@@ -489,9 +498,13 @@ def main(argv=None):
     p = sub.add_parser("dump", help="print one line per frame")
     p.add_argument("source")
     p.add_argument("--follow", action="store_true", help="keep reading a growing file")
+    p.add_argument("--until-idle", type=float, metavar="S",
+                   help="with --follow: end once the file has not grown for S seconds")
     p = sub.add_parser("view", help="draw OM, TM and the path")
     p.add_argument("source")
     p.add_argument("--follow", action="store_true", help="keep reading a growing file")
+    p.add_argument("--until-idle", type=float, metavar="S",
+                   help="with --follow: end once the file has not grown for S seconds")
     p.add_argument("--png", help="draw into this PNG file instead of a window")
     p.add_argument("--every", type=slamlink.arg_real(0.01, 1e6), default=5.0,
                    help="with --png and --follow: rewrite the picture this often, s (default 5)")
@@ -530,6 +543,9 @@ def main(argv=None):
     args = ap.parse_args(argv)
     if args.command == "view" and args.every <= 0:
         ap.error("--every must be positive")
+    if getattr(args, "until_idle", None) is not None and \
+            (not args.follow or not args.until_idle > 0):
+        ap.error("--until-idle S needs --follow and a positive S")
     if args.command == "serve" and not 0 <= args.port <= 65535:
         ap.error("--port must be 0..65535")
     if args.command == "to-bag" and not (0 < args.fov < 180 and 0 < args.max_range <= 100):

@@ -3,7 +3,8 @@
 """UMBmark: odometry's systematic errors from the return errors measured with a tape,
 and the calibration that corrects them.
 
-usage: tools/umbmark.py RUNS.csv [--config FILE] [--side-mm MM] [--base-mm MM] [--out FILE]
+usage: tools/umbmark.py RUNS.csv [--config FILE [--apply]] [--side-mm MM] [--base-mm MM]
+                        [--out FILE]
        tools/umbmark.py --template [N]
 
 RUNS.csv holds one line per run of the bidirectional square test (the robot's
@@ -14,13 +15,16 @@ x ahead along the start heading, y to its left. A header line `direction,x_mm,y_
 blank lines and `#` comments are allowed. `--template` prints one to fill in.
 
 The side L of the square and the nominal wheel base b come from --config (the robot's
-robot.conf, or host_sim's config.txt: square_side_um and wheel_base_um), or --side-mm and
+robot.conf, or host_sim's config.txt: square_side_um and wheel_base_um; a key the file
+does not set is the firmware's default, which the robot ran with), or --side-mm and
 --base-mm. --config also gives the calibration in force during the runs (cal_left,
 cal_right, cal_base): the new one corrects what is left on top of it.
 
 Written (to stdout, or to --out FILE): the figures as `#` comments and the correction as
 `key = value` lines, cal_left, cal_right and cal_base, which host_sim --calibration or
---config, and the Linux robot's robot.conf read.
+--config, and the Linux robot's robot.conf read. --apply also writes them into the
+--config file itself, in place of its own cal_ lines (added before its first [section]
+where it has none), every other line as it was: the calibration the robot's next run uses.
 Exit status: 0 done; 1 the output could not be written; 2 bad input (file:line).
 
 How, with sources. B&F: Borenstein & Feng, "Measurement and correction of systematic
@@ -136,9 +140,10 @@ def read_runs(path):
         if not fields[1] or not fields[2]:
             raise Bad("%s: the run's x_mm and y_mm are missing (measure them)" % where)
         runs[direction].append((number(fields[1], "x_mm", where), number(fields[2], "y_mm", where)))
-    for d in ("cw", "ccw"):
+    for d, other in (("cw", "ccw"), ("ccw", "cw")):
         if not runs[d]:
-            raise Bad("%s: no %s runs: UMBmark needs runs in both directions" % (path, d))
+            raise Bad("%s: no %s runs (and %d %s): UMBmark needs runs in both directions; "
+                      "was the test cut short?" % (path, d, len(runs[other]), other))
     return runs
 
 
@@ -151,9 +156,15 @@ def read_config(path):
             lines = f.read().splitlines()
     except (OSError, UnicodeDecodeError) as e:
         raise Bad("%s: cannot read: %s" % (path, getattr(e, "strerror", None) or e))
+    section = None
     for no, raw in enumerate(lines, 1):
         line = raw.split("#", 1)[0].strip()
         if not line:
+            continue
+        if line.startswith("[") and line.endswith("]"):
+            section = line  # a program's own keys (robot.conf's [linux]): not the robot's
+            continue
+        if section is not None:
             continue
         if "=" not in line:
             raise Bad("%s:%d: expected 'key = value', got '%s'" % (path, no, line))
@@ -299,11 +310,21 @@ def report(a, source):
     return "\n".join(lines) + "\n"
 
 
+def umask_mode():
+    """The mode open() gives a new file: 0666 less the process's umask."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def write_atomic(path, text):
-    """Write a whole file or nothing: a temporary file beside it, renamed over it."""
+    """Write a whole file or nothing: a temporary file beside it, renamed over it. The file
+    gets the mode open() would give it (mkstemp makes 0600, which would lock other users
+    out of a shared calibration)."""
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".umbmark-", dir=d)
     try:
+        os.fchmod(fd, umask_mode())
         with os.fdopen(fd, "w", encoding="utf-8") as f:
             f.write(text)
         os.replace(tmp, path)
@@ -313,16 +334,22 @@ def write_atomic(path, text):
         raise
 
 
+def firmware_default(key):
+    """A configuration field's default, from firmware/include/slam/config_fields.h."""
+    import slamlink
+    return float(next(f.default for f in slamlink.FIELDS if f.name == key))
+
+
 def calibrate(runs_path, config=None, side_mm=None, base_mm=None):
     """The analysis of a runs file with the robot's configuration: (figures, text)."""
     cfg = read_config(config) if config else {}
     if side_mm is None:
-        if "square_side_um" not in cfg:
+        if not config:
             raise Bad("the side of the square is unknown: give --side-mm, or --config with "
-                      "square_side_um")
-        side_mm = cfg["square_side_um"] / 1000.0
+                      "the robot's configuration")
+        side_mm = cfg.get("square_side_um", firmware_default("square_side_um")) / 1000.0
     if base_mm is None:
-        base_mm = cfg.get("wheel_base_um", 130000.0) / 1000.0
+        base_mm = cfg.get("wheel_base_um", firmware_default("wheel_base_um")) / 1000.0
     if side_mm <= 0 or base_mm <= 0:
         raise Bad("the side of the square and the wheel base must be positive")
     cal = tuple(cfg.get(k, 1.0) for k in ("cal_left", "cal_right", "cal_base"))
@@ -332,6 +359,51 @@ def calibrate(runs_path, config=None, side_mm=None, base_mm=None):
     except Bad as e:
         raise Bad("%s: %s" % (runs_path, e))
     return a, report(a, runs_path)
+
+
+CAL_KEYS = ("cal_left", "cal_right", "cal_base")
+
+
+def apply(config, text):
+    """The configuration file's text with its cal_ lines replaced by those of `text` (the
+    tool's output), each where the file had it; one it lacks goes after the last line of
+    the robot's own keys, before the first [section]. Comments and every other line stay."""
+    new = {}
+    for line in text.splitlines():
+        if "=" in line and not line.startswith("#"):
+            k, v = (x.strip() for x in line.split("=", 1))
+            new[k] = v
+    try:
+        with open(config, encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except (OSError, UnicodeDecodeError) as e:
+        raise Bad("%s: cannot read: %s" % (config, getattr(e, "strerror", None) or e))
+    done = set()
+    section_at = len(lines)
+    last_key = -1
+    for i, raw in enumerate(lines):
+        line = raw.split("#", 1)[0].strip()
+        if line.startswith("[") and line.endswith("]"):
+            section_at = i
+            break
+        if "=" in line:
+            last_key = i
+            k = line.split("=", 1)[0].strip()
+            if k in CAL_KEYS:
+                comment = raw[len(raw.split("#", 1)[0]):]
+                lines[i] = "%s = %s%s" % (k, new[k], "  " + comment if comment else "")
+                done.add(k)
+    missing = ["%s = %s" % (k, new[k]) for k in CAL_KEYS if k not in done]
+    at = last_key + 1 if last_key >= 0 else min(section_at, len(lines))
+    lines[at:at] = missing
+    return "\n".join(lines) + "\n"
+
+
+def write_keeping_mode(path, text):
+    """write_atomic(), the file keeping the mode it had (it is the user's own file)."""
+    mode = os.stat(path).st_mode & 0o7777
+    write_atomic(path, text)
+    os.chmod(path, mode)
 
 
 def usage_error(msg):
@@ -346,9 +418,14 @@ def main(argv):
         return 0 if args else 2
     opts = {"--config": None, "--side-mm": None, "--base-mm": None, "--out": None}
     runs = None
+    do_apply = False
     i = 0
     while i < len(args):
         a = args[i]
+        if a == "--apply":
+            do_apply = True
+            i += 1
+            continue
         if a == "--template":
             n = RUNS_EACH_WAY
             if i + 1 < len(args):
@@ -372,6 +449,8 @@ def main(argv):
         i += 1
     if runs is None:
         return usage_error("which runs file? (tools/umbmark.py --template > runs.csv makes one)")
+    if do_apply and opts["--config"] is None:
+        return usage_error("--apply writes the calibration into the --config file: give one")
     mm = {}
     for k in ("--side-mm", "--base-mm"):
         if opts[k] is not None:
@@ -394,6 +473,18 @@ def main(argv):
             print("umbmark.py: cannot write %s: %s" % (opts["--out"], e.strerror), file=sys.stderr)
             return 1
         print("# written to %s" % opts["--out"])
+    if do_apply:
+        try:
+            write_keeping_mode(opts["--config"], apply(opts["--config"], text))
+        except Bad as e:
+            print("umbmark.py: %s" % e, file=sys.stderr)
+            return 2
+        except OSError as e:
+            print("umbmark.py: cannot write %s: %s" % (opts["--config"], e.strerror),
+                  file=sys.stderr)
+            return 1
+        print("# cal_left, cal_right and cal_base written into %s: its next run uses them"
+              % opts["--config"])
     return 0
 
 

@@ -98,8 +98,14 @@ static const long long type_hi[] = {UINT8_MAX, UINT16_MAX, UINT32_MAX, INT32_MAX
 
 static int out_of_range(const field_t *f, const char *value, char *err, size_t n)
 {
-    char why[80];
-    snprintf(why, sizeof why, "out of range %lld..%lld", type_lo[f->type], type_hi[f->type]);
+    /* The field's own range: its type's would tell a negative wheel base 0..4294967295. */
+    const char *rule = cfgtext_rule(f->name);
+    char why[160];
+    if (rule != NULL) {
+        snprintf(why, sizeof why, "out of its valid range: %s", rule);
+    } else {
+        snprintf(why, sizeof why, "out of range %lld..%lld", type_lo[f->type], type_hi[f->type]);
+    }
     return bad_value(f->name, value, why, err, n);
 }
 
@@ -141,7 +147,10 @@ static const field_t *known_field(const char *key, char *err, size_t n)
 {
     int i = field_index(key);
     if (i < 0) {
-        snprintf(err, n, "unknown key '%.64s'", key);
+        snprintf(err, n,
+                 "unknown key '%.64s' (the keys are the fields of "
+                 "firmware/include/slam/config_fields.h; a run's config.txt lists them all)",
+                 key);
         return NULL;
     }
     return &fields[i];
@@ -278,10 +287,64 @@ int cfgtext_check(const slam_config_t *cfg, const char **key, char *err, size_t 
     return -1;
 }
 
-static int parse_text(const char *name, const char *text, size_t len, slam_config_t *cfg,
-                      cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
-                      size_t errlen)
+/* The sections of cfgtext_sections[]: a program's own keys under [name]. */
+const char *const cfgtext_sections[] = {"linux", NULL};
+
+/* A "[name]" line: 1 and the section's index in *index (-1: not a known one), or 0 when
+ * the line is not a section header. */
+static int section_header(char *s, int *index)
 {
+    size_t n = strlen(s);
+    if (s[0] != '[' || s[n - 1u] != ']') {
+        return 0;
+    }
+    s[n - 1u] = '\0';
+    const char *id = cfgtext_trim(s + 1);
+    *index = -1;
+    for (int i = 0; cfgtext_sections[i] != NULL; i++) {
+        if (strcmp(cfgtext_sections[i], id) == 0) {
+            *index = i;
+        }
+    }
+    return 1;
+}
+
+/* A key in the wrong part of the file: the message says where it belongs. Core keys go
+ * before the first section (every program reads them there); a program's own keys in its
+ * section (the others skip it), so that both agree on whose each key is. */
+static int misplaced(const char *key, const char *section, int in_own, char *err, size_t n)
+{
+    if (in_own) {
+        snprintf(err, n,
+                 "%.64s is a key of the robot's core (slam_config_t): it belongs before the "
+                 "first [section], where every program reads it, not in [%s]",
+                 key, section);
+    } else if (section != NULL) {
+        snprintf(err, n,
+                 "unknown key '%.64s' (the robot's core keys are the fields of "
+                 "firmware/include/slam/config_fields.h; this program's own keys belong "
+                 "under [%s])",
+                 key, section);
+    } else {
+        snprintf(err, n,
+                 "unknown key '%.64s' (the robot's core keys are the fields of "
+                 "firmware/include/slam/config_fields.h; a program's own keys, such as the "
+                 "Linux robot's wiring, belong under its section, [%s])",
+                 key, cfgtext_sections[0]);
+    }
+    return -1;
+}
+
+static int parse_in(const char *name, const char *text, size_t len, const char *section,
+                    slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
+                    cfgtext_where_t *where, char *err, size_t errlen)
+{
+    /* -1 before the first section header, else the index of the section in force. */
+    int in = -1;
+    int own = -2; /* the index of the caller's section (-2: it has none) */
+    for (int i = 0; section != NULL && cfgtext_sections[i] != NULL; i++) {
+        own = strcmp(cfgtext_sections[i], section) == 0 ? i : own;
+    }
     slam_config_t work = *cfg;
     cfgtext_where_t seen;
     memset(&seen, 0, sizeof seen);
@@ -312,6 +375,14 @@ static int parse_text(const char *name, const char *text, size_t len, slam_confi
         if (*s == '\0') {
             continue;
         }
+        if (section_header(s, &in)) {
+            if (in < 0) {
+                snprintf(err, errlen, "%s:%u: unknown section [%.40s] (the sections: [%s])",
+                         name, lineno, s + 1, cfgtext_sections[0]);
+                return -1;
+            }
+            continue;
+        }
         char *eq = strchr(s, '=');
         if (eq == NULL) {
             snprintf(err, errlen, "%s:%u: expected 'key = value', got '%.60s'", name, lineno, s);
@@ -327,9 +398,20 @@ static int parse_text(const char *name, const char *text, size_t len, slam_confi
                      key, seen.line[i]);
             return -1;
         }
-        int r = cfgtext_set(&work, key, value, msg, sizeof msg);
-        if (r == -1 && other != NULL) {
-            r = other(ctx, key, value, lineno, msg, sizeof msg);
+        int r;
+        if (in >= 0 && i >= 0) {
+            r = misplaced(key, cfgtext_sections[in], 1, msg, sizeof msg);
+        } else if (in >= 0 && in != own) {
+            continue; /* another program's key: its own reader checks it */
+        } else if (in >= 0) {
+            r = other != NULL ? other(ctx, key, value, lineno, msg, sizeof msg) : -1;
+        } else {
+            r = cfgtext_set(&work, key, value, msg, sizeof msg);
+            if (r == -1 && other != NULL && section == NULL) {
+                r = other(ctx, key, value, lineno, msg, sizeof msg);
+            } else if (r == -1) {
+                r = misplaced(key, section, 0, msg, sizeof msg);
+            }
         }
         if (r != 0) {
             snprintf(err, errlen, "%s:%u: %s", name, lineno, msg);
@@ -364,26 +446,40 @@ static int parse_text(const char *name, const char *text, size_t len, slam_confi
     return 0;
 }
 
-int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
-                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
-                  size_t errlen)
+int cfgtext_parse_in(const char *name, const char *text, size_t len, const char *section,
+                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
+                     cfgtext_where_t *where, char *err, size_t errlen)
 {
-    int rc = parse_text(name, text, len, cfg, other, ctx, where, err, errlen);
+    int rc = parse_in(name, text, len, section, cfg, other, ctx, where, err, errlen);
     if (rc != 0) {
         cfgtext_escape(err, errlen); /* a line of the file, a value or a key may be quoted */
     }
     return rc;
 }
 
+int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
+                  cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                  size_t errlen)
+{
+    return cfgtext_parse_in(name, text, len, NULL, cfg, other, ctx, where, err, errlen);
+}
+
 int cfgtext_load(const char *path, slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
                  cfgtext_where_t *where, char *err, size_t errlen)
+{
+    return cfgtext_load_in(path, NULL, cfg, other, ctx, where, err, errlen);
+}
+
+int cfgtext_load_in(const char *path, const char *section, slam_config_t *cfg,
+                    cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                    size_t errlen)
 {
     size_t len = 0u;
     char *text = cfgtext_read_file(path, CFGTEXT_FILE_MAX, &len, err, errlen);
     if (text == NULL) {
         return -1;
     }
-    int rc = cfgtext_parse(path, text, len, cfg, other, ctx, where, err, errlen);
+    int rc = cfgtext_parse_in(path, text, len, section, cfg, other, ctx, where, err, errlen);
     free(text);
     return rc;
 }

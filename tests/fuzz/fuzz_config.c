@@ -21,8 +21,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     lconf_default(&lc);
     cfgtext_where_t where;
     char err[512] = "";
-    if (cfgtext_parse("fuzz.conf", (const char *)data, size, &cfg, lconf_set, &lc, &where, err,
-                      sizeof err) != 0) {
+    if (cfgtext_parse_in("fuzz.conf", (const char *)data, size, "linux", &cfg, lconf_set, &lc,
+                         &where, err, sizeof err) != 0) {
         FUZZ_CHECK(strncmp(err, "fuzz.conf", 9) == 0);
         FUZZ_CHECK(memcmp(&cfg, &before, sizeof cfg) == 0);
         return 0;

@@ -469,9 +469,8 @@ static void test_find_start(void **state)
     unlink(yaml);
 }
 
-/* The real building maps beside the repository (../shared/maps, each with its licence;
- * they are not part of it): each loads, crops, finds a start and takes a robot. Skipped
- * where they are not there. */
+/* The real building maps of host_sim/maps (each with its licence): each loads, crops, finds
+ * a start and takes a robot. Skipped where they are not there. */
 static void test_building_maps(void **state)
 {
     (void)state;

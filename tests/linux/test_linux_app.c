@@ -43,7 +43,7 @@ static int setup(void **state)
     lhal_set_clock(frozen_clock);
     tmptree_make(root, "app");
     snprintf(conf, sizeof conf, "%s/robot.conf", root);
-    wiring_conf_file(root, "");
+    wiring_conf_file(root, "", "");
     return 0;
 }
 
@@ -123,7 +123,7 @@ static void test_bad_config_exits_2_naming_file_and_line(void **state)
     strcat(text, "sonar_echo = 12\n");
     tmptree_file(root, "robot.conf", text);
     assert_int_equal(run("-c", conf, NULL), APP_EXIT_USAGE);
-    assert_non_null(strstr(err_buf, "robot.conf:22: sonar_echo is given twice"));
+    assert_non_null(strstr(err_buf, "robot.conf:23: sonar_echo is given twice"));
     assert_int_equal(fake_gpio_requested_count(), 0); /* nothing was opened */
 }
 
@@ -200,8 +200,8 @@ static void test_run_saves_and_streams_while_the_tick_runs(void **state)
 {
     (void)state;
     char text[4096];
-    snprintf(text, sizeof text, "%s", tmptree_read(root, "robot.conf"));
-    strcat(text, "telemetry = pty\nsave_period_s = 1\n");
+    snprintf(text, sizeof text, "save_period_s = 1\n%s", tmptree_read(root, "robot.conf"));
+    strcat(text, "telemetry = pty\n");
     tmptree_file(root, "robot.conf", text);
     assert_int_equal(run("--config", conf, "--ticks", "1000", NULL), APP_EXIT_OK);
     assert_non_null(strstr(out_buf, "telemetry on /dev/pts/"));

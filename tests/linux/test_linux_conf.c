@@ -3,6 +3,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -10,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "hal_common/config_text.h"
 #include "lhal/lconf.h"
 #include "tmptree.h"
 
@@ -20,8 +22,10 @@
 static char root[TMPTREE_PATH_MAX];
 static char path[TMPTREE_PATH_MAX + 16];
 
-/* Every required key, wired like the README's table. */
+/* Every required key, wired like the README's table: the [linux] section (its line is line
+ * 1 of a file without core keys, so encoder_left_a is on line 2). */
 static const char *const minimal =
+    "[linux]\n"
     "encoder_left_a = 17\n"
     "encoder_left_b = 27\n"
     "encoder_right_a = 22\n"
@@ -63,11 +67,25 @@ static int load_text(const char *text, slam_config_t *core, lconf_t *lc, char *e
     return lconf_load(path, core, lc, err, n);
 }
 
-/* Loads minimal + extra. */
+/* Loads minimal + extra, the lines of extra that set the core's keys moved to the top of
+ * the file, where they belong (a file with none puts the section on line 1). */
 static int load(const char *extra, slam_config_t *core, lconf_t *lc, char *err, size_t n)
 {
-    char text[4096];
-    snprintf(text, sizeof text, "%s%s", minimal, extra);
+    char top[2048] = "";
+    char section[2048] = "";
+    for (const char *line = extra; *line != '\0';) {
+        const char *end = strchr(line, '\n');
+        size_t len = end != NULL ? (size_t)(end - line) + 1u : strlen(line);
+        char key[64];
+        bool core_key = sscanf(line, " %63[a-z0-9_]", key) == 1 && cfgtext_rule(key) != NULL;
+        char *into = core_key ? top : section;
+        strncat(into, line, len);
+        line += len;
+    }
+    /* Room for both halves whole and the minimal file besides, which the optimiser of a
+     * Debug build cannot see the length of (-Wformat-truncation). */
+    char text[sizeof top + sizeof section + 4096];
+    snprintf(text, sizeof text, "%s%s%s", top, minimal, section);
     return load_text(text, core, lc, err, n);
 }
 
@@ -111,7 +129,7 @@ static void test_optional_keys_and_core_keys(void **state)
                           &core, &lc, err, sizeof err),
                      -1);
     assert_non_null(strstr(err, "motor_right_in2 is given twice"));
-    assert_non_null(strstr(err, "robot.conf:22:"));
+    assert_non_null(strstr(err, "robot.conf:23:"));
 
     assert_int_equal(load("gpio_chip = pinctrl-rp1\n"
                           "encoder_right_invert = yes\n"
@@ -186,20 +204,21 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"watchdog_idle_ms = 60001\n", "watchdog_idle_ms = '60001'"},
         {"motor_standby = -2\n", "motor_standby = '-2': expected a line offset 0..4095, or -1"},
         {"motor_standby = 4096\n", "motor_standby = '4096'"},
-        {"wheel_base_um = 1\n", ":17: wheel_base_um = 1 is out of its valid range: 50000..1000000"},
+        {"wheel_base_um = 1\n", ":1: wheel_base_um = 1 is out of its valid range: 50000..1000000"},
         {"sweep_stops = 1\n", "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"},
         {"wheel_base_um = many\n", "wheel_base_um = 'many': expected a whole number"},
-        {"sweep_stops = 300\n", "sweep_stops = '300': out of range"},
+        {"sweep_stops = 300\n", "sweep_stops = '300': out of its valid range: 1..16"},
+        {"wheel_base_um = -130000\n", "wheel_base_um = '-130000': out of its valid range: 50000..1000000"},
         /* Numbers are decimal (hal_common/number.h); control bytes are shown escaped. */
         {"sonar_timeout_us = 0x7530\n", "sonar_timeout_us = '0x7530': expected a whole number"},
         {"gpio_chip = \033]0;PWNED\007x\n", "gpio_chip = '\\x1b]0;PWNED\\x07x': holds a control"},
         {"encoder_bias = \033[31m\n", "encoder_bias = '\\x1b[31m': expected as-is"},
         /* Duplicates of required keys are caught where they repeat. */
-        {"sonar_echo = 7\n", ":17: sonar_echo is given twice (first on line 6)"},
-        {"encoder_left_a = 18\n", ":17: encoder_left_a is given twice (first on line 1)"},
+        {"sonar_echo = 7\n", ":18: sonar_echo is given twice (first on line 7)"},
+        {"encoder_left_a = 18\n", ":18: encoder_left_a is given twice (first on line 2)"},
         /* A core key given twice is as wrong as a backend key given twice. */
         {"wheel_base_um = 140000\nwheel_base_um = 150000\n",
-         ":18: wheel_base_um is given twice (first on line 17)"},
+         ":2: wheel_base_um is given twice (first on line 1)"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         slam_config_t core;
@@ -274,14 +293,14 @@ static void test_whole_file_checks(void **state)
 
     /* A clash names both keys with their lines, and blames the later one. */
     assert_int_equal(load("motor_standby = 17\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:17: encoder_left_a (line 1) and motor_standby (line 17) "
+    assert_non_null(strstr(err, "robot.conf:18: encoder_left_a (line 2) and motor_standby (line 18) "
                                 "both use line 17"));
 
     assert_int_equal(load_replacing("motor_right_pwm_channel = 1\n", "motor_right_pwm_channel = 0\n",
                                     &core, &lc, err, sizeof err),
                      -1);
-    assert_non_null(strstr(err, "robot.conf:12: motor_left and motor_right both use PWM channel "
-                                "pwmchip0/pwm0 (lines 10 and 12)"));
+    assert_non_null(strstr(err, "robot.conf:13: motor_left and motor_right both use PWM channel "
+                                "pwmchip0/pwm0 (lines 11 and 13)"));
 
     /* Optional lines that are not wired may all be -1. */
     assert_int_equal(load_replacing("motor_left_in2 = 25\n", "motor_left_in2 = -1\n", &core, &lc,
@@ -341,22 +360,60 @@ static void test_instance_1_and_bump_switches(void **state)
 
     /* An instance needs both of its keys; switches are numbered without a gap. */
     assert_int_equal(load("sonar1_trigger = 19\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:17: sonar1_trigger is given without sonar1_echo"));
+    assert_non_null(strstr(err, "robot.conf:18: sonar1_trigger is given without sonar1_echo"));
     assert_int_equal(load("servo1_pwm_channel = 1\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:17: servo1_pwm_channel is given without servo1_pwm_chip"));
+    assert_non_null(strstr(err, "robot.conf:18: servo1_pwm_channel is given without servo1_pwm_chip"));
     assert_int_equal(load("bump1 = 14\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:17: bump1 is given without bump0"));
+    assert_non_null(strstr(err, "robot.conf:18: bump1 is given without bump0"));
     /* Their lines and channels are checked against every other's. */
     assert_int_equal(load("sonar1_trigger = 19\nsonar1_echo = 6\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "sonar_echo (line 6) and sonar1_echo (line 18) both use line 6"));
+    assert_non_null(strstr(err, "sonar_echo (line 7) and sonar1_echo (line 19) both use line 6"));
     assert_int_equal(load("bump0 = 23\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "encoder_right_b (line 4) and bump0 (line 17) both use line 23"));
+    assert_non_null(strstr(err, "encoder_right_b (line 5) and bump0 (line 18) both use line 23"));
     assert_int_equal(load("servo1_pwm_chip = 2\nservo1_pwm_channel = 0\n", &core, &lc, err,
                           sizeof err),
                      -1);
     assert_non_null(strstr(err, "servo and servo1 both use PWM channel pwmchip2/pwm0"));
     assert_int_equal(load("servo1_pwm_chip = -2\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "servo1_pwm_chip = '-2': expected a number 0..1023, or -1"));
+}
+
+/* One file describes the robot for both programs: the core's keys before the first
+ * section, the Linux program's in [linux]; a key in the other part says where it belongs. */
+static void test_keys_belong_to_their_part_of_the_file(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        const char *says;
+    } cases[] = {
+        {"gpio_chip = gpiochip4\n[linux]\n", "robot.conf:1: unknown key 'gpio_chip'"},
+        {"gpio_chip = gpiochip4\n[linux]\n", "this program's own keys belong under [linux]"},
+        {"[linux]\nwheel_base_um = 140000\n",
+         "robot.conf:2: wheel_base_um is a key of the robot's core (slam_config_t): it belongs "
+         "before the first [section]"},
+        {"[linx]\n", "robot.conf:1: unknown section [linx] (the sections: [linux])"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        slam_config_t core;
+        lconf_t lc;
+        char err[512] = "";
+        assert_int_equal(load_text(cases[i].text, &core, &lc, err, sizeof err), -1);
+        if (strstr(err, cases[i].says) == NULL) {
+            fail_msg("case %zu: message '%s' does not say '%s'", i, err, cases[i].says);
+        }
+    }
+    /* A section header may be written with spaces and a comment; the section may come
+     * twice (what a program skips or reads is decided line by line). */
+    slam_config_t core;
+    lconf_t lc;
+    char err[512] = "";
+    char text[4096];
+    snprintf(text, sizeof text, "wheel_base_um = 140000\n%s[ linux ]  # again\ntelemetry = pty\n",
+             minimal);
+    assert_int_equal(load_text(text, &core, &lc, err, sizeof err), 0);
+    assert_int_equal(core.wheel_base_um, 140000);
+    assert_string_equal(lc.telemetry, "pty");
 }
 
 static void test_missing_file_is_named(void **state)
@@ -417,6 +474,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_instances_and_bump_switches_are_off_by_default, setup,
                                         teardown),
         cmocka_unit_test_setup_teardown(test_instance_1_and_bump_switches, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_keys_belong_to_their_part_of_the_file, setup, teardown),
         cmocka_unit_test(test_missing_file_is_named),
         cmocka_unit_test_setup_teardown(test_lines_are_listed_with_their_roles, setup, teardown),
         cmocka_unit_test(test_shipped_example_loads),

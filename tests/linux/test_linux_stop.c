@@ -242,7 +242,7 @@ static int setup(void **state)
     tmptree_file(root, "maps/.keep", "");
     snprintf(conf, sizeof conf, "%s/robot.conf", root);
     /* With a standby line, and a square: the motors run from the first tick. */
-    wiring_conf_file(root, "motor_standby = 11\nexplore_mode = 3\n");
+    wiring_conf_file(root, "explore_mode = 3\n", "motor_standby = 11\n");
     return 0;
 }
 

@@ -34,13 +34,15 @@ void wiring_lconf(lconf_t *c, const char *chip, int32_t first_line, const char *
     c->watchdog_idle_ms = 0u;
 }
 
-void wiring_conf_file(const char *root, const char *extra)
+void wiring_conf_file(const char *root, const char *core, const char *extra)
 {
     tmptree_pwm_channel(root, 0u, 0u);
     tmptree_pwm_channel(root, 0u, 1u);
     tmptree_pwm_channel(root, 1u, 0u);
     char text[2048];
     snprintf(text, sizeof text,
+             "%s"
+             "[linux]\n"
              "# the fake chip's lines\n"
              "gpio_chip = fakechip0\n"
              "encoder_left_a = 1\nencoder_left_b = 2\nencoder_right_a = 3\nencoder_right_b = 4\n"
@@ -53,6 +55,6 @@ void wiring_conf_file(const char *root, const char *extra)
              "storage_dir = %s/maps\n"
              "tick_priority = 0\n"
              "%s",
-             root, root, extra);
+             core, root, root, extra);
     tmptree_file(root, "robot.conf", text);
 }

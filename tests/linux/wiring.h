@@ -23,9 +23,10 @@ void wiring_lconf(lconf_t *c, const char *chip, int32_t first_line, const char *
 
 /**
  * The same robot as ROOT/robot.conf for the program, on fakechip0 from line 1, without the
- * standby line, storage in ROOT/maps; the PWM tree is made too. The file has 21 lines, then
- * @p extra (more `key = value` lines, or "").
+ * standby line, storage in ROOT/maps; the PWM tree is made too. The file opens with
+ * @p core (the core's `key = value` lines, or ""), then the [linux] section's 21 lines,
+ * then @p extra (more of the section's lines, or "").
  */
-void wiring_conf_file(const char *root, const char *extra);
+void wiring_conf_file(const char *root, const char *core, const char *extra);
 
 #endif /* TEST_WIRING_H */

@@ -6,7 +6,9 @@ beside them) name exists.
 usage: test_readme_refs.py HOST_SIM SRC_DIR
 
 Reads every Markdown file of the source tree and checks, in links, inline code and code blocks:
-- a relative link's target is a file or folder of the repository;
+- a relative link's target is a file or folder of the repository, and its anchor
+  (`FILE.md#anchor`, or `#anchor` within the page) names a heading of that page, by
+  GitHub's rule for a heading's anchor (or an explicit `<a id>`/`<a name>`);
 - a path that starts with one of the repository's folders (firmware/, hal/, tools/ ...)
   is there; a bare source file name (board_generic_f405.h, hal_template.c) is somewhere;
 - `make TARGET` names a target of the Makefile;
@@ -51,6 +53,40 @@ def all_basenames(src):
     return names
 
 
+def slug(text):
+    """GitHub's anchor of a heading: its text as rendered (no code marks, link targets or
+    emphasis), lower case, every character but letters, digits, '_', '-' and spaces left
+    out, spaces made hyphens."""
+    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", text)
+    text = re.sub(r"<[^>]+>", "", text)
+    text = text.replace("`", "").lower()
+    text = re.sub(r"[^\w\- ]", "", text)
+    return text.replace(" ", "-")
+
+
+def anchors(path):
+    """Every anchor a Markdown page offers: its headings' (a repeated one gets -1, -2 ...,
+    as on GitHub) and explicit HTML ones."""
+    found = set()
+    count = {}
+    fenced = False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.lstrip().startswith("```"):
+                fenced = not fenced
+                continue
+            if fenced:
+                continue
+            found.update(re.findall(r"<a\s+(?:id|name)=\"([^\"]+)\"", line))
+            m = re.match(r"#{1,6}\s+(.*?)\s*#*\s*$", line)
+            if m:
+                s = slug(m.group(1))
+                n = count.get(s, 0)
+                count[s] = n + 1
+                found.add(s if n == 0 else "%s-%d" % (s, n))
+    return found
+
+
 def placeholder(tok):
     if re.search(r"[<>{}*$?\[\]]|\.\.\.|…", tok):
         return True
@@ -76,6 +112,19 @@ class Checker:
         self.options = set(re.findall(r"--[a-z][a-z-]*", helptext))
         self.errors = []
         self.checked = 0
+        self.anchor_cache = {}
+
+    def anchor(self, where, page, anchor, target):
+        """A link's #anchor must be one the page it points to offers."""
+        if not page.endswith(".md") or not os.path.isfile(page):
+            return
+        page = os.path.realpath(page)
+        if page not in self.anchor_cache:
+            self.anchor_cache[page] = anchors(page)
+        self.checked += 1
+        if anchor not in self.anchor_cache[page]:
+            self.fail(where, "links to %s: %s has no heading with the anchor #%s"
+                      % (target, os.path.relpath(page, self.src), anchor))
 
     def fail(self, where, msg):
         self.errors.append("%s: %s" % (where, msg))
@@ -130,12 +179,16 @@ class Checker:
                 self.command(where, code.replace("\\", " "), d)
                 continue
             for target in re.findall(r"\]\(([^)\s]+)\)", line):
-                if target.startswith(("http:", "https:", "mailto:", "#")):
+                if target.startswith(("http:", "https:", "mailto:")):
                     continue
-                self.checked += 1
-                t = target.split("#")[0]
-                if not os.path.exists(os.path.join(d, t)):
-                    self.fail(where, "links to %s, which is not there" % target)
+                t, _, anchor = target.partition("#")
+                if t:
+                    self.checked += 1
+                    if not os.path.exists(os.path.join(d, t)):
+                        self.fail(where, "links to %s, which is not there" % target)
+                        continue
+                if anchor:
+                    self.anchor(where, os.path.join(d, t) if t else path, anchor, target)
             for span in re.findall(r"`([^`]+)`", line):
                 self.command(where, span, d)
 

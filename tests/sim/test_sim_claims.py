@@ -60,6 +60,7 @@ for room in ("default", "obstacles"):
 errors = {}
 for acc in (300, 10000):
     ms = runs("accel-%d" % acc, "--explore", "square", "--set", "square_laps=10",
+              "--set", "square_side_um=1000000",
               "--set", "accel_mm_s2=%d" % acc, "--duration", 400)
     errors[acc] = mean(m["odometry"]["final_position_m"] for m in ms)
 check(errors[10000] > 1.5 * errors[300],

@@ -99,7 +99,9 @@ for args, says in [
     (["--paper", "--set", "om_max=2"],
      "--paper: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"),
     (["--set", "start_cell_a=255"], "--set start_cell_a=255: with the start in cell 255 along x"),
-    (["--set", "wheel_base_um=99999999999999999999"], "out of range 0..4294967295"),
+    (["--set", "wheel_base_um=99999999999999999999"], "out of its valid range: 50000..1000000"),
+    (["--set", "wheel_base_um=-130000"], "wheel_base_um = '-130000': out of its valid range: 50000..1000000"),
+    (["--set", "no_such_key=1"], "unknown key 'no_such_key' (the keys are the fields of firmware/include/slam/config_fields.h"),
 ]:
     p = sim.run(*args, "--out", sim.out("never"), expect=2)
     check(says in p.stderr, "%s: exit 2, says '%s'" % (" ".join(args), says))

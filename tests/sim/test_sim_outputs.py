@@ -9,6 +9,7 @@ a leak on any of these paths into another exit status.
 """
 import hashlib
 import os
+import subprocess
 
 from simtest import Sim, check
 
@@ -46,6 +47,12 @@ for args, says in [
     check(says in p.stderr and snapshot(run) == before and not os.path.exists(sim.out("same")),
           "%s: exit 2, says '%s', %s untouched" % (" ".join(args), says, os.path.basename(run)))
 
+# Folders where nothing can be created, even by root (to whom access() says yes).
+for where in ("/proc/sonarslam-out", "/sys/sonarslam-out", "/proc"):
+    p = sim.run("--duration", 20, "--out", where, expect=2)
+    check("cannot create files in" in p.stderr and not os.path.exists(where + "/om.pgm"),
+          "--out %s: exit 2 before anything is written: %s" % (where, p.stderr.strip()))
+
 p = sim.run("--duration", 20, "--out", sim.out("afile"), expect=2)
 check("exists and is not a directory" in p.stderr, "--out naming a file: exit 2")
 p = sim.run("--duration", 20, "--out", os.path.join(sim.out("afile"), "sub"), expect=2)
@@ -76,4 +83,28 @@ check(after.keys() == before.keys() and after["readings.csv"] != before["reading
 with open(trace) as f:
     lines = f.read().splitlines()
 check(lines[-1].startswith("end "), "the trace is complete (%d lines)" % len(lines))
+
+# A run that will write more than 100 MB says so before it starts; a short one says nothing.
+proc = subprocess.Popen([sim.bin, "--no-plot", "--quiet", "--duration", "100000", "--out",
+                         sim.out("long"), "--telemetry", sim.out("long.tel")],
+                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+first = proc.stderr.readline()
+proc.kill()
+proc.wait()
+check("100000 simulated seconds will write about 772 MB (readings.csv 140 MB, trajectory.csv "
+      "72 MB, --telemetry 560 MB)" in first, "a long run announces its size: %s" % first.strip())
+p = sim.run("--duration", 5, "--out", sim.out("short"))
+check("will write" not in p.stderr, "a short run says nothing of its size")
+
+# Files renamed into place keep the mode a new file gets under the umask (another user of
+# a shared folder reads them), whatever the temporary name was made with.
+umask_run = sim.out("umask")
+old_mask = os.umask(0o002)
+try:
+    sim.run("--duration", 5, "--out", umask_run, "--storage", sim.out("umask-store"))
+finally:
+    os.umask(old_mask)
+modes = {n: os.stat(os.path.join(umask_run, n)).st_mode & 0o777 for n in os.listdir(umask_run)}
+check(modes and all(m == 0o664 for m in modes.values()),
+      "under umask 002 every output is 0664: %s" % sorted(modes.items()))
 sim.done()

@@ -47,6 +47,9 @@ p = subprocess.run(["/usr/bin/python3", os.path.join(sim.src, "tools", "pose_rep
                     "--host-sim", sim.bin, "--quick", "--seeds", "2", "--out", out],
                    stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 check(p.returncode == 0, "pose_report --quick --seeds 2 runs (%s)" % p.stderr.strip()[-200:])
+left = sorted({f for d in os.listdir(out) for f in os.listdir(os.path.join(out, d))})
+check(left == ["args.json", "config.txt", "metrics.json", "timing.json"],
+      "each run keeps its metrics and small files only, the logs and maps deleted: %s" % left)
 check(re.search(r"^The gap with the correction, every room: σ \d\.\d{3} per run, standard "
                 r"error \d\.\d{3} over the runs\.$", p.stdout, re.M) is not None,
       "the report prints the gap's spread")

@@ -138,6 +138,15 @@ check(waits == 0 and src.frames > 0,
       "a followed file, once stopping, is read to its end and no further (%d frames, %d "
       "waits)" % (src.frames, waits))
 
+# --until-idle: a followed file that stops growing ends the tool by itself.
+p = subprocess.run(["/usr/bin/python3", tool, "view", log, "--follow", "--until-idle", "0.5",
+                    "--png", sim.out("idle.png")], stdout=subprocess.PIPE,
+                   stderr=subprocess.PIPE, text=True, timeout=120)
+check(p.returncode == 0 and os.path.exists(sim.out("idle.png")),
+      "view --follow --until-idle 0.5 ends once the file stops growing: %s" % p.stderr.strip())
+p = run_tool("dump", log, "--until-idle", "1")
+check(p.returncode == 2 and "needs --follow" in p.stderr, "--until-idle without --follow: exit 2")
+
 # frame and send: a command as bytes, and a robot answering on a serial line.
 p = run_tool("frame", "set", "cruise_mm_s", "150")
 check(p.returncode == 0 and bytes.fromhex(p.stdout.strip()) == slamlink.command(["set", "cruise_mm_s", "150"]),

@@ -143,9 +143,10 @@ for ed, eb in ((1.004, 1.02), (0.996, 0.98)):
 # ---- a real robot's configuration, and --out ----------------------------------------------
 runs = write("runs.csv", "# measured by hand\ndirection,x_mm,y_mm\ncw,-120,-95\ncw,-131,-88\n"
                          "\nCCW , 40, -30 # a comment\nccw,35,-41\n")
-conf = write("robot.conf", "gpio_chip = pinctrl-bcm2711  # a Linux robot's key\n"
-                           "square_side_um = 1200000\nwheel_base_um = 140000\n"
-                           "cal_left = 1.0\ncal_right = 1.0\ncal_base = 1.01\n")
+conf = write("robot.conf", "square_side_um = 1200000\nwheel_base_um = 140000\n"
+                           "cal_left = 1.0\ncal_right = 1.0\ncal_base = 1.01\n"
+                           "[linux]\ngpio_chip = pinctrl-bcm2711  # a Linux robot's key\n"
+                           "wheel_base_um = 999  # not the robot's: a section is another program's\n")
 dest = sim.out("cal.conf")
 p = run_tool(runs, "--config", conf, "--out", dest)
 with open(dest) as f:
@@ -155,9 +156,46 @@ check(p.returncode == 0 and written == p.stdout.replace("# written to %s\n" % de
       and "(Borenstein & Feng drive 5 each way)" in written
       and set(keys(written)) == {"cal_left", "cal_right", "cal_base"},
       "robot.conf gives L, b and the calibration in force; --out holds what was printed")
+# The file written keeps the mode a new file gets under the umask, as any program's
+# output does (a temporary file of mkstemp is 0600: another user could not read it).
+for mask in (0o022, 0o002, 0o077):
+    dest_m = sim.out("cal-%03o.conf" % mask)
+    p = subprocess.run(["/bin/sh", "-c", "umask %03o && exec /usr/bin/python3 \"$@\"" % mask, "sh",
+                        tool, runs, "--config", conf, "--out", dest_m],
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    mode = os.stat(dest_m).st_mode & 0o777 if p.returncode == 0 else None
+    check(mode == 0o666 & ~mask, "--out under umask %03o: mode %s, as a new file gets (%03o)"
+          % (mask, "%03o" % mode if mode is not None else p.stderr.strip(), 0o666 & ~mask))
 p = run_tool(runs, "--side-mm", 1200)
 check(p.returncode == 0 and keys(p.stdout)["cal_base"] != keys(written)["cal_base"],
       "--side-mm without a configuration: no calibration in force")
+
+# --apply: the calibration written into the robot's own file, in place of its cal_ lines
+# (or before its first section), every other line and the file's mode as they were.
+original = ("# my robot\nwheel_base_um = 140000   # measured\nsquare_side_um = 1200000\n"
+            "cal_base = 1.01  # from last year\n\n[linux]\ngpio_chip = pinctrl-rp1\n")
+target = write("apply.conf", original)
+os.chmod(target, 0o640)
+p = run_tool(runs, "--config", target, "--apply")
+with open(target) as f:
+    applied = f.read()
+new = keys(p.stdout)
+want = ("# my robot\nwheel_base_um = 140000   # measured\nsquare_side_um = 1200000\n"
+        "cal_base = %s  # from last year\ncal_left = %s\ncal_right = %s\n\n[linux]\n"
+        "gpio_chip = pinctrl-rp1\n") % tuple(
+    "%.6f" % new[k] for k in ("cal_base", "cal_left", "cal_right"))
+check(p.returncode == 0 and applied == want and os.stat(target).st_mode & 0o777 == 0o640
+      and "its next run uses them" in p.stdout,
+      "--apply rewrites cal_base where it was, adds the other two after the robot's keys, "
+      "keeps the rest and the mode:\n%s" % applied)
+check(keys(run_tool(runs, "--config", target).stdout)["cal_left"] != new["cal_left"],
+      "the next analysis starts from the calibration applied")
+p = run_tool(runs, "--apply")
+check(p.returncode == 2 and "give one" in p.stderr, "--apply without --config: exit 2")
+# A configuration without the square's side: the robot drove the firmware's default.
+p = run_tool(runs, "--config", write("noside.conf", "wheel_base_um = 140000\n"))
+check(p.returncode == 0 and "L = 1500 mm" in p.stdout,
+      "a robot.conf without square_side_um: the firmware's default side, 1.5 m")
 
 # ---- bad input: the file and line, exit 2, nothing written --------------------------------
 bad = [

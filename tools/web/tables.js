@@ -76,7 +76,7 @@
   {"default": 100, "hi": 65535, "id": 41, "live": true, "lo": 1, "name": "turn_mm_s", "type": "U16", "wire": "U16", "words": "1..5000, at most top_speed_mm_s"},
   {"default": 300000, "hi": 4000000, "id": 42, "live": true, "lo": 50000, "name": "avoid_um", "type": "U32", "wire": "U32", "words": "50000..4000000"},
   {"default": 130000, "hi": 2000000, "id": 43, "live": true, "lo": 10000, "name": "clearance_um", "type": "U32", "wire": "U32", "words": "10000..2000000, below follow_um"},
-  {"default": 1000000, "hi": 100000000, "id": 44, "live": true, "lo": 100000, "name": "square_side_um", "type": "U32", "wire": "U32", "words": "100000..100000000"},
+  {"default": 1500000, "hi": 100000000, "id": 44, "live": true, "lo": 100000, "name": "square_side_um", "type": "U32", "wire": "U32", "words": "100000..100000000"},
   {"default": 1, "hi": 255, "id": 45, "live": true, "lo": 0, "name": "square_laps", "type": "U8", "wire": "U8", "words": "0..255 (0: for ever)"},
   {"default": 1, "hi": 4294967295, "id": 46, "live": true, "lo": 1, "name": "explore_seed", "type": "U32", "wire": "U32", "words": "1..4294967295 (not 0)"},
   {"default": 60, "hi": 65535, "id": 47, "live": true, "lo": 0, "name": "save_period_s", "type": "U16", "wire": "U16", "words": "0..65535 (0: never)"},

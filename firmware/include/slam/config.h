@@ -114,7 +114,9 @@ typedef struct {
     uint16_t turn_mm_s;      /**< wheel speed when turning in place; 100 */
     uint32_t avoid_um;       /**< turn away from anything closer ahead than this; 300 mm */
     uint32_t clearance_um;   /**< half the width of the corridor the robot needs; 130 mm */
-    uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path; 1 m */
+    uint32_t square_side_um; /**< side of the EXPLORE_SQUARE path and of UMBmark's squares;
+                                  1.5 m: the errors UMBmark measures come out divided by
+                                  4 sides, and most rooms hold a 1.5 m square */
     uint8_t square_laps;     /**< laps of the square, then stop; 0 = go on forever; 1 */
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
 

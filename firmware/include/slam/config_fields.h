@@ -129,7 +129,7 @@
     X(avoid_um, U32, 300000, 50000, 4000000, NONE, 42, LIVE, "50000..4000000")                  \
     X(clearance_um, U32, 130000, 10000, 2000000, NONE, 43, LIVE,                                \
       "10000..2000000, below follow_um")                                                        \
-    X(square_side_um, U32, 1000000, 100000, 100000000, NONE, 44, LIVE, "100000..100000000")     \
+    X(square_side_um, U32, 1500000, 100000, 100000000, NONE, 44, LIVE, "100000..100000000")     \
     X(square_laps, U8, 1, 0, UINT8_MAX, NONE, 45, LIVE, "0..255 (0: for ever)")                 \
     X(explore_seed, U32, 1, 1, UINT32_MAX, NONE, 46, LIVE, "1..4294967295 (not 0)")             \
     /* Persistence. */                                                                          \

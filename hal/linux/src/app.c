@@ -62,10 +62,11 @@ static void app_usage(FILE *f)
             "                     SIGINT (Ctrl-C) or SIGTERM\n"
             "  -h, --help         this text\n"
             "\n"
-            "On exit the motors stop and the maps are written to storage_dir: om.pgm, om_post.pgm,\n"
-            "tm.pgm, each with a ROS map_server .yaml. The motors also stop, and the program\n"
-            "exits with status 3, when a thread stalls for more than 100 ms or a hardware\n"
-            "write fails. A second Ctrl-C (or SIGTERM) ends the program at once.\n"
+            "On exit the motors stop and the maps are written to storage_dir: om.pgm and\n"
+            "om_post.pgm, each with a ROS map_server .yaml, and tm.pgm (where the robot drove,\n"
+            "a picture with no .yaml: no map loader should read it as obstacles). The motors\n"
+            "also stop, and the program exits with status 3, when a thread stalls for more\n"
+            "than 100 ms or a hardware write fails. A second Ctrl-C (or SIGTERM) ends the program at once.\n"
             "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
             "3 stopped for safety, 128 + N ended at once by a second signal N.\n");
 }

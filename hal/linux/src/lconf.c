@@ -412,7 +412,8 @@ int lconf_load(const char *path, slam_config_t *core, lconf_t *lc, char *err, si
 {
     slam_config_t core_work = *core;
     lconf_t lc_work = *lc;
-    if (cfgtext_load(path, &core_work, lconf_set, &lc_work, NULL, err, errlen) != 0) {
+    /* The wiring and devices are read from [linux]; the core's keys come before it. */
+    if (cfgtext_load_in(path, "linux", &core_work, lconf_set, &lc_work, NULL, err, errlen) != 0) {
         return -1;
     }
     char msg[200];

@@ -8,6 +8,13 @@
  * factors (cal_left, cal_right, cal_base) are decimal fractions such as 0.9901. A file
  * may hold other keys (a backend's pins, say): the loader hands those to a callback.
  * Range checks are slam_config_check()'s; this layer checks syntax and type limits.
+ *
+ * One file describes one robot for every program: the core's keys come first, then a
+ * program's own keys under a `[section]` line named for it (cfgtext_sections[]:
+ * `[linux]` for sonarslam-linux's wiring and devices). A program reads the core's keys
+ * and its own section (cfgtext_parse_in()) and skips the others' sections, so the
+ * simulator takes the Linux robot's file as it is, and both agree on whose each key is: a
+ * core key inside a section, or a program's key before the first section, is an error.
  */
 #ifndef HAL_COMMON_CONFIG_TEXT_H
 #define HAL_COMMON_CONFIG_TEXT_H
@@ -94,8 +101,9 @@ typedef int (*cfgtext_other_fn)(void *ctx, const char *key, const char *value, u
  *
  * Refused, naming @p name and the line: a NUL byte, a line of CFGTEXT_LINE_MAX characters
  * or more, a line without '=', an unknown key (unless @p other takes it), a bad value, a
- * core key given twice; and a result slam_config_check() refuses, naming the key, its
- * value, its valid range and the line that set it.
+ * core key given twice, an unknown `[section]`, a core key inside a section; and a result
+ * slam_config_check() refuses, naming the key, its value, its valid range and the line
+ * that set it. The other keys of every known section are skipped (another program's).
  * @param name   the file's name, for messages
  * @param text   @p len bytes (need not end in a NUL)
  * @param other  handler for keys that are not core fields, or NULL (they are errors)
@@ -107,6 +115,29 @@ typedef int (*cfgtext_other_fn)(void *ctx, const char *key, const char *value, u
 int cfgtext_parse(const char *name, const char *text, size_t len, slam_config_t *cfg,
                   cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
                   size_t errlen);
+
+/** The section names a file may hold, NULL-terminated: "linux". */
+extern const char *const cfgtext_sections[];
+
+/**
+ * cfgtext_parse() for a program with a section of its own.
+ * @param section  the caller's section (one of cfgtext_sections[]), or NULL for a program
+ *                 with none: then every section is skipped, and @p other takes the keys
+ *                 before the first section that are not core keys, as cfgtext_parse() does
+ * @param other    with a section: the handler of its keys (none given: they are errors);
+ *                 keys before the first section are then core keys only
+ * Refused besides: an unknown `[section]`, a core key in any section, a key before the
+ * first section that is not a core key (the message says where it belongs). The keys of
+ * another program's section are skipped, but each line there must still be `key = value`.
+ */
+int cfgtext_parse_in(const char *name, const char *text, size_t len, const char *section,
+                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
+                     cfgtext_where_t *where, char *err, size_t errlen);
+
+/** cfgtext_parse_in() on a file, as cfgtext_load(). */
+int cfgtext_load_in(const char *path, const char *section, slam_config_t *cfg,
+                    cfgtext_other_fn other, void *ctx, cfgtext_where_t *where, char *err,
+                    size_t errlen);
 
 /**
  * cfgtext_parse() on a file of at most CFGTEXT_FILE_MAX bytes.

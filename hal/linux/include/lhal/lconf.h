@@ -4,8 +4,9 @@
  * The Linux robot's configuration: the keys of robot.conf that are not core fields.
  *
  * robot.conf is one `key = value` file (hal_common/config_text.h reads it): the core's
- * slam_config_t fields (wheel geometry, encoder resolution, sweep timing...) and the keys
- * below, which say where the hardware is. Line offsets are those of one GPIO chip; PWM
+ * slam_config_t fields (wheel geometry, encoder resolution, sweep timing...) first, then,
+ * under a `[linux]` line, the keys below, which say where the hardware is (the simulator
+ * reads the same file and skips that section). Line offsets are those of one GPIO chip; PWM
  * channels are sysfs pwmchipN/pwmM pairs. Keys marked "required" have no default: a
  * robot's wiring is never guessed. Every line may be used once and every PWM channel
  * once; optional lines and PWM channels take -1 for "not wired".
@@ -114,8 +115,8 @@ int lconf_set(void *ctx, const char *key, const char *value, unsigned line, char
 int lconf_check(const lconf_t *c, char *err, size_t errlen);
 
 /**
- * Read robot.conf: core keys on top of @p core, backend keys on top of @p lc, then check
- * both. Nothing changes unless everything is right.
+ * Read robot.conf: core keys (before the first section) on top of @p core, backend keys
+ * (under `[linux]`) on top of @p lc, then check both. Nothing changes unless everything is right.
  * @param err  out: "FILE:LINE: message" or "FILE: message"
  * @return 0, or -1
  */
