@@ -77,7 +77,7 @@ def scratch(name):
     """A folder laid out as the source tree the README's commands are typed in."""
     d = sim.out(name)
     os.makedirs(os.path.join(d, "build", "host", "host_sim"))
-    for part in ("hal", "tools", "host_sim"):
+    for part in ("firmware", "hal", "tools", "host_sim"):  # the tools read firmware headers
         os.symlink(os.path.join(sim.src, part), os.path.join(d, part))
     os.symlink(os.path.abspath(sim.bin), os.path.join(d, "build", "host", "host_sim", "host_sim"))
     return d
