@@ -142,6 +142,20 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
                   const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
                   int32_t target_mm_s[2]);
 
+/** Whether the exploration stands on purpose (EXPLORE_STOP): its mode stands still, the
+ *  square is done, or everything reachable has been explored. ISR-safe. */
+static inline bool explore_standing(const explore_t *e)
+{
+    return e->machine.state == EXPLORE_STOP;
+}
+
+/** Whether the exploration is done: it has explored every way it could reach, and
+ *  stands. ISR-safe. */
+static inline bool explore_explored(const explore_t *e)
+{
+    return e->machine.explored;
+}
+
 /**
  * Whether a remembered obstacle lies in the corridor ahead of a pose, closer than
  * avoid_um ahead of the sonar. Checks the whole memory at once: for tests and tools, not
