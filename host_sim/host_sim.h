@@ -168,6 +168,8 @@ typedef struct {
     const char *out;
     bool ideal;
     bool paper;
+    int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
+    bool has_sonar; /* given on the command line */
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -179,6 +181,8 @@ typedef struct {
     const char *telemetry;
     const char *commands;
     const char *storage;
+    const char *link; /* --link PATH: the UART live on a pseudo-terminal (viewers.h) */
+    const char *bag;  /* --bag FILE: the run as a ROS bag (viewers.h) */
     bool realtime;
     double realtime_factor; /* simulated seconds per wall-clock second under --realtime */
     const char *replay;
@@ -313,6 +317,9 @@ typedef struct {
     double touch_recovery_max_s; /* the longest recovery so far */
     double touch_recovery_s[TOUCHES_LISTED]; /* of the first ones, < 0: not recovered */
     double explored_at_s;      /* when the firmware said it was done; < 0: never */
+    /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
+     * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
+    uint32_t walls_lowered[2];
     FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
 } run_t;
 

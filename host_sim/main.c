@@ -18,6 +18,7 @@
 #include "hal_common/trace.h"
 #include "host_sim.h"
 #include "slam/error.h"
+#include "viewers.h"
 
 static firmware_t fw; /* the firmware's state, as a robot program owns it, and its twin */
 
@@ -52,6 +53,7 @@ typedef struct {
     end_bufs_t end;
     experimenter_t tape;
     uint32_t start_cell; /* the grid index of the start cell */
+    link_t link;         /* --link */
 } held_t;
 
 /* What the loop did. */
@@ -111,6 +113,7 @@ static void free_buffers(held_t *h)
 static void release(held_t *h)
 {
     run_logs_t *l = &h->logs;
+    link_close(&h->link);
     hal_host_uart_sink(NULL);
     if (l->trace != NULL) {
         hal_host_trace(NULL);
@@ -181,6 +184,9 @@ static int open_logs(const options_t *o, held_t *h)
             return 1;
         }
     }
+    if (o->link != NULL && link_open(&h->link, o->link, o->quiet) != 0) {
+        return 1;
+    }
     fprintf(l->readings, "%s,%s\n", CSV_READINGS_HEADER, CSV_TRUTH_COLUMNS);
     fprintf(l->trajectory, "%s\n", CSV_TRAJECTORY_HEADER);
     if (o->scoring) {
@@ -218,6 +224,9 @@ static int start_firmware(const options_t *o, held_t *h)
     if (h->logs.telemetry != NULL) {
         setvbuf(h->logs.telemetry, NULL, _IONBF, 0); /* a viewer may be following the file */
         hal_host_uart_sink(h->logs.telemetry);
+    }
+    if (o->link != NULL && link_start(&h->link, h->logs.telemetry) != 0) {
+        return 1;
     }
     return 0;
 }
@@ -261,6 +270,9 @@ static int drive(const options_t *o, held_t *h, outcome_t *out)
         sim_truth_t before = sim_truth(sim);
         hal_host_step();
         commands_feed(&h->sc.commands, k);
+        if (!link_poll(&h->link)) {
+            ticks = k + 1u; /* ended by Ctrl-C: the outputs of the run so far */
+        }
         robot_idle(&fw.robot); /* the robot's background loop runs between ticks */
         /* UMBmark: a run measured and the robot carried back; the run ends after the last. */
         tape_rc = experimenter_tick(tape, sim, &fw.robot);
@@ -300,6 +312,7 @@ static int close_logs(const options_t *o, held_t *h, int tape_rc)
 {
     run_logs_t *l = &h->logs;
     int bad = 0;
+    link_close(&h->link);
     if (l->telemetry != NULL) {
         hal_host_uart_sink(NULL);
         bad |= write_failed(l->telemetry, o->telemetry) ? -1 : 0;
@@ -424,6 +437,10 @@ __attribute__((noinline)) static int finish(const options_t *o, held_t *h, const
     if (o->plot) {
         plot_figure(o->out, o->quiet);
     }
+    if (o->bag != NULL && bag_write(o->out, o->bag, sc->params.sonar_cone_deg,
+                                    sc->params.sonar_max_m, o->quiet) != 0) {
+        return 1;
+    }
     if (sc->commands.dropped != 0u) {
         fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
                 o->commands, sc->commands.dropped);
@@ -441,7 +458,8 @@ static int run(options_t *o, held_t *h)
     if (rc != 0) {
         return rc;
     }
-    if (check_outputs(o) != 0) {
+    if (check_outputs(o) != 0 || (o->link != NULL && link_check(o->link) != 0) ||
+        (o->bag != NULL && bag_check(o->bag) != 0)) {
         return EXIT_USAGE;
     }
     /* From here on only a failure while running can go wrong: exit 1, and every file of

@@ -190,6 +190,45 @@ static void trajectory_row(FILE *trajectory, double t, double ox, double oy, dou
     fwrite(line, 1, (size_t)(e - line), trajectory);
 }
 
+/* Cells along a beam's axis at most: a reading touches 0.5 m / L + 3 of them (mapper.h). */
+#define AXIS_CELLS 2048u
+
+/*
+ * An echo into the perfect-odometry map, and the truth cells (walls) it lowered: the cells
+ * along the beam's true axis from the sensor (sx, sy) to a cell beyond where the reading
+ * reaches (its range, or rc), compared before and after. Counted by whether the echo came
+ * by a mirror path: a long, wrong range whose free-space evidence crosses a wall.
+ */
+static void ideal_echo(run_t *r, firmware_t *fw, const odom_pose_t *truth_pose, bam32_t servo,
+                       uint32_t d_um, double sx, double sy, double bearing, bool mirrored)
+{
+    static uint32_t cells[AXIS_CELLS];
+    static uint8_t before[AXIS_CELLS];
+    const map_geom_t *g = &r->geom;
+    double reach = fmin(d_um * 1e-6, r->rc_m) + g->cell_m;
+    double c = cos(bearing);
+    double sn = sin(bearing);
+    size_t n = 0;
+    for (double t = 0.0; t <= reach && n < AXIS_CELLS; t += 0.25 * g->cell_m) {
+        double fa = floor((sx + t * c - g->origin_x) / g->cell_m);
+        double fb = floor((sy + t * sn - g->origin_y) / g->cell_m);
+        if (fa < 0.0 || fb < 0.0 || fa >= (double)g->a || fb >= (double)g->b) {
+            continue;
+        }
+        uint32_t i = (uint32_t)fb * g->a + (uint32_t)fa;
+        if (n == 0u || cells[n - 1u] != i) {
+            cells[n] = i;
+            before[n++] = fw->ideal_grid.om[i];
+        }
+    }
+    (void)mapper_reading(&fw->ideal_mapper, &fw->ideal_grid, truth_pose, servo, d_um);
+    for (size_t k = 0; k < n; k++) {
+        if (r->truth[cells[k]] && fw->ideal_grid.om[cells[k]] < before[k]) {
+            r->walls_lowered[mirrored ? 0 : 1]++;
+        }
+    }
+}
+
 /* The reading of this tick, with the pose of its ping: odometry and truth. It marks what
  * became observable and the walls it covered, goes into the perfect-odometry maps, and is
  * logged to readings.csv (and its estimated pose to scoring_estimate.csv). */
@@ -218,7 +257,8 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
     if (sw->reading.echo) {
         d = sonar_range_um(&robot->mapper.sonar, sw->reading.echo_us);
         e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        (void)mapper_reading(&fw->ideal_mapper, &fw->ideal_grid, &truth_pose, sw->reading.servo, d);
+        ideal_echo(r, fw, &truth_pose, sw->reading.servo, d, sx, sy, ping.bearing,
+                   ping.kind == SIM_PING_MULTIPATH);
     } else {
         *e++ = ',';
         mapper_timeout(&fw->ideal_mapper, &fw->ideal_grid, &truth_pose);

@@ -56,6 +56,13 @@ static void usage(FILE *f)
         "                       with a simulated person who measures each run's return\n"
         "                       error (a tape, +-5 mm) into umbmark.csv and puts the robot\n"
         "                       back; it ends after the last run\n"
+        "  --sonar LEVEL        how much of what real HC-SR04s do at oblique incidence the\n"
+        "                       sonar shows: optimistic (a surface answers up to 45 deg at\n"
+        "                       every range; the model of older figures), typical (the\n"
+        "                       limit narrows with range, and sound a surface does not\n"
+        "                       answer reflects on and may come back as a long, wrong\n"
+        "                       range) or pessimistic (the lowest measured limits); default\n"
+        "                       %s; hal/host/README.md gives the sources. --error refines it\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
         "                       TH 3, K 1, insert (the default map holds free-space evidence)\n"
@@ -63,7 +70,9 @@ static void usage(FILE *f)
         "                       ed, eb 0.8..1.2 (wheel diameter ratio, wheel base ratio);\n"
         "                       slip 0..1 per m/s² beyond slip_free 0..100 m/s²;\n"
         "                       noise 0..0.5 (wheel travel, 1 sigma); sonar_noise 0..1 m;\n"
-        "                       dropout, ghost 0..1 (per ping); grazing 0..90 deg;\n"
+        "                       dropout, ghost 0..1 (per ping); grazing 0..90 deg (a\n"
+        "                       flat limit at every range, instead of the level's);\n"
+        "                       multipath 0..8 (reflections a sound may make; 0 none);\n"
         "                       echo_stuck 0..10 per s (the echo line sticks high);\n"
         "                       servo_lag 0..0.95 (share of the servo's speed lost);\n"
         "                       servo_stall 0..10 per s (the horn stops); tick_miss\n"
@@ -93,6 +102,13 @@ static void usage(FILE *f)
         "                       standing still as a save begins) and write its two slots as\n"
         "                       DIR/slot0.bin and slot1.bin, as the Linux robot keeps them\n"
         "                       (tools/plot_run.py DIR draws them)\n"
+        "  --link PATH          the robot's UART live, both ways: a pseudo-terminal that PATH\n"
+        "                       links to while the run lasts, as the Linux robot offers one;\n"
+        "                       runs in real time (--realtime FACTOR changes the pace). Watch\n"
+        "                       and command it: tools/telemetry.py serve PATH, then open the\n"
+        "                       page it prints (tools/web/README.md)\n"
+        "  --bag FILE           also write the run as a ROS bag: /map, /odom, /tf, /sonar and\n"
+        "                       the truth (tools/rosbag_out.py; needs python3-rosbag)\n"
         "  --realtime [FACTOR]  run at the speed of the real robot (FACTOR times it, 0.1 to\n"
         "                       1000; default 1), not as fast as possible\n"
         "  --scoring            also write what the score is computed against: the truth's\n"
@@ -109,7 +125,8 @@ static void usage(FILE *f)
         "Files written: om.pgm om_post.pgm om_ideal.pgm truth.pgm (+ ROS .yaml each), tm.pgm,\n"
         "trajectory.csv readings.csv metrics.json timing.json config.txt figure.png, and\n"
         "umbmark.csv when the robot ran UMBmark\n"
-        "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n");
+        "Exit status: 0 done, 1 failed while running, 2 bad options or input.\n",
+        sim_sonar_level_name(SIM_SONAR_DEFAULT));
 }
 
 __attribute__((format(printf, 1, 2))) static int fail_usage(const char *fmt, ...)
@@ -196,6 +213,7 @@ int parse_options(int argc, char **argv, options_t *o)
         .out = "out/sim",
         .plot = true,
         .realtime_factor = 1.0,
+        .sonar = SIM_SONAR_DEFAULT,
     };
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -288,6 +306,16 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--out needs a folder");
             }
             o->out = argv[i];
+        } else if (strcmp(a, "--sonar") == 0) {
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("--sonar needs a level: optimistic, typical or pessimistic");
+            }
+            o->sonar = sim_sonar_level_of(argv[i]);
+            if (o->sonar < 0) {
+                return fail_usage("--sonar: unknown level '%.40s' (optimistic, typical, "
+                                  "pessimistic)", argv[i]);
+            }
+            o->has_sonar = true;
         } else if (strcmp(a, "--ideal") == 0) {
             o->ideal = true;
         } else if (strcmp(a, "--paper") == 0) {
@@ -332,6 +360,13 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--storage needs a folder");
             }
             o->storage = argv[i];
+        } else if (strcmp(a, "--link") == 0 || strcmp(a, "--bag") == 0) {
+            bool live = a[2] == 'l';
+            if (!take(argc, argv, &i, 1)) {
+                return fail_usage("%s needs a path", a);
+            }
+            *(live ? &o->link : &o->bag) = argv[i];
+            o->realtime = o->realtime || live; /* a live robot keeps the real one's pace */
         } else if (strcmp(a, "--realtime") == 0) {
             o->realtime = true;
             /* An optional factor: the next word, when it is not an option. */
@@ -359,10 +394,14 @@ int parse_options(int argc, char **argv, options_t *o)
             return fail_usage("unknown option '%s'", a);
         }
     }
+    if (o->ideal && o->has_sonar) {
+        return fail_usage("--sonar and --ideal: an ideal sonar has no level");
+    }
     return 0;
 }
 
-/* The --error names, their fields and ranges: within what sim_params_check() takes. */
+/* The --error names, their fields and ranges: within what sim_params_check() takes.
+ * Fields are doubles but multipath's, a whole number (offset SIZE_MAX). */
 static const struct {
     const char *name;
     size_t offset;
@@ -377,6 +416,7 @@ static const struct {
     {"dropout", offsetof(sim_errors_t, sonar_dropout), 0.0, 1.0},
     {"ghost", offsetof(sim_errors_t, sonar_ghost), 0.0, 1.0},
     {"grazing", offsetof(sim_errors_t, grazing_deg), 0.0, 90.0},
+    {"multipath", SIZE_MAX, 0.0, 8.0},
     {"echo_stuck", offsetof(sim_errors_t, echo_stuck_per_s), 0.0, 10.0},
     {"servo_lag", offsetof(sim_errors_t, servo_lag), 0.0, 0.95},
     {"servo_stall", offsetof(sim_errors_t, servo_stall_per_s), 0.0, 10.0},
@@ -399,7 +439,19 @@ int apply_error(sim_errors_t *e, const char *nv)
                         error_names[i].lo, error_names[i].hi);
                 return -1;
             }
+            if (error_names[i].offset == SIZE_MAX) {
+                if (v != floor(v)) {
+                    fprintf(stderr, "host_sim: --error %s: '%.40s' is not a whole number\n",
+                            error_names[i].name, eq + 1);
+                    return -1;
+                }
+                e->multipath = (uint32_t)v;
+                return 0;
+            }
             memcpy((char *)e + error_names[i].offset, &v, sizeof v);
+            if (error_names[i].offset == offsetof(sim_errors_t, grazing_deg)) {
+                e->grazing_curve.n = 0u; /* a flat limit, instead of the level's curve */
+            }
             return 0;
         }
     }

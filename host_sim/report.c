@@ -126,6 +126,39 @@ static void json_sweep(FILE *f, const post_sweep_t *ps)
             ps->best_th, ps->best_k, b->precision, b->recall, b->f1);
 }
 
+/* The incidence limit: one number when it is flat, else the curve's [range m, deg] knots. */
+static void json_grazing(FILE *f, const sim_errors_t *e)
+{
+    const sim_grazing_curve_t *c = &e->grazing_curve;
+    if (c->n == 0u) {
+        fprintf(f, "%.6g", e->grazing_deg);
+        return;
+    }
+    fprintf(f, "[");
+    for (uint32_t i = 0; i < c->n; i++) {
+        fprintf(f, "%s[%.6g, %.6g]", i ? ", " : "", c->range_m[i], c->deg[i]);
+    }
+    fprintf(f, "]");
+}
+
+/* What became of the pings, and the walls of the perfect-odometry map readings lowered. */
+static void json_pings(FILE *f, const sim_t *sim, const run_t *r)
+{
+    static const char *const kinds[SIM_PING_KINDS] = {
+        [SIM_PING_ECHO] = "echo", [SIM_PING_MULTIPATH] = "multipath",
+        [SIM_PING_GHOST] = "ghost", [SIM_PING_LATE] = "late", [SIM_PING_DROPOUT] = "dropout",
+        [SIM_PING_GRAZING] = "grazing", [SIM_PING_NOTHING] = "nothing",
+        [SIM_PING_STUCK] = "stuck"};
+    uint32_t counts[SIM_PING_KINDS];
+    sim_ping_counts(sim, counts);
+    fprintf(f, "  \"pings\": {");
+    for (int k = 1; k < (int)SIM_PING_KINDS; k++) {
+        fprintf(f, "\"%s\": %u, ", kinds[k], counts[k]);
+    }
+    fprintf(f, "\"walls_lowered\": {\"multipath\": %u, \"other\": %u}},\n",
+            r->walls_lowered[0], r->walls_lowered[1]);
+}
+
 /* Grid cells an MCU would need to hold this room, plus a cell of margin each side. In
  * whole micrometres: a quotient of doubles rounds differently with x87 (-m32). */
 static uint32_t cells_needed(double span_m, uint32_t cell_um)
@@ -159,6 +192,12 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
             o->duration_s, (unsigned long long)o->seed, o->cell_mm);
     fprintf(f, "    \"explore\": \"%s\",\n    \"ideal\": %s,\n", explore_names[o->explore],
             o->ideal ? "true" : "false");
+    if (o->ideal) {
+        fprintf(f, "    \"sonar\": null,\n");
+    } else {
+        fprintf(f, "    \"sonar\": \"%s\",\n",
+                sim_sonar_level_name((sim_sonar_level_t)o->sonar));
+    }
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
     if (o->calibration != NULL) {
         fprintf(f, "    \"calibration\": \"%s\",\n", o->calibration);
@@ -176,9 +215,11 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
             cfg->om_max);
     fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
                "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
-               "\"grazing\": %.6g},\n",
+               "\"grazing\": ",
             e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->slip_free_mps2, e->wheel_noise,
-            e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost, e->grazing_deg);
+            e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost);
+    json_grazing(f, e);
+    fprintf(f, ", \"multipath\": %u},\n", e->multipath);
     fprintf(f, "    \"grid\": {\"a\": %u, \"b\": %u, \"origin\": [%.6f, %.6f]}\n  },\n",
             r->geom.a, r->geom.b, r->geom.origin_x, r->geom.origin_y);
 
@@ -256,6 +297,7 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
             robot->explore.count.avoidances, robot->explore.count.stalls,
             robot->explore.count.leaves, robot->explore.count.doors, robot->explore.count.seeks,
             robot->explore.count.escapes);
+    json_pings(f, sim, r);
     const loc_t *lo = &robot->loc;
     fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
                "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
@@ -299,9 +341,10 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
                    uint64_t ticks, const sim_t *sim, const robot_t *robot)
 {
     sim_truth_t tr = sim_truth(sim);
-    printf("\nsonarslam host_sim: %s, %.0f s, seed %llu, %.0f mm cells, %s exploration%s\n",
+    const char *sonar = sim_sonar_level_name((sim_sonar_level_t)o->sonar);
+    printf("\nsonarslam host_sim: %s, %.0f s, seed %llu, %.0f mm cells, %s exploration, %s%s\n",
            o->room, o->duration_s, (unsigned long long)o->seed, o->cell_mm,
-           explore_names[o->explore], o->ideal ? ", ideal" : "");
+           explore_names[o->explore], o->ideal ? "ideal" : sonar, o->ideal ? "" : " sonar");
     printf("  simulated %llu ticks in %.2f s of wall time: %.0fx real time\n",
            (unsigned long long)ticks, wall_s, wall_s > 0 ? (double)ticks * TICK_S / wall_s : 0.0);
     printf("\n  map (vs truth)        precision  recall     F1   | perfect odometry F1\n");

@@ -57,14 +57,15 @@ static int choose_start(const options_t *o, scenario_t *sc)
     return 0;
 }
 
-/* The error levels (--ideal or the defaults, then each --error), and the calibration that
- * goes with them. 0, or EXIT_USAGE with a message. */
+/* The error levels (--ideal, or the defaults with the --sonar level, then each --error),
+ * and the calibration that goes with them. 0, or EXIT_USAGE with a message. */
 static int choose_errors(options_t *o, sim_errors_t *errors)
 {
     if (o->ideal) {
         sim_errors_ideal(errors);
     } else {
         sim_errors_default(errors);
+        sim_errors_sonar(errors, (sim_sonar_level_t)o->sonar);
     }
     for (size_t i = 0; i < o->nerrors; i++) {
         if (apply_error(errors, o->errors[i]) != 0) {

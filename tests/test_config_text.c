@@ -304,7 +304,7 @@ static void test_mode_words_are_the_modes(void **state)
     for (int m = 0; m < EXPLORE_MODES; m++) {
         slam_config_t c;
         slam_config_default(&c);
-        char text[8];
+        char text[12];
         snprintf(text, sizeof text, "%d", m);
         assert_int_equal(cfgtext_set(&c, "explore_mode", text, err, sizeof err), 0);
         assert_int_equal(cfgtext_check(&c, NULL, err, sizeof err), 0);

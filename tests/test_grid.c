@@ -266,6 +266,22 @@ static void test_state_reads_om_then_tm(void **state)
     assert_int_equal(grid_state(g, grid_index(north)), GRID_UNKNOWN);
 }
 
+/* grid_occupied_above() is grid_state_of()'s occupied, for every byte of OM and TM. */
+static void test_occupied_above_is_the_state_rule(void **state)
+{
+    (void)state;
+    for (unsigned mode = 0; mode < OM_MODES; mode++) {
+        uint8_t top = grid_occupied_above((uint8_t)mode);
+        for (unsigned om = 0; om < 256u; om++) {
+            for (unsigned tm = 0; tm < 256u; tm++) {
+                bool occupied = grid_state_of((uint8_t)mode, (uint8_t)om, (uint8_t)tm) ==
+                                GRID_OCCUPIED;
+                assert_int_equal(occupied, om > top);
+            }
+        }
+    }
+}
+
 static void init_evidence(void)
 {
     slam_config_t c;
@@ -423,6 +439,7 @@ int main(void)
         cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),
         cmocka_unit_test_setup(test_random_point_soak, setup),
         cmocka_unit_test_setup(test_state_reads_om_then_tm, setup),
+        cmocka_unit_test(test_occupied_above_is_the_state_rule),
         cmocka_unit_test_setup(test_evidence_steps_and_saturation, setup),
         cmocka_unit_test_setup(test_count_mode_has_no_free_space, setup),
         cmocka_unit_test_setup(test_part_of_a_hit_and_back, setup),

@@ -94,6 +94,18 @@ static void test_isqrt_is_the_floor(void **state)
     assert_int_equal(lkf_isqrt(UINT64_MAX), 4294967295u);
     assert_int_equal(lkf_isqrt(UINT32_MAX), 65535u);
     assert_int_equal(lkf_isqrt((uint64_t)UINT32_MAX + 1u), 65536u);
+    /* Every length of v: the first step depends on it. */
+    for (unsigned k = 0; k < 64u; k++) {
+        for (int64_t d = -1; d <= 1; d++) {
+            uint64_t v = ((uint64_t)1 << k) + (uint64_t)d;
+            uint64_t r = lkf_isqrt(v);
+            assert_true(r * r <= v && (r == UINT32_MAX || (r + 1u) * (r + 1u) > v));
+        }
+    }
+    for (uint64_t v = 0u; v < 70000u; v++) {
+        uint64_t r = lkf_isqrt(v);
+        assert_true(r * r <= v && (r + 1u) * (r + 1u) > v);
+    }
     test_rng_t rng = {5u};
     for (int i = 0; i < 100000; i++) {
         uint64_t v = test_rng_u64(&rng) >> (test_rng_u64(&rng) % 64u);

@@ -15,6 +15,7 @@
 #include "localize/loc_filter.h"
 #include "localize/loc_hold.h"
 #include "localize/loc_match.h"
+#include "localize/loc_walls.h"
 #include "slam/error.h"
 #include "slam/localize.h"
 #include "slam/readings.h"
@@ -551,6 +552,116 @@ static void test_the_obstacle_ahead_among_held_hits(void **state)
     assert_int_equal(ahead_of_two(60, 230, 0u), LOC_AHEAD_NONE); /* nothing held back */
 }
 
+/* The obstacle ahead as first written: every held-back hit of the window through the
+ * correction, its cell, then the corridor. */
+static void ahead_reference(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr,
+                            const odom_pose_t *ping, int32_t pt[2])
+{
+    odom_pose_t at = loc_apply(corr, ping);
+    q1_30_t c = fix_cos(at.heading);
+    q1_30_t s = fix_sin(at.heading);
+    int32_t near[2] = {INT32_MAX, INT32_MAX};
+    int32_t near_pt[2][2] = {{LOC_AHEAD_NONE, 0}, {LOC_AHEAD_NONE, 0}};
+    uint32_t k1 = UINT32_MAX;
+    unsigned first = h->count > LOC_WINDOW ? h->count - LOC_WINDOW : 0u;
+    for (unsigned i = first; i < h->count; i++) {
+        unsigned slot = (h->first + i) % LOC_HOLD;
+        if ((h->shadowed[slot / 32u] >> (slot % 32u)) & 1u) {
+            continue;
+        }
+        int32_t x;
+        int32_t y;
+        uint32_t cell;
+        loc_hold_point(h, g, corr, i, &x, &y);
+        if (loc_known_free(g, x, y, &cell)) {
+            continue;
+        }
+        int32_t dx = x - at.x_um;
+        int32_t dy = y - at.y_um;
+        int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
+        int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -h->clear_um ||
+            side >= h->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
+            continue;
+        }
+        if (ahead < near[0]) {
+            if (cell != k1) {
+                near[1] = near[0];
+                near_pt[1][0] = near_pt[0][0];
+                near_pt[1][1] = near_pt[0][1];
+            }
+            k1 = cell;
+            near[0] = ahead;
+            near_pt[0][0] = x;
+            near_pt[0][1] = y;
+        } else {
+            near[1] = ahead;
+            near_pt[1][0] = x;
+            near_pt[1][1] = y;
+        }
+    }
+    pt[0] = near_pt[1][0];
+    pt[1] = near_pt[1][1];
+}
+
+/* loc_hold_ahead() leaves most hits out before the correction and the map are asked
+ * (far in the odometry frame, outside the corridor, behind the second nearest): the same
+ * answer as asking them for every hit, on windows scattered about the corridor's edges,
+ * under any correction and heading, corridor width and map. */
+static void test_the_obstacle_ahead_skips_nothing_it_needs(void **state)
+{
+    (void)state;
+    test_rng_t rng = {31u};
+    unsigned found = 0;
+    for (int trial = 0; trial < 6000; trial++) {
+        cfg.clearance_um = 60000u + (uint32_t)(test_rng_u64(&rng) % 300000u);
+        grid_init(&grid, &cfg);
+        loc_start();
+        for (uint32_t k = 0; k < SLAM_GRID_CELLS; k += 1u + (uint32_t)(test_rng_u64(&rng) % 3u)) {
+            grid.om[k] = (uint8_t)test_rng_u64(&rng);
+        }
+        bam32_t th = (bam32_t)test_rng_u64(&rng);
+        loc_corr_t corr = {(int32_t)(test_rng_u64(&rng) % 1000001u) - 500000,
+                           (int32_t)(test_rng_u64(&rng) % 1000001u) - 500000, th, fix_cos(th),
+                           fix_sin(th)};
+        odom_pose_t ping = {(int32_t)(test_rng_u64(&rng) % 4000001u) - 2000000,
+                            (int32_t)(test_rng_u64(&rng) % 4000001u) - 2000000,
+                            (bam32_t)test_rng_u64(&rng)};
+        loc_hold_t *h = &loc.hold;
+        h->first = (uint16_t)(test_rng_u64(&rng) % LOC_HOLD);
+        /* Half the windows of a few hits, so that one at the corridor's far corners decides. */
+        h->count = (uint16_t)(1u + test_rng_u64(&rng) % (trial % 2 ? 8u : LOC_HOLD));
+        double hc = cos(ping.heading * (2.0 * PI / 4294967296.0));
+        double hs = sin(ping.heading * (2.0 * PI / 4294967296.0));
+        for (unsigned i = 0; i < LOC_HOLD; i++) {
+            /* About the corridor, in the odometry frame: ahead -0.1 .. 0.7 m, ±0.5 m aside,
+             * or within 3 mm of a far corner. */
+            double a = (double)(test_rng_u64(&rng) % 800001u) - 100000.0;
+            double sd = (double)(test_rng_u64(&rng) % 1000001u) - 500000.0;
+            if (test_rng_u64(&rng) % 2u) {
+                a = LOC_AHEAD_REACH_UM + (double)(test_rng_u64(&rng) % 6001u) - 3000.0;
+                sd = (test_rng_u64(&rng) % 2u ? 1.0 : -1.0) *
+                     ((double)cfg.clearance_um + (double)(test_rng_u64(&rng) % 6001u) - 3000.0);
+            }
+            double x = ping.x_um + a * hc - sd * hs - grid.origin_x_um;
+            double y = ping.y_um + a * hs + sd * hc - grid.origin_y_um;
+            h->win[i] = (loc_point_t){(int16_t)lround(x / (1 << h->point_shift)),
+                                      (int16_t)lround(y / (1 << h->point_shift))};
+        }
+        for (unsigned w = 0; w < LOC_HOLD / 32u; w++) {
+            h->shadowed[w] = (uint32_t)(test_rng_u64(&rng) & test_rng_u64(&rng));
+        }
+        int32_t want[2];
+        int32_t got[2];
+        ahead_reference(h, &grid, &corr, &ping, want);
+        loc_hold_ahead(h, &grid, &corr, &ping, got);
+        assert_int_equal(got[0], want[0]);
+        assert_int_equal(got[1], want[1]);
+        found += want[0] != LOC_AHEAD_NONE;
+    }
+    assert_true(found > 1000u); /* the corridor was often found, not always empty */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -566,6 +677,7 @@ int main(void)
         cmocka_unit_test_setup(test_a_match_does_not_see_the_halves, setup),
         cmocka_unit_test_setup(test_the_far_face_of_a_thin_wall_is_not_matched, setup),
         cmocka_unit_test_setup(test_the_obstacle_ahead_among_held_hits, setup),
+        cmocka_unit_test_setup(test_the_obstacle_ahead_skips_nothing_it_needs, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

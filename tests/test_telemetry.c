@@ -159,6 +159,40 @@ static void test_robot_stream_decodes(void **state)
     assert_memory_equal(tm, robot.grid.tm, SLAM_GRID_CELLS);
 }
 
+/* A robot driven for a while, echoes at every stop: its telemetry's state after. */
+static void drive_robot(uint32_t ticks)
+{
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    for (uint32_t t = 0; t < ticks; t++) {
+        fake_hal.encoder[0] = (uint16_t)(fake_hal.encoder[0] + 1u);
+        fake_hal.encoder[1] = (uint16_t)(fake_hal.encoder[1] + 1u);
+        if (robot.sweep.phase == SWEEP_WAIT) {
+            fake_hal.sonar_next = HAL_SONAR_ECHO;
+            fake_hal.sonar_echo_us = 3000u + 100u * robot.sweep.seq;
+        }
+        robot_tick(&robot);
+        robot_idle(&robot);
+    }
+}
+
+/* Nothing reads the UART: no frame is built or written, and the telemetry's state (the
+ * frames counted, the ring, the map rows' place, when the next HELLO and STATUS are due)
+ * is what it is when every frame goes out whole. */
+static void test_no_reader_counts_the_frames_it_skips(void **state)
+{
+    (void)state;
+    drive_robot(3000u);
+    static telem_t heard;
+    heard = robot.telem;
+    assert_true(heard.frames > 300u && fake_hal.uart_len > 0u);
+    fake_hal_reset();
+    fake_hal.uart_no_reader = true;
+    drive_robot(3000u);
+    assert_int_equal(fake_hal.uart_len, 0u);
+    assert_int_equal(robot.telem.frames, heard.frames);
+    assert_memory_equal(&robot.telem, &heard, sizeof heard);
+}
+
 /* A UART that takes only part of a frame: counted; the receiver drops the torn frame and
  * finds the next good one. */
 static void test_short_writes_are_counted_and_resynchronised(void **state)
@@ -536,6 +570,7 @@ int main(void)
         cmocka_unit_test_setup(test_ring_drops_when_full_and_counts, setup),
         cmocka_unit_test_setup(test_robot_stream_decodes, setup),
         cmocka_unit_test_setup(test_short_writes_are_counted_and_resynchronised, setup),
+        cmocka_unit_test_setup(test_no_reader_counts_the_frames_it_skips, setup),
         cmocka_unit_test_setup(test_decoder_checks_lengths, setup),
         cmocka_unit_test_setup(test_every_command_parses, setup),
         cmocka_unit_test_setup(test_malformed_commands_are_refused, setup),

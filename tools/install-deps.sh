@@ -3,19 +3,27 @@
 # Installs the Debian packages sonarslam needs, and only those that are missing.
 #
 #   tools/install-deps.sh [GROUP...]     groups: test sim firmware flash linux compare fuzz
-#                                        all (default: all)
+#                                        web ros all (default: all)
 #
 # Idempotent: when everything is present it installs nothing and says so.
 # Uses sudo when not run as root. Exit status is non-zero when an install fails.
 set -eu
 
 usage() {
-    echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|compare|fuzz|all]...   (default: all)"
+    echo "usage: tools/install-deps.sh [test|sim|firmware|flash|linux|compare|fuzz|web|ros|all]...   (default: all)"
     echo "Installs the missing Debian packages the named parts of sonarslam need."
 }
 
 # What each group needs (Debian bookworm package names).
-pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2"
+# web: the bridge between the robot and the browser page (tools/telemetry.py serve); the
+# page itself needs nothing but a browser.
+pkgs_web="python3 python3-websockets"
+# ros: runs as ROS 1 bags (host_sim --bag, tools/telemetry.py to-bag).
+pkgs_ros="python3 python3-numpy python3-rosbag python3-nav-msgs python3-sensor-msgs python3-geometry-msgs python3-tf2-msgs"
+# The tests also drive the page in headless Chromium. On a bookworm system with the rest
+# of the test group, chromium, chromium-driver, python3-selenium and the web and ros groups
+# were 90 packages, 138 MB to download and 466 MB installed.
+pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2 chromium chromium-driver python3-selenium $pkgs_web $pkgs_ros"
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib python3-serial"
 pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
 pkgs_flash="openocd gdb-multiarch"
@@ -35,9 +43,11 @@ for group in "$@"; do
         linux)    want="$want $pkgs_linux" ;;
         compare)  want="$want $pkgs_compare" ;;
         fuzz)     want="$want $pkgs_fuzz" ;;
-        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_flash $pkgs_linux $pkgs_compare $pkgs_fuzz" ;;
+        web)      want="$want $pkgs_web" ;;
+        ros)      want="$want $pkgs_ros" ;;
+        all)      want="$want $pkgs_test $pkgs_sim $pkgs_firmware $pkgs_flash $pkgs_linux $pkgs_compare $pkgs_fuzz $pkgs_web $pkgs_ros" ;;
         -h|--help) usage; exit 0 ;;
-        *) echo "install-deps: unknown group '$group' (valid: test sim firmware flash linux compare fuzz all)" >&2; exit 2 ;;
+        *) echo "install-deps: unknown group '$group' (valid: test sim firmware flash linux compare fuzz web ros all)" >&2; exit 2 ;;
     esac
 done
 
@@ -75,6 +85,9 @@ else
 fi
 
 echo "install-deps: installing:$missing"
+case " $missing " in
+    *" chromium "*) echo "install-deps: (chromium, for the browser page's tests, is large: with chromium-driver about 140 MB to download, 470 MB installed)" ;;
+esac
 case "$missing" in
     *":i386"*)
         if ! dpkg --print-foreign-architectures | grep -qx i386; then

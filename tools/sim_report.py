@@ -3,7 +3,7 @@
 """Reproduces the simulator's figures: the paper's claims, measured over several seeds.
 
 usage: tools/sim_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--quick] [--figure PNG]
-                           [--maps DIR] [--faults-only] [--host-arg ARG]...
+                           [--maps DIR] [--faults-only] [--levels-only] [--host-arg ARG]...
 
 Runs host_sim over a matrix of scenarios and prints Markdown tables (the ones in the
 README): post-processing in the paper's two rooms at the paper's defaults and at the
@@ -17,8 +17,13 @@ every fault the simulator can inject at three levels (FAULTS), with the F1 floor
 level must keep (tests/sim/test_sim_faults.py asserts it). With --faults-only, that table
 alone, each run that touched a wall as the arguments that repeat it with when and where
 it first touched, and (with ten seeds or more) each level's means, spread and the floor
-FAULTS' rule gives. --host-arg adds an argument to every run (a configuration to weigh:
---host-arg=--set --host-arg=sweep_stops=7).
+FAULTS' rule gives. The sonar's realism levels (SONAR_LEVELS, hal/host/README.md) over
+every shipped room: the map from the firmware's own pose and from the true poses, the pose
+error, the runs that touch, and what became of the pings (long readings by a mirror path,
+and the wall cells of the true-pose map that they and the other readings lowered); with
+--levels-only, that table alone and the touching runs. --host-arg adds an argument to
+every run (a configuration to weigh: --host-arg=--set --host-arg=sweep_stops=7; with the
+levels, a --sonar there would override theirs).
 With --figure, also draws those results (host_sim/figures/report.png in the README).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
@@ -45,6 +50,8 @@ BUILDINGS = (
     ("utexas_gdc_3ne", "utexas_gdc_3ne/3ne.yaml", (-20.0, -10.0, 12.0, 10.0)),
 )
 BUILDING_S = 1800
+# The sonar's realism levels (host_sim --sonar), the default in the middle.
+SONAR_LEVELS = ("optimistic", "typical", "pessimistic")
 
 # Every fault the simulator injects, at three levels, each on top of the default error
 # levels: (name, what, levels); a level is (--error arguments, the F1 floor of the raw map:
@@ -244,6 +251,12 @@ def report(args):
                     "--seed", s, "--duration", dur]
                 if mode == MODES[0] and room in ("default", "obstacles"):
                     jobs["explore-%s-%s-%d" % (mode, room, s)].append("--sweep")  # tuned()
+    for level in SONAR_LEVELS:
+        for room in rooms:
+            for s in seeds:
+                jobs["level-%s-%s-%d" % (level, room, s)] = [
+                    "--sonar", level, "--room", os.path.join(ROOMS, room + ".room"),
+                    "--seed", s, "--duration", dur]
     buildings = [b for b in BUILDINGS if os.path.exists(os.path.join(args.maps, b[1]))]
     bdur = dur if args.quick else BUILDING_S
     for name, yaml, crop in buildings:
@@ -254,6 +267,8 @@ def report(args):
             jobs["building-%s-%d" % (name, s)] = a
     if args.faults_only:
         jobs = {n: a for n, a in jobs.items() if n.startswith(("fault-", "cell-50-"))}
+    elif args.levels_only:
+        jobs = {n: a for n, a in jobs.items() if n.startswith("level-")}
     jobs = {n: a + args.host_arg for n, a in jobs.items()}
     res = run_all(args.host_sim, base, jobs, args.jobs)
 
@@ -267,6 +282,12 @@ def report(args):
             print(line)
         if len(seeds) >= 10:
             floor_table(group)
+        return
+    if args.levels_only:
+        touching = level_table(group, rooms, len(seeds), dur)
+        print("\n%d of %d runs touch%s" % (len(touching), len(res), ":" if touching else "."))
+        for line in repeat_lines(touching, args.host_arg, None):
+            print(line)
         return
 
     def post_tables(title, prefix):
@@ -381,6 +402,8 @@ def report(args):
     else:
         print("(no building maps at %s: that table is left out)\n" % args.maps)
     fault_table(group, len(seeds), dur)
+    print()
+    level_table(group, rooms, len(seeds), dur)
     if args.figure:
         figure(args, res, group, base)
 
@@ -393,11 +416,13 @@ def touch_words(t):
         t["t_s"], side, t["position_error_m"], t["heading_error_deg"])
 
 
-def repeat_lines(touching, extra=()):
-    """Each touching run as a Markdown item of the host_sim arguments that repeat it, and
-    where and how it first touched when metrics.json says."""
+def repeat_lines(touching, extra=(), flag="--error"):
+    """Each touching run, (values of @p flag, seed, first touch or None), as a Markdown item
+    of the host_sim arguments that repeat it, and where and how it first touched when
+    metrics.json says. With flag None the values are whole arguments."""
     more = "".join(" " + a for a in extra)
-    return ["- `%s--seed %d%s`%s" % ("".join("--error %s " % e for e in errors), seed, more,
+    return ["- `%s--seed %d%s`%s" % ("".join("%s%s " % (flag + " " if flag else "", e)
+                                             for e in errors), seed, more,
                                      ": " + touch_words(t) if t else "")
             for errors, seed, t in touching]
 
@@ -422,6 +447,57 @@ def fault_table(group, nseeds, dur):
         errors = tuple(spec[0].split()) if spec else ()
         touching += sorted(((errors, m["scenario"]["seed"], m["exploration"].get("first_touch"))
                             for m, c in zip(ms, cols) if c > 0), key=lambda k: k[:2])
+    return touching
+
+
+def spread(xs):
+    """Mean, its standard error and the 5th percentile (nearest rank) of a sample."""
+    xs = sorted(xs)
+    n = len(xs)
+    m = sum(xs) / n
+    se = math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1) / n) if n > 1 else float("nan")
+    return m, se, xs[max(0, math.ceil(0.05 * n) - 1)]
+
+
+def level_table(group, rooms, nseeds, dur):
+    """The sonar's levels over every shipped room; returns the touching runs, (host_sim
+    arguments, seed, first touch or None) each."""
+    print("### Sonar realism levels (every shipped room, %d s, %d seeds each)\n" % (dur, nseeds))
+    print("| level | raw F1, own pose (mean ± se, 5th pct) | true poses | gap | final position "
+          "error (m) | final heading error (°) | runs that touch | echoes by a mirror path "
+          "| grazing timeouts | wall cells lowered by mirror echoes / by others |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    touching = []
+    per_room = {}
+    for level in SONAR_LEVELS:
+        ms = group("level-" + level)
+        own = [m["maps"]["odometry"]["raw"]["f1"] for m in ms]
+        true = [m["maps"]["perfect_odometry"]["raw"]["f1"] for m in ms]
+        om, ose, op5 = spread(own)
+        tm = mean(true)
+        pings = [m["pings"] for m in ms]
+        n = sum(m["robot"]["pings"] for m in ms)
+        hit = [m for m in ms if m["robot"]["collisions"] > 0]
+        print("| %s | %.3f ± %.3f, %.3f | %.3f | %.3f | %.3f | %.2f | %d of %d | %.1f %% | %.1f %% "
+              "| %.1f / %.1f a run |" % (
+                  level, om, ose, op5, tm, tm - om,
+                  mean(m["odometry"]["final_position_m"] for m in ms),
+                  mean(m["odometry"]["final_heading_deg"] for m in ms), len(hit), len(ms),
+                  100.0 * sum(p["multipath"] for p in pings) / n,
+                  100.0 * sum(p["grazing"] for p in pings) / n,
+                  mean(p["walls_lowered"]["multipath"] for p in pings),
+                  mean(p["walls_lowered"]["other"] for p in pings)))
+        touching += sorted(((("--sonar", level, "--room", os.path.relpath(
+            m["scenario"]["room"], SRC)), m["scenario"]["seed"],
+            m["exploration"].get("first_touch")) for m in hit), key=lambda k: k[:2])
+        for room in rooms:
+            per_room[(level, room)] = mean(m["maps"]["odometry"]["raw"]["f1"]
+                                           for m in group("level-%s-%s" % (level, room)))
+    print("\n| room | %s |\n|---|%s" % (" | ".join("raw F1 %s" % lv for lv in SONAR_LEVELS),
+                                         "---|" * len(SONAR_LEVELS)))
+    for room in rooms:
+        print("| %s | %s |" % (room, " | ".join("%.3f" % per_room[(lv, room)]
+                                                for lv in SONAR_LEVELS)))
     return touching
 
 
@@ -536,6 +612,8 @@ def main():
     ap.add_argument("--figure", help="also draw the results into this PNG")
     ap.add_argument("--faults-only", action="store_true",
                     help="only the faults' table, and the runs that touch (many seeds in minutes)")
+    ap.add_argument("--levels-only", action="store_true",
+                    help="only the sonar levels' table, and the runs that touch")
     ap.add_argument("--maps", default=os.path.join(os.path.dirname(SRC), "shared", "maps"),
                     help="the building maps (default: ../shared/maps beside the repository)")
     add_host_arg(ap, "--host-arg=--set --host-arg=sweep_stops=7")

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Talks to the robot over its telemetry link: prints or draws what it sends, turns a log
-into readings for host_sim --replay, and sends it commands.
+"""Talks to the robot over its telemetry link: prints, draws or serves to a browser what it
+sends, turns a log into readings for host_sim --replay or a ROS bag, sends it commands.
 
 usage:
   tools/telemetry.py dump SOURCE [--follow]        one line per frame
@@ -12,6 +12,12 @@ usage:
   tools/telemetry.py send PORT COMMAND [ARGS...] [--wait S] [--out DIR]
                                                    send one command, print the answer
   tools/telemetry.py frame COMMAND [ARGS...]       print a command's frame in hex
+  tools/telemetry.py serve SOURCE [--port N] [--host ADDR] [--follow] [--record FILE]
+                                                   the browser page and the robot's link
+                                                   over a WebSocket (tools/web/README.md)
+  tools/telemetry.py to-bag LOG OUT.bag [--fov DEG] [--max-range M]
+                                                   a log as a ROS bag: /map, /odom, /tf,
+                                                   /sonar (needs python3-rosbag)
 
 SOURCE is a serial device (/dev/ttyUSB0, /dev/ttyAMA0, a pseudo-terminal /dev/pts/N;
 needs python3-serial) or a file of raw bytes, such as `host_sim --telemetry FILE` writes.
@@ -425,6 +431,27 @@ def cmd_frame(args):
         raise Fatal("%s" % e)
 
 
+def cmd_serve(args):
+    import ws_bridge
+    try:
+        ws_bridge.serve(args.source, args.host, args.port, args.baud, args.follow,
+                        record=args.record)
+    except ws_bridge.BridgeError as e:
+        raise Fatal(str(e))
+    except KeyboardInterrupt:
+        pass
+
+
+def cmd_to_bag(args):
+    import rosbag_out
+    try:
+        n = rosbag_out.log_to_bag(args.log, args.out, args.fov, args.max_range)
+    except rosbag_out.BagError as e:
+        raise Fatal(str(e), e.status)
+    print("telemetry to-bag: wrote %s: %s" % (args.out, ", ".join(
+        "%d on %s" % (c, t) for t, c in sorted(n.items()))))
+
+
 def main(argv=None):
     doc = (__doc__ % {"modes": ", ".join(slamlink.MODES)}).strip().splitlines()
     ap = argparse.ArgumentParser(prog="tools/telemetry.py", description=doc[0] + " " + doc[1],
@@ -452,13 +479,35 @@ def main(argv=None):
     p.add_argument("--out", help="with `map`: write the maps into this folder")
     p = sub.add_parser("frame", help="print a command's frame in hex")
     p.add_argument("words", nargs="+", metavar="COMMAND")
+    p = sub.add_parser("serve", help="the browser page and the robot's link over a WebSocket")
+    p.add_argument("source", help="serial device, pseudo-terminal (or a link to one), or a "
+                                  "telemetry file")
+    p.add_argument("--port", type=int, default=8765, help="TCP port (default 8765; 0: any free)")
+    p.add_argument("--host", default="127.0.0.1",
+                   help="address to listen on (default 127.0.0.1, this machine only; "
+                        "0.0.0.0: every network, e.g. a robot watched over Wi-Fi)")
+    p.add_argument("--follow", action="store_true", help="a file: keep sending what is added")
+    p.add_argument("--record", metavar="FILE",
+                   help="a device: also append every byte it sends to FILE (a log for "
+                        "to-bag or to-readings)")
+    p = sub.add_parser("to-bag", help="a log as a ROS bag (/map, /odom, /tf, /sonar)")
+    p.add_argument("log")
+    p.add_argument("out", metavar="OUT.bag")
+    p.add_argument("--fov", type=float, default=15.0,
+                   help="the sonar cone's full width, degrees (default 15, an HC-SR04's)")
+    p.add_argument("--max-range", type=float, default=4.0,
+                   help="the sonar's longest range, m (default 4, an HC-SR04's)")
     for p in sub.choices.values():
         p.add_argument("--baud", type=int, default=115200, help="serial speed (default 115200)")
     args = ap.parse_args(argv)
     if args.command == "view" and args.every <= 0:
         ap.error("--every must be positive")
+    if args.command == "serve" and not 0 <= args.port <= 65535:
+        ap.error("--port must be 0..65535")
+    if args.command == "to-bag" and not (0 < args.fov < 180 and 0 < args.max_range <= 100):
+        ap.error("--fov must be within 0..180 degrees and --max-range within 0..100 m")
     handlers = {"dump": cmd_dump, "view": cmd_view, "to-readings": cmd_to_readings,
-                "send": cmd_send, "frame": cmd_frame}
+                "send": cmd_send, "frame": cmd_frame, "serve": cmd_serve, "to-bag": cmd_to_bag}
     # SIGTERM (a service manager, kill) ends a --follow as Ctrl-C does: the picture is
     # drawn a last time; and Ctrl-C works even where the shell started us with it ignored.
     signal.signal(signal.SIGTERM, stop)

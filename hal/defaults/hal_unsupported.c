@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /*
  * The HAL's answers for what a backend does not have: no map storage (size 0 and
- * HAL_ENOSYS, as hal.h documents) and no command input (hal_uart_read() never receives a
- * byte). Each definition is weak, so a backend that has the feature defines the call and
+ * HAL_ENOSYS, as hal.h documents), no command input (hal_uart_read() never receives a
+ * byte), and no way to tell whether the UART has a listener (hal_uart_has_reader(): it
+ * may). Each definition is weak, so a backend that has the feature defines the call and
  * its definition wins; one that lacks it links this library and leaves the call out.
  *
  * A backend's definition wins whichever side of this library it is linked on when it sits
@@ -22,6 +23,11 @@ __attribute__((weak)) size_t hal_uart_read(uint8_t *data, size_t len)
     (void)data;
     (void)len;
     return 0u;
+}
+
+__attribute__((weak)) bool hal_uart_has_reader(void)
+{
+    return true;
 }
 
 __attribute__((weak)) size_t hal_storage_size(void)

@@ -22,7 +22,7 @@ static struct {
     size_t rx_head, rx_tail;
     FILE *trace;
     uint64_t trace_ticks;
-    bool in_tick;
+    bool recording;      /* a tick is under way and a trace records its HAL calls */
     trace_tick_t rec;    /* what the firmware saw in the tick under way */
     uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
     size_t storage_size; /* bytes of each slot in use; 0 until the first use */
@@ -56,7 +56,7 @@ void hal_host_attach(sim_t *s)
     hh.fn = NULL;
     hh.ctx = NULL;
     hh.t0_us = s != NULL ? sim_truth(s).time_us : 0u;
-    hh.in_tick = false;
+    hh.recording = false;
     hh.rx_head = hh.rx_tail = 0u; /* nothing received survives a power-up */
 }
 
@@ -93,16 +93,19 @@ void hal_host_step(void)
         return;
     }
     if (hh.fn != NULL && !(hh.lossy && sim_tick_lost(hh.sim))) {
-        hh.rec = (trace_tick_t){
-            .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
-                    sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
-            .poll = '-',
-            .trig = '-',
-        };
-        hh.in_tick = true;
+        /* Without a trace nothing of the tick is recorded (it cost 60 instructions a tick). */
+        hh.recording = hh.trace != NULL;
+        if (hh.recording) {
+            hh.rec = (trace_tick_t){
+                .enc = {sim_encoder_count(hh.sim, HAL_WHEEL_LEFT),
+                        sim_encoder_count(hh.sim, HAL_WHEEL_RIGHT)},
+                .poll = '-',
+                .trig = '-',
+            };
+        }
         hh.fn(hh.ctx);
-        hh.in_tick = false;
-        if (hh.trace != NULL) {
+        if (hh.recording) {
+            hh.recording = false;
             hh.rec.duty[0] = sim_motor_duty(hh.sim, HAL_WHEEL_LEFT);
             hh.rec.duty[1] = sim_motor_duty(hh.sim, HAL_WHEEL_RIGHT);
             hh.rec.servo_us = sim_servo_pulse(hh.sim);
@@ -151,7 +154,7 @@ uint32_t hal_time_us(void)
 uint32_t hal_tick_overruns(void)
 {
     /* Virtual time: a tick never overruns, but one may be lost (the tick_miss fault). */
-    return hh.sim != NULL ? (uint32_t)sim_truth(hh.sim).ticks_missed : 0u;
+    return hh.sim != NULL ? (uint32_t)sim_ticks_missed(hh.sim) : 0u;
 }
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
@@ -179,7 +182,7 @@ int hal_sonar_trigger(void)
         return HAL_EIO;
     }
     int rc = sim_sonar_trigger(hh.sim);
-    if (hh.in_tick) {
+    if (hh.recording) {
         hh.rec.trig = rc == HAL_OK ? 'o' : 'b';
     }
     return rc;
@@ -195,7 +198,7 @@ hal_sonar_status_t hal_sonar_poll(uint32_t *echo_us)
     if (st == HAL_SONAR_ECHO) {
         *echo_us = width;
     }
-    if (hh.in_tick) {
+    if (hh.recording) {
         static const char code[] = {'i', 'b', 'e', 't'};
         hh.rec.poll = code[st];
         hh.rec.echo_us = st == HAL_SONAR_ECHO ? width : 0u;
@@ -209,6 +212,11 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
         return fwrite(data, 1u, len, hh.uart);
     }
     return len; /* no cable: the bytes go nowhere, as on a robot without a radio */
+}
+
+bool hal_uart_has_reader(void)
+{
+    return hh.uart != NULL; /* without a sink hal_uart_write() discards every byte */
 }
 
 size_t hal_uart_read(uint8_t *data, size_t len)

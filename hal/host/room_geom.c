@@ -20,9 +20,10 @@ static int px_occ(const room_t *r, long ix, long iy)
  * gradient of the occupancy there points into the obstacle. A staircase of pixels then
  * reflects like the slanted wall it was drawn from, where the faces of single pixels
  * would make every diagonal wall look like a 45° one. Returns |cos| of the incidence, or
- * -1 when the gradient vanishes.
+ * -1 when the gradient vanishes; sets @p normal (the unit gradient) when it does not and
+ * it is not NULL.
  */
-static double sobel_cos(const room_t *r, long ix, long iy, double dx, double dy)
+static double sobel_cos(const room_t *r, long ix, long iy, double dx, double dy, double *normal)
 {
     int gx = (px_occ(r, ix + 1, iy - 1) + 2 * px_occ(r, ix + 1, iy) + px_occ(r, ix + 1, iy + 1)) -
              (px_occ(r, ix - 1, iy - 1) + 2 * px_occ(r, ix - 1, iy) + px_occ(r, ix - 1, iy + 1));
@@ -32,11 +33,15 @@ static double sobel_cos(const room_t *r, long ix, long iy, double dx, double dy)
         return -1.0;
     }
     double n = sqrt((double)(gx * gx + gy * gy));
+    if (normal != NULL) {
+        normal[0] = (double)gx / n;
+        normal[1] = (double)gy / n;
+    }
     return fabs((double)gx * dx + (double)gy * dy) / n;
 }
 
 double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy,
-                       double max_m, double *cosi)
+                       double max_m, double *cosi, double *normal)
 {
     const double res = r->occ_res;
     room_walk_t w;
@@ -50,10 +55,15 @@ double room_hit_raster(const room_t *r, double ox, double oy, double dx, double 
         if (r->occ[(size_t)w.iy * r->occ_w + (size_t)w.ix]) {
             double c = -1.0;
             if (pix >= 0) {
-                c = sobel_cos(r, pix, piy, dx, dy);
+                c = sobel_cos(r, pix, piy, dx, dy, normal);
             }
             if (c < 0.0) {
+                /* The face of the pixel entered; a ray that starts in one meets it head-on. */
                 c = w.axis == 0 ? fabs(dx) : (w.axis == 1 ? fabs(dy) : 1.0);
+                if (normal != NULL) {
+                    normal[0] = w.axis == 0 ? 1.0 : (w.axis == 1 ? 0.0 : dx);
+                    normal[1] = w.axis == 0 ? 0.0 : (w.axis == 1 ? 1.0 : dy);
+                }
             }
             *cosi = c;
             return w.t * res;
@@ -79,7 +89,7 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
         if (room_index_near(r, x, y, 0.0, &cd, &sd2) == 1) {
             best = 0.0; /* inside a solid box */
         } else {
-            best = room_index_ray(r, x, y, dx, dy, max_m, &ci);
+            best = room_index_ray(r, x, y, dx, dy, max_m, &ci, NULL);
         }
     } else {
         for (size_t i = 0; i < r->nboxes; i++) {
@@ -96,7 +106,7 @@ double room_ray(const room_t *r, double x, double y, double dir, double max_m,
     }
     if (r->occ != NULL && best > 0.0) {
         double rc = 1.0;
-        double d = room_hit_raster(r, x, y, dx, dy, fmin(max_m, best), &rc);
+        double d = room_hit_raster(r, x, y, dx, dy, fmin(max_m, best), &rc, NULL);
         if (d < best) {
             best = d;
             ci = rc;

@@ -304,7 +304,7 @@ int room_index_near(const room_t *r, double x, double y, double cap, double *cir
 /* The ray's walk through the index cells, testing the objects of each until a hit lies
  * within the cells walked. */
 double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy,
-                      double max_m, double *cosi)
+                      double max_m, double *cosi, uint32_t *id)
 {
     const room_index_t *ix = r->index;
     const size_t ns = r->nsegs;
@@ -319,11 +319,15 @@ double room_index_ray(const room_t *r, double ox, double oy, double dx, double d
         size_t n;
         const uint32_t *it = room_index_cell(r, (uint32_t)w.ix, (uint32_t)w.iy, &n);
         for (size_t k = 0; k < n && best > 0.0; k++) {
-            uint32_t id = it[k];
-            if (id < ns) {
-                best = room_hit_segment(&r->segs[id], ox, oy, dx, dy, best, cosi);
-            } else if (id < ns + nc) {
-                best = room_hit_circle(&r->circles[id - ns], ox, oy, dx, dy, best, cosi);
+            uint32_t obj = it[k];
+            double was = best;
+            if (obj < ns) {
+                best = room_hit_segment(&r->segs[obj], ox, oy, dx, dy, best, cosi);
+            } else if (obj < ns + nc) {
+                best = room_hit_circle(&r->circles[obj - ns], ox, oy, dx, dy, best, cosi);
+            }
+            if (id != NULL && best < was) {
+                *id = obj;
             }
         }
         /* A hit within this cell (short of its padding) is the nearest: later cells lie

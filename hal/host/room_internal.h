@@ -206,9 +206,13 @@ static inline bool room_walk_next(room_walk_t *w)
     return w->t <= w->t1;
 }
 
-/** A ray through the raster (grid DDA); INFINITY when nothing is hit within max_m. */
+/**
+ * A ray through the raster (grid DDA); INFINITY when nothing is hit within max_m.
+ * @param normal  out (may be NULL): the surface's unit normal at the hit (either side), as
+ *                *cosi takes it; two doubles
+ */
 double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy,
-                       double max_m, double *cosi);
+                       double max_m, double *cosi, double *normal);
 
 /* ---- the spatial index of a room's objects (room_index.c) ----------------------------- */
 
@@ -268,9 +272,13 @@ size_t room_index_gather(const room_t *r, double x0, double y0, double x1, doubl
 int room_index_near(const room_t *r, double x, double y, double cap, double *circle_d,
                     double *seg_d2);
 
-/** room_ray()'s segments and circles through the index: the nearest hit, or INFINITY. */
+/**
+ * room_ray()'s segments and circles through the index: the nearest hit, or INFINITY.
+ * @param id  out (may be NULL): the object hit, as the index numbers it (segment i as i,
+ *            circle i as nsegs + i); set only with a hit
+ */
 double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy,
-                      double max_m, double *cosi);
+                      double max_m, double *cosi, uint32_t *id);
 
 
 #endif /* HOST_ROOM_INTERNAL_H */

@@ -54,6 +54,11 @@ bool sim_ticks_lost(const sim_t *s)
     return s->e.tick_miss > 0.0;
 }
 
+uint64_t sim_ticks_missed(const sim_t *s)
+{
+    return s->faults.ticks_missed;
+}
+
 bool sim_tick_lost(sim_t *s)
 {
     if (s->e.tick_miss <= 0.0 ||

@@ -33,6 +33,12 @@ enum { SIM_FAULT_ECHO, SIM_FAULT_SERVO, SIM_FAULT_ENCODER, SIM_FAULT_TICK, SIM_F
 /* Servo angles whose beam rotation the sonar keeps (the sweep has 6 stops). */
 #define SIM_BEAM_CACHE 16u
 
+/* Rays cast across the sonar cone, edges included. */
+#define SIM_SONAR_RAYS 9
+
+/* The incidence limit is looked up in this many steps of the sonar's reach. */
+#define SIM_LIMIT_BINS 4096u
+
 /* The differential drive (sim_body.c): pose, wheels, encoders, collisions. */
 typedef struct {
     /* Derived once. */
@@ -77,9 +83,14 @@ typedef struct {
  */
 typedef struct {
     /* Derived once from sim_params_t and sim_errors_t (sim_sonar_init()). */
-    double cos_graze;        /* echoes need |cos incidence| >= this */
+    double cos_limit[SIM_LIMIT_BINS + 1u]; /* a surface answers when |cos incidence| is at
+                                              least this, by the path (sim_sonar_limit()) */
+    double limit_per_m;      /* bins of cos_limit a metre */
+    bool limit_flat;         /* the same limit at every range: cos_limit[0] */
     double cone_c, cone_s;   /* cos, sin of half the cone */
     double ray_c, ray_s;     /* cos, sin of the angle between two rays */
+    double catch_tan;        /* a ray coming back passes the receiver within this share of its
+                                path (sim_multipath.c) */
     sim_rng_t rng;           /* dropouts, ghosts, range noise */
 
     /* cos, sin of (90° - servo angle) for the last few servo angles pinged at: the
@@ -96,6 +107,11 @@ typedef struct {
     uint64_t ring_from_us;   /* the last ping's trigger time */
     uint32_t ring_us;        /* its sound's round trip to the surface it echoed from; 0: none */
     sim_ping_t ping;
+    uint32_t counts[SIM_PING_KINDS]; /* pings by kind */
+
+    /* The segments as lines, for the mirror paths of a small room (sim_multipath.c);
+       NULL without multipath or with the room's index. */
+    struct sim_line *lines;
 
     /* Scratch of the cone. */
     uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
@@ -147,6 +163,35 @@ void sim_servo_init(sim_t *s);
 int sim_sonar_init(sim_t *s, uint64_t seed);
 void sim_sonar_free(sim_t *s);
 
+/* A ray's first surface (sim_multipath.c). */
+typedef struct {
+    double t;        /* its distance, m; infinity for none */
+    double cosi;     /* |cos| of the incidence */
+    uint32_t id;     /* the object, as the room's index numbers them (segment i as i, circle
+                        i as nsegs + i); UINT32_MAX for the raster's pixels */
+    double nx, ny;   /* a raster surface's unit normal (either side) */
+} sim_surface_t;
+
+/* sim_multipath.c: the lines of a small room's segments when multipath is on; -1 when out
+ * of memory (sim_sonar_free() frees them). */
+int sim_multipath_init(sim_t *s);
+
+/*
+ * The first surface along a ray within max_m: among the cone's candidates (sonar.cand,
+ * nseg segments then ncirc circles) when @p cone, else among every object (through the
+ * index of a large room); and the raster's pixels.
+ */
+sim_surface_t sim_surface(const sim_t *s, double ox, double oy, double dx, double dy,
+                          double max_m, bool cone, size_t nseg, size_t ncirc);
+
+/*
+ * The echo of a ray of the cone from the sensor (sx, sy) along (dx, dy) whose first
+ * surface @p first it met beyond the incidence it answers at: the range the echo stands
+ * for (half its path), or infinity when the sound is lost. @p bx, by: the beam's axis.
+ */
+double sim_multipath(const sim_t *s, double sx, double sy, double bx, double by, double dx,
+                     double dy, const sim_surface_t *first);
+
 /* sim_faults.c: the fault streams. */
 void sim_faults_init(sim_t *s, uint64_t seed);
 
@@ -167,6 +212,13 @@ static inline void sim_servo_step(sim_servo_t *v)
     } else {
         v->deg += diff > 0.0 ? v->step_deg : -v->step_deg;
     }
+}
+
+/* The least |cos| of the incidence a surface answers at, the sound having come @p path_m. */
+static inline double sim_sonar_limit(const sim_sonar_t *so, double path_m)
+{
+    double b = path_m * so->limit_per_m;
+    return so->cos_limit[b < (double)SIM_LIMIT_BINS ? (size_t)b : SIM_LIMIT_BINS];
 }
 
 /* Whether an episode of fault f is under way now. */

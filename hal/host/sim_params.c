@@ -3,6 +3,7 @@
 #include <math.h>
 #include <stdbool.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "host/sim.h"
 
@@ -29,6 +30,58 @@ void sim_params_default(sim_params_t *p)
     };
 }
 
+/*
+ * The sonar's levels; hal/host/README.md ("The sonar's levels") names the source of every
+ * knot and the figure taken from it. The limits are on one ray's incidence: a source gives
+ * the turn of a flat target from the beam's axis (or the edge of the beam for a target
+ * facing the sensor) up to which the sensor reads it right, and the ray of the 15° cone
+ * nearest the target's normal meets it half a cone less obliquely, so a knot is the
+ * figure less 7.5°. None is below 1°: a surface facing the sensor answers at every range
+ * (the rated 4 m is for one), and with 9 rays over 15° one always meets it within 0.94°.
+ * The optimistic level is the model before issue 28, kept to reproduce old figures.
+ */
+static const struct {
+    const char *name;
+    double grazing_deg;
+    sim_grazing_curve_t curve;
+    uint32_t multipath;
+} sonar_levels[SIM_SONAR_LEVELS] = {
+    [SIM_SONAR_OPTIMISTIC] = {"optimistic", 45.0, {0u, {0.0}, {0.0}}, 0u},
+    [SIM_SONAR_TYPICAL] = {"typical", 0.0,
+                           {8u,
+                            {0.02, 0.04, 0.06, 0.10, 0.30, 0.61, 1.66, 3.00},
+                            {20.5, 18.5, 7.5, 8.5, 17.5, 17.5, 12.5, 1.0}},
+                           2u},
+    [SIM_SONAR_PESSIMISTIC] = {"pessimistic", 0.0,
+                               {8u,
+                                {0.02, 0.04, 0.06, 0.10, 0.15, 0.45, 1.45, 1.55},
+                                {20.5, 8.5, 6.5, 7.5, 12.5, 1.5, 1.5, 1.0}},
+                               2u},
+};
+
+void sim_errors_sonar(sim_errors_t *e, sim_sonar_level_t level)
+{
+    unsigned l = (unsigned)level < SIM_SONAR_LEVELS ? (unsigned)level : SIM_SONAR_DEFAULT;
+    e->grazing_deg = sonar_levels[l].grazing_deg;
+    e->grazing_curve = sonar_levels[l].curve;
+    e->multipath = sonar_levels[l].multipath;
+}
+
+const char *sim_sonar_level_name(sim_sonar_level_t level)
+{
+    return (unsigned)level < SIM_SONAR_LEVELS ? sonar_levels[level].name : NULL;
+}
+
+int sim_sonar_level_of(const char *name)
+{
+    for (int l = 0; l < (int)SIM_SONAR_LEVELS; l++) {
+        if (name != NULL && strcmp(name, sonar_levels[l].name) == 0) {
+            return l;
+        }
+    }
+    return -1;
+}
+
 /* The systematic errors are an uncalibrated hobby robot's (hal/host/README.md says from
  * what); the firmware's shipped calibration, host_sim/calibration/, is UMBmark's of them. */
 void sim_errors_default(sim_errors_t *e)
@@ -42,13 +95,13 @@ void sim_errors_default(sim_errors_t *e)
         .sonar_noise_m = 0.01,
         .sonar_dropout = 0.03,
         .sonar_ghost = 0.01,
-        .grazing_deg = 45.0,
         .echo_stuck_per_s = 0.0,
         .servo_lag = 0.0,
         .servo_stall_per_s = 0.0,
         .tick_miss = 0.0,
         .encoder_stop_per_s = 0.0,
     };
+    sim_errors_sonar(e, SIM_SONAR_DEFAULT);
 }
 
 void sim_errors_ideal(sim_errors_t *e)
@@ -69,6 +122,21 @@ void sim_errors_ideal(sim_errors_t *e)
 static bool in(double v, double lo, double hi)
 {
     return isfinite(v) && v >= lo && v <= hi;
+}
+
+/* Knots within the reach of any sonar, ranges ascending, limits within (0, 90]. */
+static bool curve_ok(const sim_grazing_curve_t *c)
+{
+    if (c->n > SIM_GRAZING_KNOTS) {
+        return false;
+    }
+    for (uint32_t i = 0; i < c->n; i++) {
+        if (!in(c->range_m[i], 0.0, 100.0) || !in(c->deg[i], 1e-6, 90.0) ||
+            (i > 0u && !(c->range_m[i] > c->range_m[i - 1u]))) {
+            return false;
+        }
+    }
+    return true;
 }
 
 int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **field)
@@ -107,6 +175,8 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
         {in(e->sonar_dropout, 0.0, 1.0), "e.sonar_dropout"},
         {in(e->sonar_ghost, 0.0, 1.0), "e.sonar_ghost"},
         {in(e->grazing_deg, 0.0, 90.0), "e.grazing_deg"},
+        {curve_ok(&e->grazing_curve), "e.grazing_curve"},
+        {e->multipath <= 8u, "e.multipath"},
         {in(e->echo_stuck_per_s, 0.0, 10.0), "e.echo_stuck_per_s"},
         {in(e->servo_lag, 0.0, 0.95), "e.servo_lag"},
         {in(e->servo_stall_per_s, 0.0, 10.0), "e.servo_stall_per_s"},

@@ -2,18 +2,21 @@
 /* The simulated HC-SR04: the cone cast into the room, what comes back and when. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "sim_internal.h"
 
 /*
  * The model's parameters: sim_params_t's sonar_* (mount, cone, range limits, timeout),
- * sound_mps and sonar_ring_us; sim_errors_t's sonar_noise_m, sonar_dropout, sonar_ghost
- * and grazing_deg (the echo_stuck fault is sim_faults.c's). What the model derives from
+ * sound_mps and sonar_ring_us; sim_errors_t's sonar_noise_m, sonar_dropout, sonar_ghost,
+ * the incidence limit (grazing_deg or grazing_curve) and multipath (the echo_stuck fault
+ * is sim_faults.c's, the mirror paths sim_multipath.c's). What the model derives from
  * them lives in sim_sonar_t (sim_internal.h), set by sim_sonar_init().
  */
 
-/* Rays cast across the sonar cone, edges included. */
-#define SIM_SONAR_RAYS 9
+/* Every this many rays of the cone (the edges among them) follow their mirror path when
+ * they meet a surface beyond its limit: neighbouring rays take nearly the same path. */
+#define SIM_MULTIPATH_STRIDE 4
 
 /* The cone of a ping: its apex, the unit vectors of its axis and edges, its reach. */
 typedef struct {
@@ -24,6 +27,36 @@ typedef struct {
 typedef struct {
     double drop, ghost, range, g1, g2;
 } ping_draws_t;
+
+/* The curve's limit at a range, deg: straight lines between knots, flat beyond the ends. */
+static double curve_deg(const sim_grazing_curve_t *c, double range_m)
+{
+    if (range_m <= c->range_m[0]) {
+        return c->deg[0];
+    }
+    for (uint32_t i = 1; i < c->n; i++) {
+        if (range_m <= c->range_m[i]) {
+            double f = (range_m - c->range_m[i - 1u]) / (c->range_m[i] - c->range_m[i - 1u]);
+            return c->deg[i - 1u] + f * (c->deg[i] - c->deg[i - 1u]);
+        }
+    }
+    return c->deg[c->n - 1u];
+}
+
+/* The limit as |cos| of the incidence, by bins of the sonar's reach: one cosine per bin,
+ * at its middle, so a hit costs a look-up. A flat limit is the same cosine everywhere; no
+ * limit is 0, which every |cos| passes. */
+static void limit_table(sim_sonar_t *so, const sim_errors_t *e, double max_m)
+{
+    const sim_grazing_curve_t *c = &e->grazing_curve;
+    double flat = e->grazing_deg > 0.0 ? cos(e->grazing_deg * SIM_DEG) : 0.0;
+    so->limit_per_m = (double)SIM_LIMIT_BINS / max_m;
+    so->limit_flat = c->n == 0u;
+    for (unsigned i = 0; i <= SIM_LIMIT_BINS; i++) {
+        so->cos_limit[i] =
+            c->n > 0u ? cos(curve_deg(c, ((double)i + 0.5) / so->limit_per_m) * SIM_DEG) : flat;
+    }
+}
 
 int sim_sonar_init(sim_t *s, uint64_t seed)
 {
@@ -36,17 +69,21 @@ int sim_sonar_init(sim_t *s, uint64_t seed)
         so->near = malloc(nobj * sizeof *so->near);
         so->stamp = calloc(nobj, sizeof *so->stamp);
     }
-    if (so->cand == NULL || (room->index != NULL && (so->near == NULL || so->stamp == NULL))) {
+    if (so->cand == NULL || (room->index != NULL && (so->near == NULL || so->stamp == NULL)) ||
+        sim_multipath_init(s) != 0) {
         return -1;
     }
     sim_rng_seed(&so->rng, seed, SIM_STREAM_SONAR);
-    so->cos_graze = s->e.grazing_deg > 0.0 ? cos(s->e.grazing_deg * SIM_DEG) : 0.0;
+    limit_table(so, &s->e, p->sonar_max_m);
     double half = 0.5 * p->sonar_cone_deg * SIM_DEG;
     double step = SIM_SONAR_RAYS > 1 ? 2.0 * half / (SIM_SONAR_RAYS - 1) : 0.0;
     so->cone_c = cos(half);
     so->cone_s = sin(half);
     so->ray_c = cos(step);
     so->ray_s = sin(step);
+    /* The sound of one traced ray stands for its share of the cone, and comes back as
+       wide: half the angle between two traced rays either side. */
+    so->catch_tan = tan(0.5 * SIM_MULTIPATH_STRIDE * step);
     for (unsigned i = 0; i < SIM_BEAM_CACHE; i++) {
         so->beam[i].deg = (double)NAN; /* matches no angle */
     }
@@ -58,11 +95,17 @@ void sim_sonar_free(sim_t *s)
     free(s->sonar.cand);
     free(s->sonar.near);
     free(s->sonar.stamp);
+    free(s->sonar.lines);
 }
 
 sim_ping_t sim_last_ping(const sim_t *s)
 {
     return s->sonar.ping;
+}
+
+void sim_ping_counts(const sim_t *s, uint32_t counts[SIM_PING_KINDS])
+{
+    memcpy(counts, s->sonar.counts, sizeof s->sonar.counts);
 }
 
 /* ---- the cone ------------------------------------------------------------------------------ */
@@ -194,7 +237,8 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
     }
     if (r->occ != NULL) {
         double rc = 1.0;
-        double d = room_hit_raster(r, ox, oy, dx, dy, sim_dmin(s->p.sonar_max_m, best), &rc);
+        double d = room_hit_raster(r, ox, oy, dx, dy, sim_dmin(s->p.sonar_max_m, best), &rc,
+                                   NULL);
         if (d < best) {
             best = d;
             *cosi = rc;
@@ -203,16 +247,50 @@ static double cone_ray(const sim_t *s, size_t nseg, size_t ncirc, double ox, dou
     return best;
 }
 
+/* A ray of the cone whose first surface it met beyond the incidence it answers at. */
+typedef struct {
+    double dx, dy;
+    sim_surface_t first;
+} graze_t;
+
+/*
+ * The echoes of the rays that met a surface beyond its limit: each follows its mirror path,
+ * the nearest first; one whose first hit is no nearer than the best echo so far cannot
+ * come back sooner (a mirror path is at least as long as its first leg, up to a miss of
+ * the receiver's width) and is not followed. Returns the nearest such echo's range, or
+ * infinity.
+ */
+static double graze_echoes(const sim_t *s, const cone_t *k, graze_t *gz, int n, double best)
+{
+    double mp = HOST_INF;
+    for (int i = 1; i < n; i++) { /* nearest first: a handful, insertion sort */
+        graze_t g = gz[i];
+        int j = i;
+        for (; j > 0 && gz[j - 1].first.t > g.first.t; j--) {
+            gz[j] = gz[j - 1];
+        }
+        gz[j] = g;
+    }
+    for (int i = 0; i < n && gz[i].first.t < sim_dmin(best, mp); i++) {
+        mp = sim_dmin(mp, sim_multipath(s, k->ox, k->oy, k->bx, k->by, gz[i].dx, gz[i].dy,
+                                        &gz[i].first));
+    }
+    return mp;
+}
+
 /*
  * Cast the cone's rays: across it (edges included) and straight at every round obstacle
  * whose centre is inside it, so a thin post is not missed between two rays. A ray's first
- * hit echoes when it is within range and, unless grazing is off, hit at an incidence of at
- * most grazing_deg. Occlusion is the rays': a grazing wall in front hides what is behind
- * it along that ray.
+ * hit echoes when it is within range and hit at an incidence the surface answers at, at
+ * that range (sim_sonar_limit()). Occlusion is the rays': a grazing wall in front hides
+ * what is behind it along that ray; with multipath on, the sound of a ray that meets a
+ * surface beyond its limit reflects on (graze_echoes()), every SIM_MULTIPATH_STRIDE-th.
  * @param geo   out: the nearest surface in the cone, m; infinity for none in range
- * @param echo  out: the nearest surface that echoes, m; infinity for none
+ * @param echo  out: the nearest surface that echoes, or the nearest mirror path's range,
+ *              m; infinity for none
+ * @return whether the echo came by a mirror path
  */
-static void cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc, double *geo,
+static bool cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc, double *geo,
                       double *echo)
 {
     const room_t *r = s->room;
@@ -226,6 +304,9 @@ static void cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc
     const double ss = so->ray_s;
     double dx = k->rx;
     double dy = k->ry;
+    const bool mirror = s->e.multipath > 0u;
+    graze_t gz[SIM_SONAR_RAYS];
+    int ngz = 0;
     for (int i = 0; i < SIM_SONAR_RAYS + (int)ncirc; i++) {
         if (i >= SIM_SONAR_RAYS) { /* straight at a post */
             const room_circle_t *c = &r->circles[so->cand[nseg + (size_t)(i - SIM_SONAR_RAYS)]];
@@ -239,12 +320,23 @@ static void cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc
             dx = qx / n;
             dy = qy / n;
         }
+        bool traced = mirror && i < SIM_SONAR_RAYS && i % SIM_MULTIPATH_STRIDE == 0;
         double ci = 1.0;
-        double d = cone_ray(s, nseg, ncirc, ox, oy, dx, dy, &ci);
+        double d;
+        if (traced) { /* the surface too, for its mirror */
+            gz[ngz].first = sim_surface(s, ox, oy, dx, dy, max, true, nseg, ncirc);
+            d = gz[ngz].first.t;
+            ci = gz[ngz].first.cosi;
+        } else {
+            d = cone_ray(s, nseg, ncirc, ox, oy, dx, dy, &ci);
+        }
         if (d <= max) {
             g = sim_dmin(g, d);
-            if (ci >= so->cos_graze) {
+            if (ci >= (so->limit_flat ? so->cos_limit[0] : sim_sonar_limit(so, d))) {
                 e = sim_dmin(e, d);
+            } else if (traced) {
+                gz[ngz].dx = dx;
+                gz[ngz++].dy = dy;
             }
         }
         if (i < SIM_SONAR_RAYS) { /* rotate to the next ray */
@@ -253,8 +345,10 @@ static void cone_cast(const sim_t *s, const cone_t *k, size_t nseg, size_t ncirc
             dx = nx;
         }
     }
+    double mp = ngz > 0 ? graze_echoes(s, k, gz, ngz, e) : HOST_INF;
     *geo = g;
-    *echo = e;
+    *echo = sim_dmin(e, mp);
+    return mp < e;
 }
 
 /* ---- what comes back ------------------------------------------------------------------------ */
@@ -273,11 +367,11 @@ static ping_draws_t ping_draws(sim_sonar_t *so)
 
 /*
  * What the sensor makes of the cone: a dropout, a ghost at a random range, the nearest
- * echoing surface with range noise, or a timeout (grazing, or nothing in range); a stuck
- * echo line times out whatever came. Sets ping->kind; returns the range the echo stands
- * for, m (0 without one).
+ * echo (a surface's, or a mirror path's when @p mirrored) with range noise, or a timeout
+ * (grazing, or nothing in range); a stuck echo line times out whatever came. Sets
+ * ping->kind; returns the range the echo stands for, m (0 without one).
  */
-static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo,
+static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo, bool mirrored,
                         const ping_draws_t *u)
 {
     const sim_params_t *p = &s->p;
@@ -289,7 +383,7 @@ static double ping_fate(const sim_t *s, sim_ping_t *pg, double geo, double echo,
         pg->kind = SIM_PING_GHOST;
         range = p->sonar_min_m + u->range * (max - p->sonar_min_m);
     } else if (isfinite(echo)) {
-        pg->kind = SIM_PING_ECHO;
+        pg->kind = mirrored ? SIM_PING_MULTIPATH : SIM_PING_ECHO;
         range = echo;
         if (s->e.sonar_noise_m > 0.0) {
             range += s->e.sonar_noise_m * sim_rng_gauss_from(u->g1, u->g2);
@@ -334,7 +428,8 @@ static void ping_schedule(sim_t *s, sim_ping_t *pg, double echo, double range)
     const sim_params_t *p = &s->p;
     sim_sonar_t *so = &s->sonar;
     so->out = true;
-    so->echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_GHOST;
+    so->echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_MULTIPATH ||
+               pg->kind == SIM_PING_GHOST;
     double width = so->echo ? 2.0 * range / p->sound_mps * 1e6 : HOST_INF;
     double late = late_echo_us(s);
     if (late < width && late < p->sonar_timeout_us) {
@@ -364,7 +459,7 @@ static void sonar_ping(sim_t *s)
     cone_candidates(s->room, so, &cone, &nseg, &ncirc);
     double geo = HOST_INF;
     double echo = HOST_INF;
-    cone_cast(s, &cone, nseg, ncirc, &geo, &echo);
+    bool mirrored = cone_cast(s, &cone, nseg, ncirc, &geo, &echo);
     const ping_draws_t u = ping_draws(so);
 
     sim_ping_t *pg = &so->ping;
@@ -377,8 +472,9 @@ static void sonar_ping(sim_t *s)
         .true_range_m = isfinite(geo) ? geo : -1.0,
         .time_us = s->time_us,
     };
-    double range = ping_fate(s, pg, geo, echo, &u);
+    double range = ping_fate(s, pg, geo, echo, mirrored, &u);
     ping_schedule(s, pg, echo, range);
+    so->counts[pg->kind]++;
 }
 
 /* ---- the wire: trigger and echo ------------------------------------------------------------- */

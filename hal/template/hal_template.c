@@ -4,8 +4,9 @@
  * a copy of this file (see README, "Porting to a new board"); each function says what the
  * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
  *
- * Map storage (hal_storage_*) and hal_uart_read() are optional: link hal_unsupported
- * (hal/defaults) and a board without them answers "no storage" and "nothing received".
+ * Map storage (hal_storage_*), hal_uart_read() and hal_uart_has_reader() are optional: link
+ * hal_unsupported (hal/defaults) and a board without them answers "no storage", "nothing
+ * received" and "a listener may be there".
  * A board that has them defines them here, and its definitions replace the defaults.
  */
 #include "hal/hal.h"

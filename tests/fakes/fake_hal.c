@@ -92,6 +92,11 @@ size_t hal_uart_write(const uint8_t *data, size_t len)
     return n;
 }
 
+bool hal_uart_has_reader(void)
+{
+    return !fake_hal.uart_no_reader;
+}
+
 size_t hal_uart_read(uint8_t *data, size_t len)
 {
     size_t n = fake_hal.rx_len - fake_hal.rx_pos;

@@ -25,6 +25,7 @@ typedef struct {
     int trigger_result;               /**< what hal_sonar_trigger() returns */
     size_t storage_size;              /**< what hal_storage_size() returns */
     size_t uart_room;                 /**< bytes hal_uart_write() takes per call (0: all) */
+    bool uart_no_reader;              /**< hal_uart_has_reader() answers false */
     uint8_t rx[4096];                 /**< bytes hal_uart_read() hands out, in order */
     size_t rx_len;                    /**< bytes in rx */
     size_t rx_pos;                    /**< bytes already read */

@@ -141,7 +141,10 @@ static void test_default_errors_still_map_the_walls(void **state)
     print_message("default errors: %u OM hits in %u cells; within 1/2/4 cells of a wall: "
                   "%u/%u/%u; odometry error %.4f m\n",
                   o.hits, o.om_cells, o.near[1], o.near[2], o.near[4], o.odom_err);
-    assert_true(o.hits > 200u);
+    /* Fewer than the perfect robot's: the default sonar (the typical level) hears a wall
+       only within about 25-30° of square at these ranges, where the perfect robot's
+       answers to 52.5° (129 hits in 45 s against 250 with the optimistic level). */
+    assert_true(o.hits > 100u);
     /* The odometry of the calibrated robot drifts (slip, noise): the map moves with it, by
        about the position error at the time of the readings; ghosts land anywhere. */
     assert_true(o.odom_err > 0.01 && o.odom_err < 0.3);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of the simulated sonar: range, cone, grazing loss, timing, noise, dropouts, ghosts. */
+/* Tests of the simulated sonar: range, cone, grazing loss, multipath, levels, timing, noise. */
 #include <math.h>
 
 #include "host_test.h"
@@ -427,6 +427,243 @@ static void test_blind_zone_reads_minimum(void **state)
     room_free(&r);
 }
 
+/* A world without random errors whose sonar answers up to 30° at every range (a flat
+ * limit), with up to two reflections: the mirror paths alone. */
+static sim_t *mirror_world(const room_t *r, uint32_t multipath)
+{
+    sim_errors_t e;
+    sim_errors_ideal(&e);
+    e.grazing_deg = 30.0;
+    e.multipath = multipath;
+    return test_world(r, &e, 3u);
+}
+
+/* A segment of length @p len centred at (cx, cy) along the direction @p deg, as room text. */
+static int wall_at(char *out, size_t n, double cx, double cy, double deg, double len)
+{
+    double ux = cos(deg * TEST_PI / 180.0) * 0.5 * len;
+    double uy = sin(deg * TEST_PI / 180.0) * 0.5 * len;
+    return snprintf(out, n, "wall %.12f %.12f %.12f %.12f\n", cx - ux, cy - uy, cx + ux, cy + uy);
+}
+
+static void test_multipath_reads_half_the_path(void **state)
+{
+    (void)state;
+    /* The sonar at (1.05, 0) facing +x meets a long wall 1 m ahead at 60° (beyond the
+       30° limit for every ray of the cone). The axis ray's mirror leaves at -60° and
+       meets, 1 m on, a short wall square to it, which answers: the sound went 1 + 1 m and
+       back. The short wall is too short for the edge rays' mirrors (15° apart). */
+    char text[512];
+    int k = wall_at(text, sizeof text, 2.05, 0.0, 150.0, 2.0); /* its normal at 60° */
+    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0),
+                 -sin(TEST_PI / 3.0), 30.0, 0.2);
+    snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
+    room_t r;
+    test_room(&r, text);
+    sim_t *s = mirror_world(&r, 2u);
+    uint32_t w = 0;
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_ECHO);
+    sim_ping_t p = sim_last_ping(s);
+    assert_int_equal(p.kind, SIM_PING_MULTIPATH);
+    assert_true(fabs(p.range_m - 2.0) < 1e-5);
+    assert_true(fabs(p.true_range_m - 1.0) < 0.2); /* the surface in the cone is the near one */
+    assert_int_equal(w, (uint32_t)lround(2.0 * 2.0 / SOUND * 1e6));
+    sim_destroy(s);
+
+    /* Without multipath the sound is lost: a grazing timeout, as the optimistic level. */
+    s = mirror_world(&r, 0u);
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_TIMEOUT);
+    assert_int_equal(sim_last_ping(s).kind, SIM_PING_GRAZING);
+    uint32_t counts[SIM_PING_KINDS];
+    sim_ping_counts(s, counts);
+    assert_int_equal(counts[SIM_PING_GRAZING], 1u);
+    assert_int_equal(counts[SIM_PING_MULTIPATH], 0u);
+    sim_destroy(s);
+    room_free(&r);
+
+    /* The far wall turned 40° away from square: it does not answer either, and the sound
+       reflects out of the room. */
+    k = wall_at(text, sizeof text, 2.05, 0.0, 150.0, 2.0);
+    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0),
+                 -sin(TEST_PI / 3.0), 70.0, 0.2);
+    snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
+    test_room(&r, text);
+    s = mirror_world(&r, 2u);
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_TIMEOUT);
+    assert_int_equal(sim_last_ping(s).kind, SIM_PING_GRAZING);
+    sim_destroy(s);
+    room_free(&r);
+}
+
+static void test_corner_reads_about_its_distance(void **state)
+{
+    (void)state;
+    /* Two walls at a right angle, each met at 45° (beyond the limit): a corner reflector.
+       The rays come back parallel to themselves after two reflections, past the receiver,
+       and the corner 1 m ahead reads about 1 m, as a real one does. */
+    char text[512];
+    double cx = 2.05;
+    double cy = 0.02; /* not exactly on the axis: no ray meets the vertex */
+    int k = snprintf(text, sizeof text, "wall %.12f %.12f %.12f %.12f\n", cx, cy,
+                     cx - 1.5 * cos(TEST_PI / 4.0), cy + 1.5 * sin(TEST_PI / 4.0));
+    k += snprintf(text + k, sizeof text - (size_t)k, "wall %.12f %.12f %.12f %.12f\n", cx, cy,
+                  cx - 1.5 * cos(TEST_PI / 4.0), cy - 1.5 * sin(TEST_PI / 4.0));
+    snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
+    room_t r;
+    test_room(&r, text);
+    sim_t *s = mirror_world(&r, 2u);
+    uint32_t w = 0;
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_ECHO);
+    sim_ping_t p = sim_last_ping(s);
+    assert_int_equal(p.kind, SIM_PING_MULTIPATH);
+    print_message("corner at 1.00 m reads %.4f m\n", p.range_m);
+    assert_true(fabs(p.range_m - 1.0) < 0.03);
+    sim_destroy(s);
+    /* One reflection is not enough for a corner. */
+    s = mirror_world(&r, 1u);
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_TIMEOUT);
+    sim_destroy(s);
+    room_free(&r);
+}
+
+/* The typical level's limit narrows with range: a wall turned 20° from the beam answers at
+ * 0.5 m and not at 2.5 m (Parallax: about 25° to 0.61 m, 20° at 1.66 m, exact targeting
+ * at 3 m); the optimistic level answers at both. */
+static void test_limit_narrows_with_range(void **state)
+{
+    (void)state;
+    static const struct {
+        double d;
+        sim_sonar_level_t level;
+        sim_ping_kind_t kind;
+    } cases[] = {
+        {0.5, SIM_SONAR_TYPICAL, SIM_PING_ECHO},
+        {2.5, SIM_SONAR_TYPICAL, SIM_PING_GRAZING},
+        {0.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},
+        {2.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},
+        {0.5, SIM_SONAR_PESSIMISTIC, SIM_PING_GRAZING},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char text[256];
+        int k = wall_at(text, sizeof text, 1.05 + cases[i].d, 0.0, 90.0 + 20.0, 3.0);
+        snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
+        room_t r;
+        test_room(&r, text);
+        sim_errors_t e;
+        sim_errors_ideal(&e);
+        sim_errors_sonar(&e, cases[i].level);
+        sim_t *s = test_world(&r, &e, 1u);
+        uint32_t w = 0;
+        (void)ping(s, &w, NULL);
+        if (sim_last_ping(s).kind != cases[i].kind) {
+            fail_msg("case %zu: kind %d, want %d", i, (int)sim_last_ping(s).kind,
+                     (int)cases[i].kind);
+        }
+        sim_destroy(s);
+        room_free(&r);
+    }
+}
+
+/* Mirror paths through a raster room (a ROS map, no vector geometry, no index): every
+ * heading in a 4 m x 2 m box of pixels pings without fault, and some read by a mirror. */
+static void test_multipath_in_a_raster_room(void **state)
+{
+    (void)state;
+    const char *img = test_path("mirror.pgm");
+    FILE *f = fopen(img, "wb");
+    assert_non_null(f);
+    fprintf(f, "P5\n80 40\n255\n");
+    for (int y = 0; y < 40; y++) {
+        for (int x = 0; x < 80; x++) {
+            fputc(x == 0 || x == 79 || y == 0 || y == 39 ? 0 : 254, f);
+        }
+    }
+    fclose(f);
+    char yaml_text[600];
+    snprintf(yaml_text, sizeof yaml_text,
+             "image: %s\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+             "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+             img);
+    const char *yaml = test_write("mirror.yaml", yaml_text);
+    room_t r;
+    char err[300];
+    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), 0);
+    r.start_x = 1.0;
+    r.start_y = 0.7;
+    sim_errors_t e;
+    sim_errors_ideal(&e);
+    sim_errors_sonar(&e, SIM_SONAR_TYPICAL);
+    sim_t *s = test_world(&r, &e, 1u);
+    unsigned mirrored = 0;
+    for (int deg = 0; deg < 360; deg += 3) {
+        assert_int_equal(sim_place(s, 1.0, 0.7, deg * TEST_PI / 180.0), 0);
+        uint32_t w = 0;
+        hal_sonar_status_t st = ping(s, &w, NULL);
+        sim_ping_t p = sim_last_ping(s);
+        assert_true(st == HAL_SONAR_ECHO || st == HAL_SONAR_TIMEOUT);
+        if (p.kind == SIM_PING_MULTIPATH) {
+            mirrored++;
+            assert_true(p.range_m > p.true_range_m && p.range_m <= 4.0);
+        }
+    }
+    print_message("%u of 120 headings read by a mirror\n", mirrored);
+    assert_true(mirrored > 0u);
+    sim_destroy(s);
+    room_free(&r);
+    unlink(img);
+    unlink(yaml);
+}
+
+static void test_levels_and_their_checks(void **state)
+{
+    (void)state;
+    for (int l = 0; l < (int)SIM_SONAR_LEVELS; l++) {
+        const char *name = sim_sonar_level_name((sim_sonar_level_t)l);
+        assert_non_null(name);
+        assert_int_equal(sim_sonar_level_of(name), l);
+        sim_params_t p;
+        sim_params_default(&p);
+        sim_errors_t e;
+        sim_errors_default(&e);
+        sim_errors_sonar(&e, (sim_sonar_level_t)l);
+        assert_int_equal(sim_params_check(&p, &e, NULL), 0);
+    }
+    assert_int_equal(sim_sonar_level_of("kind"), -1);
+    assert_null(sim_sonar_level_name(SIM_SONAR_LEVELS));
+    /* The default level is the default's. */
+    sim_errors_t d;
+    sim_errors_t l;
+    sim_errors_default(&d);
+    sim_errors_default(&l);
+    sim_errors_sonar(&l, SIM_SONAR_DEFAULT);
+    assert_memory_equal(&d, &l, sizeof d);
+    /* The optimistic level is the model before: 45° at every range, no multipath. */
+    sim_errors_sonar(&l, SIM_SONAR_OPTIMISTIC);
+    assert_true(l.grazing_deg == 45.0 && l.grazing_curve.n == 0u && l.multipath == 0u);
+
+    sim_params_t p;
+    sim_params_default(&p);
+    const char *field = NULL;
+    sim_errors_sonar(&l, SIM_SONAR_TYPICAL);
+    sim_errors_t bad = l;
+    bad.grazing_curve.range_m[2] = bad.grazing_curve.range_m[1]; /* not ascending */
+    assert_int_equal(sim_params_check(&p, &bad, &field), -1);
+    assert_string_equal(field, "e.grazing_curve");
+    bad = l;
+    bad.grazing_curve.deg[0] = 0.0;
+    assert_int_equal(sim_params_check(&p, &bad, &field), -1);
+    bad = l;
+    bad.grazing_curve.deg[0] = 91.0;
+    assert_int_equal(sim_params_check(&p, &bad, &field), -1);
+    bad = l;
+    bad.grazing_curve.n = SIM_GRAZING_KNOTS + 1u;
+    assert_int_equal(sim_params_check(&p, &bad, &field), -1);
+    bad = l;
+    bad.multipath = 9u;
+    assert_int_equal(sim_params_check(&p, &bad, &field), -1);
+    assert_string_equal(field, "e.multipath");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -440,6 +677,11 @@ int main(void)
         cmocka_unit_test(test_raster_head_on),
         cmocka_unit_test(test_noise_dropouts_and_ghosts),
         cmocka_unit_test(test_blind_zone_reads_minimum),
+        cmocka_unit_test(test_multipath_reads_half_the_path),
+        cmocka_unit_test(test_corner_reads_about_its_distance),
+        cmocka_unit_test(test_limit_narrows_with_range),
+        cmocka_unit_test(test_multipath_in_a_raster_room),
+        cmocka_unit_test(test_levels_and_their_checks),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

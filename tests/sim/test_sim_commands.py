@@ -98,7 +98,10 @@ def top_speed(t0, t1):
     return max(math.hypot(b[1] - a[1], b[2] - a[2]) / (b[0] - a[0]) for a, b in zip(pts, pts[1:]))
 
 
-check(top_speed(6.5, 10.0) > 0.17 and top_speed(11.0, 26.0) < 0.15,
+# Before: near the cruise speed of 0.2 m/s, which the typical sonar's sweeps, half of whose
+# pings time out at grazing walls, hold back (the robot slows when few pings echo): 0.169
+# m/s where the optimistic sonar let it reach 0.215.
+check(top_speed(6.5, 10.0) > 0.16 and top_speed(11.0, 26.0) < 0.15,
       "cruise_mm_s = 120 slows it (%.3f m/s before, %.3f m/s after)"
       % (top_speed(6.5, 10.0), top_speed(11.0, 26.0)))
 modes = {s["explore_mode"] for s in status if s["ticks"] >= 2700}

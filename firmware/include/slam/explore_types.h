@@ -30,11 +30,8 @@
 #define EXPLORE_BLOCKS (EXPLORE_BLOCKS_A * EXPLORE_BLOCKS_B)
 #define EXPLORE_SEEK_CANDIDATES 4u /**< the nearest frontier blocks looked at */
 
-/** A frame of the robot: an origin and a heading, given by its cosine and sine. */
-typedef struct {
-    int32_t x_um, y_um; /**< the origin, world */
-    q1_30_t cos, sin;   /**< of the heading */
-} explore_frame_t;
+/** A frame of the robot: fixed.h's, an origin and a heading by its cosine and sine. */
+typedef fix_frame_t explore_frame_t;
 
 /** A walk along a straight line on the grid, a cell a step. */
 typedef struct {

@@ -148,4 +148,26 @@ static inline int64_t fix_div_s64(int64_t n, int64_t d)
 /** Millidegrees of a binary angle, rounded, in [-180000, 180000]. */
 int32_t fix_bam_to_mdeg(bam32_t a);
 
+/** A frame of the robot in the world: an origin (µm) and a heading, by its cosine and sine. */
+typedef struct {
+    int32_t x_um, y_um; /**< the origin, world */
+    q1_30_t cos, sin;   /**< of the heading */
+} fix_frame_t;
+
+/**
+ * A world point in a frame: how far ahead of the origin it lies (returned) and how far to
+ * the left (*left_um), µm. The one world-to-robot conversion of the core (exploration's
+ * memory and corridor, localization's obstacle ahead). The differences are taken modulo
+ * 2^32, which is exact for points within 2 km of the origin, and the 32 x 32-bit products
+ * (one SMULL each on a Cortex-M4) fit 64 bits. ISR-safe.
+ */
+static inline int32_t fix_frame_point(const fix_frame_t *f, int32_t x_um, int32_t y_um,
+                                      int32_t *left_um)
+{
+    int32_t dx = (int32_t)((uint32_t)x_um - (uint32_t)f->x_um);
+    int32_t dy = (int32_t)((uint32_t)y_um - (uint32_t)f->y_um);
+    *left_um = (int32_t)(((int64_t)dy * f->cos - (int64_t)dx * f->sin) >> 30);
+    return (int32_t)(((int64_t)dx * f->cos + (int64_t)dy * f->sin) >> 30);
+}
+
 #endif /* SLAM_FIXED_H */

@@ -176,6 +176,16 @@ static inline grid_state_t grid_state_of(uint8_t mode, uint8_t om, uint8_t tm)
     return tm != 0u ? GRID_FREE : GRID_UNKNOWN;
 }
 
+/**
+ * The largest OM byte grid_state_of() does not call occupied in a mode: a cell is
+ * GRID_OCCUPIED exactly when its OM byte is above it, whatever its TM byte. One compare a
+ * cell, for the searches that read many (the pose correction's wall lines). ISR-safe.
+ */
+static inline uint8_t grid_occupied_above(uint8_t mode)
+{
+    return mode == OM_MODE_EVIDENCE ? (uint8_t)GRID_EVIDENCE_ZERO : 0u;
+}
+
 /** grid_state_of() for the cell at an array index of a grid. */
 static inline grid_state_t grid_state(const grid_t *g, uint32_t index)
 {

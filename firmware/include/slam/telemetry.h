@@ -187,7 +187,9 @@ void telem_post_reading(telem_t *t, uint32_t ticks, uint8_t stop, uint8_t outcom
 
 /**
  * Background work: frame and write every posted event, then at most one map row segment
- * (one every TELEM_ROW_TICKS), a STATUS every second and a HELLO every five. Not ISR-safe.
+ * (one every TELEM_ROW_TICKS), a STATUS every second and a HELLO every five. Where nothing
+ * reads the UART (hal_uart_has_reader()) the same frames are only counted, as written, and
+ * the map rows move on as if sent. Not ISR-safe.
  * @param cfg  the configuration in force (HELLO carries the sonar's part of it)
  */
 void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,

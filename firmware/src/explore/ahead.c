@@ -24,7 +24,7 @@ static int32_t held_ahead_um(const explore_t *e, const int32_t held[2])
         return INT32_MAX;
     }
     int32_t side;
-    int32_t ahead = explore_frame_point(&e->memory.frame, held[0], held[1], &side);
+    int32_t ahead = fix_frame_point(&e->memory.frame, held[0], held[1], &side);
     int32_t clear = e->cfg.clearance_um;
     return ahead > 0 && side > -clear && side < clear ? ahead : INT32_MAX;
 }

@@ -41,22 +41,6 @@ static inline explore_frame_t explore_frame_of(const odom_pose_t *pose)
                              fix_sin(pose->heading)};
 }
 
-/*
- * A world point in a frame: how far ahead of the origin it lies (returned) and how far to
- * the left (*left_um), µm. The one world-to-robot conversion of the exploration, inline
- * because the tick makes it for every remembered point. The differences are taken modulo
- * 2^32, which is exact for points within 2 km of the origin, and the 32 x 32-bit
- * products (one SMULL each on a Cortex-M4) fit 64 bits.
- */
-static inline int32_t explore_frame_point(const explore_frame_t *f, int32_t x_um, int32_t y_um,
-                                          int32_t *left_um)
-{
-    int32_t dx = (int32_t)((uint32_t)x_um - (uint32_t)f->x_um);
-    int32_t dy = (int32_t)((uint32_t)y_um - (uint32_t)f->y_um);
-    *left_um = (int32_t)(((int64_t)dy * f->cos - (int64_t)dx * f->sin) >> 30);
-    return (int32_t)(((int64_t)dx * f->cos + (int64_t)dy * f->sin) >> 30);
-}
-
 /* The index of the cell at a position in Q16 cells, or EXPLORE_NO_CELL outside the grid. */
 static inline uint32_t explore_cell_q16(int32_t fx, int32_t fy)
 {

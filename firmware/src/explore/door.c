@@ -69,8 +69,8 @@ static bool walk_begin(explore_t *e, const grid_t *g)
     }
     explore_frame_t f = explore_pass_frame(e, NULL);
     int32_t side;
-    int32_t near = explore_frame_point(&f, e->wall.edge_x_um, e->wall.edge_y_um, &side);
-    int32_t far = explore_frame_point(&f, e->wall.far_x_um, e->wall.far_y_um, &side);
+    int32_t near = fix_frame_point(&f, e->wall.edge_x_um, e->wall.edge_y_um, &side);
+    int32_t far = fix_frame_point(&f, e->wall.far_x_um, e->wall.far_y_um, &side);
     if (far - near > EXPLORE_DOOR_MAX_UM) {
         return false;
     }
@@ -182,7 +182,7 @@ void explore_door_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
          * straight: backing up goes no further than that. */
         explore_frame_t f = explore_pass_frame(e, pose);
         int32_t side;
-        int32_t ahead = explore_frame_point(&f, d->x_um, d->y_um, &side);
+        int32_t ahead = fix_frame_point(&f, d->x_um, d->y_um, &side);
         if (ahead < -EXPLORE_DOOR_BACK_MAX_UM || side > -EXPLORE_WALL_NEAR_UM ||
             side < -(e->cfg.follow_um + EXPLORE_WALL_FAR_UM)) {
             give_up(e);

@@ -59,7 +59,7 @@ void explore_memory_block(explore_t *e, int32_t x_um, int32_t y_um)
 static void spot_in_pass(explore_memory_t *m, uint32_t i, int32_t clear)
 {
     int32_t side;
-    int32_t ahead = explore_frame_point(&m->frame, m->spot_x_um[i], m->spot_y_um[i], &side);
+    int32_t ahead = fix_frame_point(&m->frame, m->spot_x_um[i], m->spot_y_um[i], &side);
     int32_t reach = clear + EXPLORE_SPOT_UM;
     if (ahead <= 0 || side <= -reach || side >= reach) {
         return;
@@ -100,7 +100,7 @@ bool explore_memory_points(explore_t *e)
             continue;
         }
         int32_t side;
-        int32_t ahead = explore_frame_point(&f, m->pt_x_um[i], m->pt_y_um[i], &side);
+        int32_t ahead = fix_frame_point(&f, m->pt_x_um[i], m->pt_y_um[i], &side);
         if (ahead <= -EXPLORE_RIGHT_BEHIND_UM || ahead >= EXPLORE_SLOW_UM + e->cfg.mount_x_um) {
             continue; /* behind the robot, or too far ahead to matter */
         }

@@ -39,7 +39,7 @@ static void follow(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32
     if (e->wall.door) {
         explore_frame_t f = explore_pass_frame(e, pose);
         int32_t side;
-        if (explore_frame_point(&f, e->wall.far_x_um, e->wall.far_y_um, &side) <
+        if (fix_frame_point(&f, e->wall.far_x_um, e->wall.far_y_um, &side) <
             -EXPLORE_DOOR_PAST_UM) {
             explore_door_begin(e); /* well past an opening on the right: measure it */
             return;

@@ -81,7 +81,7 @@ void explore_face_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
 {
     explore_frame_t f = explore_frame_of(pose);
     int32_t side;
-    int32_t ahead = explore_frame_point(&f, e->moves.face_x_um, e->moves.face_y_um, &side);
+    int32_t ahead = fix_frame_point(&f, e->moves.face_x_um, e->moves.face_y_um, &side);
     int32_t mag = side < 0 ? -side : side;
     if ((ahead > 0 && mag <= ahead / EXPLORE_FACE_DONE) || e->machine.ticks > EXPLORE_TURN_MAX_TICKS) {
         explore_wall_forget(e);
@@ -246,7 +246,7 @@ bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
         uint8_t i = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - (mv->trail_len - mv->back_left)) %
                               EXPLORE_TRAIL);
         int32_t side;
-        int32_t ahead = explore_frame_point(&f, mv->trail_x_um[i], mv->trail_y_um[i], &side);
+        int32_t ahead = fix_frame_point(&f, mv->trail_x_um[i], mv->trail_y_um[i], &side);
         int32_t mag = side < 0 ? -side : side;
         if (ahead > -EXPLORE_BACK_REACHED_UM && mag < EXPLORE_BACK_REACHED_UM) {
             mv->back_left--; /* reached: on to the older one */

@@ -248,7 +248,7 @@ int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *
     }
     explore_frame_t f = explore_pass_frame(e, pose);
     int32_t side;
-    int32_t ahead = explore_frame_point(&f, s->target_x_um, s->target_y_um, &side);
+    int32_t ahead = fix_frame_point(&f, s->target_x_um, s->target_y_um, &side);
     if (ahead <= 0) {
         explore_seek(e, pose, g);
         return 0;

@@ -17,14 +17,14 @@ void explore_wall_point(explore_t *e, const odom_pose_t *pose, int32_t x_um, int
     explore_wall_t *w = &e->wall;
     explore_frame_t f = explore_pass_frame(e, pose);
     int32_t side;
-    int32_t ahead = explore_frame_point(&f, x_um, y_um, &side);
+    int32_t ahead = fix_frame_point(&f, x_um, y_um, &side);
     if (side > -EXPLORE_WALL_NEAR_UM || side < -(e->cfg.follow_um + EXPLORE_WALL_FAR_UM) ||
         ahead < 0 || ahead > EXPLORE_DOOR_MAX_UM) {
         return;
     }
     if (w->front) {
         int32_t front_side;
-        int32_t front = explore_frame_point(&f, w->front_x_um, w->front_y_um, &front_side);
+        int32_t front = fix_frame_point(&f, w->front_x_um, w->front_y_um, &front_side);
         int32_t off = side - front_side;
         off = off < 0 ? -off : off;
         if (ahead <= front || off >= EXPLORE_WALL_OFF_UM) {

@@ -35,10 +35,17 @@
 
 uint32_t lkf_isqrt(uint64_t v)
 {
-    if ((v >> 32) == 0u) { /* the wall normals' sums: half the steps, in 32-bit words */
+    /* Digit by digit, from the highest power of four within v: the steps above it would
+     * leave the root at 0, so starting there changes nothing but their cost (the
+     * covariance's diagonal is 20 to 43 bits long, a wall normal's sums under 24). */
+    if (v == 0u) {
+        return 0u;
+    }
+    if ((v >> 32) == 0u) { /* in 32-bit words: half the instructions on the MCU */
         uint32_t v32 = (uint32_t)v;
         uint32_t r32 = 0;
-        for (uint32_t bit = 1u << 30; bit != 0u; bit >>= 2) {
+        for (uint32_t bit = 1u << ((31u - (uint32_t)__builtin_clz(v32)) & ~1u); bit != 0u;
+             bit >>= 2) {
             if (v32 >= r32 + bit) {
                 v32 -= r32 + bit;
                 r32 = (r32 >> 1) + bit;
@@ -49,7 +56,8 @@ uint32_t lkf_isqrt(uint64_t v)
         return r32;
     }
     uint64_t r = 0;
-    for (uint64_t bit = 1ull << 62; bit != 0u; bit >>= 2) {
+    for (uint64_t bit = 1ull << ((63u - (uint32_t)__builtin_clzll(v)) & ~1u); bit != 0u;
+         bit >>= 2) {
         if (v >= r + bit) {
             v -= r + bit;
             r = (r >> 1) + bit;
@@ -209,14 +217,6 @@ void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
 static loc_corr_t corr_of(int32_t tx_um, int32_t ty_um, bam32_t th)
 {
     return (loc_corr_t){tx_um, ty_um, th, fix_cos(th), fix_sin(th)};
-}
-
-/* Positions stay far inside ±2^31 µm (slam_config_check keeps the world within 1 km), so
- * the 32 × 30-bit products fit. */
-void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy)
-{
-    *ox = fix_sat_i32(fix_round_shift((int64_t)x * c->c - (int64_t)y * c->s, 30u) + c->tx_um);
-    *oy = fix_sat_i32(fix_round_shift((int64_t)x * c->s + (int64_t)y * c->c, 30u) + c->ty_um);
 }
 
 odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)

@@ -101,8 +101,15 @@ static inline bam32_t loc_bam_of_urad(int64_t urad)
     return (bam32_t)(uint32_t)(int32_t)((urad * LOC_BAM_PER_URAD_Q16) >> 16);
 }
 
-/** A point (µm) through a correction. */
-void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox, int32_t *oy);
+/** A point (µm) through a correction. Inline: the held-back hits go through it by the
+ *  hundred for each reading. Positions stay far inside ±2^31 µm (slam_config_check keeps
+ *  the world within 1 km), so the 32 × 30-bit products fit. */
+static inline void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int32_t *ox,
+                                  int32_t *oy)
+{
+    *ox = fix_sat_i32(fix_round_shift((int64_t)x * c->c - (int64_t)y * c->s, 30u) + c->tx_um);
+    *oy = fix_sat_i32(fix_round_shift((int64_t)x * c->s + (int64_t)y * c->c, 30u) + c->ty_um);
+}
 
 /** A map point moved by an increment about a centre: turned by c, s, then shifted by
  *  (dx, dy). µm. */

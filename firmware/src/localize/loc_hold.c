@@ -17,15 +17,22 @@ void loc_hold_init(loc_hold_t *h, const slam_config_t *cfg)
     h->clear_um = (int32_t)cfg->clearance_um;
 }
 
+/* Held-back hit i in the odometry frame, µm. */
+static void hold_odom(const loc_hold_t *h, const grid_t *g, unsigned i, int32_t *ox, int32_t *oy)
+{
+    const loc_point_t *p = &h->win[(h->first + i) % LOC_HOLD];
+    /* Modulo 2^32 as grid.c's cells: the point came from an int32_t within the reach. */
+    unsigned k = h->point_shift;
+    *ox = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << k));
+    *oy = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << k));
+}
+
 void loc_hold_point(const loc_hold_t *h, const grid_t *g, const loc_corr_t *c, unsigned i,
                     int32_t *x, int32_t *y)
 {
-    const loc_point_t *p = &h->win[(h->first + i) % LOC_HOLD];
-    /* In the odometry frame, modulo 2^32 as grid.c's cells: the point came from an int32_t
-     * within the reach. */
-    unsigned k = h->point_shift;
-    int32_t ox = (int32_t)((uint32_t)g->origin_x_um + ((uint32_t)(int32_t)p->x << k));
-    int32_t oy = (int32_t)((uint32_t)g->origin_y_um + ((uint32_t)(int32_t)p->y << k));
+    int32_t ox;
+    int32_t oy;
+    hold_odom(h, g, i, &ox, &oy);
     loc_corr_point(c, ox, oy, x, y);
 }
 
@@ -67,12 +74,13 @@ void loc_hold_halves(loc_hold_t *h, grid_t *g, const loc_corr_t *corr, bool take
     if (g->mode != OM_MODE_EVIDENCE) {
         return; /* no halves */
     }
+    const uint8_t half = early_half(h, g, 0u); /* every hit here is past the window */
     for (unsigned i = 0; i + LOC_WINDOW < h->count; i++) {
         if (held_mapped(h, i)) {
             int32_t x;
             int32_t y;
             loc_hold_point(h, g, &h->placed, i, &x, &y);
-            grid_om_part(g, x, y, early_half(h, g, i), take_back);
+            grid_om_part(g, x, y, half, take_back);
         }
     }
 }
@@ -125,36 +133,69 @@ void loc_hold_flush(loc_hold_t *h, mapper_t *m, grid_t *g, const loc_corr_t *cor
     }
 }
 
+/*
+ * The square of a distance from the ping, in the odometry frame, beyond which a hit lies
+ * outside the corridor ahead in the map frame too, so that most hits (nine in ten) are
+ * left out before the correction is applied to them. In the corridor, 0 < ahead < reach
+ * and |side| < clear, and ahead and side are the floors of the map-frame offset d turned
+ * by (cos, sin) of the heading, whose length ρ is 1 within ε = √2·FIX_SIN_MAX_ERR_Q30 /
+ * 2^30: so ρ·|d| < B = √((reach + 1)² + (clear + 1)²). And d is the odometry offset d_o
+ * turned by the correction's (c, s), of length 1 within ε too, give or take the rounding
+ * of both points (< 1.5 µm): |d_o| < (B + 1.5) / (1 − ε)² <= (B + 1.5)(1 + 3ε). For ε <=
+ * 2^-13 its square stays below B² + B²/1024 (B >= reach: the linear terms fit in the
+ * rest), and 2^20 µm² more is for good measure.
+ */
+_Static_assert(FIX_SIN_MAX_ERR_Q30 <= 92000, "sqrt(2) times the sine's error within 2^-13");
+static int64_t corridor_far2(int32_t clear_um)
+{
+    int64_t b2 = (int64_t)(LOC_AHEAD_REACH_UM + 1) * (LOC_AHEAD_REACH_UM + 1) +
+                 (int64_t)(clear_um + 1) * (clear_um + 1);
+    return b2 + (b2 >> 10) + (1 << 20);
+}
+
 void loc_hold_ahead(const loc_hold_t *h, const grid_t *g, const loc_corr_t *corr,
                     const odom_pose_t *ping, int32_t pt[2])
 {
     odom_pose_t at = loc_apply(corr, ping);
-    q1_30_t c = fix_cos(at.heading);
-    q1_30_t s = fix_sin(at.heading);
+    const fix_frame_t frame = {at.x_um, at.y_um, fix_cos(at.heading), fix_sin(at.heading)};
+    const int64_t far2 = corridor_far2(h->clear_um);
+    /* A hit's offset from the ping in the odometry frame is its point (hold_odom()) from
+     * the grid's origin, plus the origin's offset from the ping. Differences modulo 2^32,
+     * exact within the 1 km world slam_config_check() allows; their products with Q30
+     * values fit 64 bits. */
+    const uint32_t bx = (uint32_t)g->origin_x_um - (uint32_t)ping->x_um;
+    const uint32_t by = (uint32_t)g->origin_y_um - (uint32_t)ping->y_um;
+    const unsigned k = h->point_shift;
     /* The nearest hit (its cell k1) and the nearest in any other cell, ahead of the axle. */
     int32_t near[2] = {INT32_MAX, INT32_MAX};
     int32_t near_pt[2][2] = {{LOC_AHEAD_NONE, 0}, {LOC_AHEAD_NONE, 0}};
     uint32_t k1 = UINT32_MAX;
     unsigned first = h->count > LOC_WINDOW ? h->count - LOC_WINDOW : 0u;
     for (unsigned i = first; i < h->count; i++) {
-        if (!held_mapped(h, i)) {
+        unsigned slot = (h->first + i) % LOC_HOLD;
+        if (((h->shadowed[slot / 32u] >> (slot % 32u)) & 1u) != 0u) {
+            continue; /* not mapped (held_mapped()) */
+        }
+        const loc_point_t *p = &h->win[slot];
+        int64_t dxo = (int32_t)(bx + ((uint32_t)(int32_t)p->x << k));
+        int64_t dyo = (int32_t)(by + ((uint32_t)(int32_t)p->y << k));
+        if (dxo * dxo + dyo * dyo >= far2) {
             continue;
         }
+        int32_t ox;
+        int32_t oy;
+        hold_odom(h, g, i, &ox, &oy);
         int32_t x;
         int32_t y;
         uint32_t cell;
-        loc_hold_point(h, g, corr, i, &x, &y);
-        if (loc_known_free(g, x, y, &cell)) {
-            continue;
-        }
-        /* Differences modulo 2^32, exact within the 1 km world slam_config_check() allows;
-         * their products with Q30 values fit 64 bits. */
-        int32_t dx = (int32_t)((uint32_t)x - (uint32_t)at.x_um);
-        int32_t dy = (int32_t)((uint32_t)y - (uint32_t)at.y_um);
-        int32_t ahead = (int32_t)(((int64_t)dx * c + (int64_t)dy * s) >> 30);
-        int32_t side = (int32_t)(((int64_t)dy * c - (int64_t)dx * s) >> 30);
+        loc_corr_point(corr, ox, oy, &x, &y);
+        int32_t side;
+        int32_t ahead = fix_frame_point(&frame, x, y, &side);
+        /* The corridor first, the map after: most hits lie outside it, and a hit at or
+         * beyond the second nearest is out whatever its cell (near[0] <= near[1]). */
         if (ahead <= 0 || ahead >= LOC_AHEAD_REACH_UM || side <= -h->clear_um ||
-            side >= h->clear_um || (cell == k1 ? ahead >= near[0] : ahead >= near[1])) {
+            side >= h->clear_um || ahead >= near[1] || loc_known_free(g, x, y, &cell) ||
+            (cell == k1 && ahead >= near[0])) {
             continue;
         }
         if (ahead < near[0]) {

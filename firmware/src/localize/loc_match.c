@@ -22,24 +22,37 @@
  * they are not matched. */
 #define LOC_LEVER_MAX 32768
 
+/* Each window hit's wall, from one pass to the next. Scratch of one match, so outside
+ * loc_t: the background loop runs one match at a time, and nothing in it outlives the
+ * match (it is forgotten when the next begins). */
+static loc_assoc_t loc_match_assoc[LOC_WINDOW];
+
 /* One pass: every hit of the window, linearised at lin, updates (d, p) from the prior. */
 static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t cy,
                            const lkf_state_t *lin, lkf_state_t *d, lkf_cov_t *p)
 {
     q1_30_t c = fix_cos(loc_bam_of_urad(lin->v[LKF_T]));
     q1_30_t s = fix_sin(loc_bam_of_urad(lin->v[LKF_T]));
+    /* At no increment (the first pass) cos is exactly one and sin zero: the points stay. */
+    bool moved = lin->v[LKF_X] != 0 || lin->v[LKF_Y] != 0 || lin->v[LKF_T] != 0;
     uint32_t used = 0;
-    for (unsigned i = l->hold.count - LOC_WINDOW; i < l->hold.count; i++) {
+    unsigned first = l->hold.count - LOC_WINDOW;
+    for (unsigned i = first; i < l->hold.count; i++) {
         int32_t mx;
         int32_t my;
         int32_t qx;
         int32_t qy;
         loc_hold_point(&l->hold, g, &l->filter.corr, i, &mx, &my);
-        loc_move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
+        if (moved) {
+            loc_move_point(mx, my, cx, cy, lin->v[LKF_X], lin->v[LKF_Y], c, s, &qx, &qy);
+        } else {
+            qx = mx;
+            qy = my;
+        }
         int32_t wx;
         int32_t wy;
         int32_t j[3];
-        if (!loc_wall_near(g, qx, qy, &wx, &wy, &j[0], &j[1])) {
+        if (!loc_wall_near(g, qx, qy, &loc_match_assoc[i - first], &wx, &wy, &j[0], &j[1])) {
             continue;
         }
         int64_t h = ((int64_t)j[0] * ((int64_t)qx - wx) + (int64_t)j[1] * ((int64_t)qy - wy)) >>
@@ -62,6 +75,16 @@ static uint32_t match_pass(const loc_t *l, const grid_t *g, int32_t cx, int32_t 
     return used;
 }
 
+static bool same_state(const lkf_state_t *a, const lkf_state_t *b)
+{
+    for (unsigned i = 0; i < LKF_N; i++) {
+        if (a->v[i] != b->v[i]) {
+            return false;
+        }
+    }
+    return true;
+}
+
 static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
 {
     loc_match_t *mt = &l->match;
@@ -71,10 +94,19 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
     lkf_state_t d = {{0}};
     lkf_cov_t *p = &mt->work;
     uint32_t used = 0;
+    /* OM stands still while the passes run, but not from one match to the next. */
+    for (unsigned k = 0; k < LOC_WINDOW; k++) {
+        loc_assoc_forget(&loc_match_assoc[k]);
+    }
     for (unsigned pass = 0; pass < LOC_PASSES; pass++) {
         d = (lkf_state_t){{0}};
         *p = l->filter.cov;
         used = match_pass(l, g, now.x_um, now.y_um, &lin, &d, p);
+        if (same_state(&d, &lin)) {
+            /* The pass ended where it was linearised (no wall moved it, say): the next
+             * would start from the same state, prior and map, and repeat it exactly. */
+            break;
+        }
         lin = d;
     }
     mt->last_points = used;

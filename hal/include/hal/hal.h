@@ -15,6 +15,7 @@
 #ifndef HAL_HAL_H
 #define HAL_HAL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -111,6 +112,14 @@ size_t hal_uart_write(const uint8_t *data, size_t len);
 
 /** Take up to @p len received bytes without blocking; returns how many. */
 size_t hal_uart_read(uint8_t *data, size_t len);
+
+/**
+ * Whether anything may read what hal_uart_write() sends. A backend answers false only when
+ * it knows the bytes go nowhere (the simulator without a telemetry sink): the firmware then
+ * counts its frames as written, whole, without building them. Optional: hal/defaults
+ * answers true, since a UART may always have a listener. ISR-safe.
+ */
+bool hal_uart_has_reader(void);
 
 /* ---- map storage ------------------------------------------------------------------ */
 

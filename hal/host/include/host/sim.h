@@ -199,6 +199,39 @@ typedef struct {
                                     0 = never */
 } sim_params_t;
 
+/**
+ * How much of what real HC-SR04s do at oblique incidence the sonar shows: three levels
+ * from the spread of published measurements (hal/host/README.md names each source and
+ * the figure taken from it). sim_errors_sonar() sets a level's sonar fields.
+ */
+typedef enum {
+    SIM_SONAR_OPTIMISTIC = 0, /**< the kind end: a surface answers up to 45° at every range,
+                                   and a ray beyond that is lost (the model before issue 28) */
+    SIM_SONAR_TYPICAL,        /**< the middle of the sources: the limit narrows with range,
+                                   and a ray beyond it reflects on (multipath) */
+    SIM_SONAR_PESSIMISTIC,    /**< the lowest measured limits, multipath as typical */
+    SIM_SONAR_LEVELS
+} sim_sonar_level_t;
+
+/** The level of sim_errors_default(). */
+#define SIM_SONAR_DEFAULT SIM_SONAR_TYPICAL
+
+/** Knots of a grazing curve at most. */
+#define SIM_GRAZING_KNOTS 8u
+
+/**
+ * The incidence up to which a surface answers a ray, by the distance the sound has
+ * travelled to it: straight lines between knots, flat before the first and after the last.
+ * Incidence is the angle between the ray and the surface normal; every ray of the cone is
+ * judged alone, so a flat surface turned by θ from the beam's axis answers while
+ * θ − half the cone is within the limit.
+ */
+typedef struct {
+    uint32_t n;                        /**< knots in use; 0: grazing_deg at every range */
+    double range_m[SIM_GRAZING_KNOTS]; /**< ascending, m */
+    double deg[SIM_GRAZING_KNOTS];     /**< the limit there, 0 < deg <= 90 */
+} sim_grazing_curve_t;
+
 /** Error sources, each with a level; sim_errors_ideal() turns all off (--ideal). */
 typedef struct {
     double wheel_ratio_ed;   /**< E_d: actual right/left wheel diameter (mean stays nominal);
@@ -215,7 +248,13 @@ typedef struct {
     double sonar_dropout;    /**< probability that a ping gets no echo */
     double sonar_ghost;      /**< probability of a ghost echo at a random range */
     double grazing_deg;      /**< a ray hitting a surface beyond this incidence returns no
-                                  echo (at every range); 0 = off */
+                                  direct echo (at every range); 0 = off; grazing_curve
+                                  replaces it when it has knots */
+    sim_grazing_curve_t grazing_curve; /**< the limit by range (n = 0: grazing_deg) */
+    uint32_t multipath;      /**< reflections a ray that met a surface beyond the limit may
+                                  make, mirror-like, before it reaches one that answers or
+                                  passes the receiver: the echo then reads half the path;
+                                  0 = none (the ray is lost, as at the optimistic level) */
     /* Faults of the wiring and the timing, each off (0) by default. An episode lasts
        0.5..3 s (uniform) and a new one may begin once it is over. */
     double echo_stuck_per_s;   /**< episodes a second in which the echo line sticks high: every
@@ -234,6 +273,18 @@ void sim_params_default(sim_params_t *p);
 void sim_errors_default(sim_errors_t *e); /**< the realistic levels of the default scenario:
                                                an uncalibrated hobby robot */
 void sim_errors_ideal(sim_errors_t *e);   /**< every error source off */
+
+/**
+ * Set the sonar's incidence limit and multipath (grazing_deg, grazing_curve, multipath)
+ * to a level's; the other fields stay. An unknown level sets SIM_SONAR_DEFAULT's.
+ */
+void sim_errors_sonar(sim_errors_t *e, sim_sonar_level_t level);
+
+/** The level's name ("optimistic", "typical", "pessimistic"); NULL for an unknown one. */
+const char *sim_sonar_level_name(sim_sonar_level_t level);
+
+/** The level of a name, or -1 for none. */
+int sim_sonar_level_of(const char *name);
 
 /**
  * Check parameters and error levels for sim_create().
@@ -265,6 +316,10 @@ typedef enum {
     SIM_PING_NOTHING,   /**< no surface within sonar_max_m in the cone: timeout */
     SIM_PING_LATE,      /**< the late echo of the previous ping, read as this one's */
     SIM_PING_STUCK,     /**< the echo line was stuck high (a fault episode): timeout */
+    SIM_PING_MULTIPATH, /**< an echo by a mirror path: the nearest surface was met beyond the
+                             incidence it answers at, the reflected sound came back from
+                             another; the range is half the path */
+    SIM_PING_KINDS
 } sim_ping_kind_t;
 
 /** The pose and sonar geometry of the last ping, for logs. */
@@ -298,6 +353,9 @@ sim_truth_t sim_truth(const sim_t *s);
 
 /** The true pose and beam of the most recent ping. */
 sim_ping_t sim_last_ping(const sim_t *s);
+
+/** Pings since sim_create() by what became of them: counts[kind], SIM_PING_NONE unused. */
+void sim_ping_counts(const sim_t *s, uint32_t counts[SIM_PING_KINDS]);
 
 /**
  * Put the robot somewhere else (tests, scenarios, UMBmark's experimenter carrying it back
@@ -350,6 +408,10 @@ bool sim_tick_lost(sim_t *s);
 
 /** Whether the world loses ticks at all (tick_miss > 0): the HAL asks once, at attach. */
 bool sim_ticks_lost(const sim_t *s);
+
+/** The ticks lost so far, sim_truth_t.ticks_missed alone: the HAL's overrun count, asked for
+ *  every period. */
+uint64_t sim_ticks_missed(const sim_t *s);
 
 /* ---- the host backend ---------------------------------------------------------------- */
 
