@@ -35,25 +35,9 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
     m->target_um_tick[ODOM_RIGHT] = clamp(right_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
 }
 
-/* The window of forward travel, asked and made: a body held back makes none of it,
- * however the wheels turn it in place. */
-static void block_watch(motion_t *m, int32_t asked, int32_t made)
-{
-    m->asked_um += asked < 0 ? -asked : asked;
-    m->made_um += made < 0 ? -made : made;
-    if (++m->window >= MOTION_BLOCK_TICKS) {
-        m->blocked = m->asked_um >= 2 * MOTION_STALL_MIN_UM_TICK * (int32_t)MOTION_BLOCK_TICKS &&
-                     m->made_um < m->asked_um / 4;
-        m->window = 0u;
-        m->asked_um = 0;
-        m->made_um = 0;
-    }
-}
-
 void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2])
 {
     m->err_pos = (uint8_t)((m->err_pos + 1u) % MOTION_SPEED_TICKS);
-    int32_t rolled_sum = 0;
     for (unsigned w = 0; w < 2u; w++) {
         /* The ramp: the acceleration limit of §III.B. */
         int32_t step = clamp(m->target_um_tick[w] - m->set_um_tick[w], -m->accel_um_tick2,
@@ -70,9 +54,8 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         /* An encoder glitch may claim any speed; the error is bounded so every product
          * below fits 32 bits. |set| is far below MOTION_ERR_MAX, so bounding the travel at
          * twice that first changes no error and keeps the difference within 32 bits. */
-        rolled = clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX);
-        rolled_sum += rolled;
-        int32_t err = clamp(set - rolled, -MOTION_ERR_MAX, MOTION_ERR_MAX);
+        int32_t err = clamp(set - clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX),
+                            -MOTION_ERR_MAX, MOTION_ERR_MAX);
         /* Stall watch: a wheel asked to turn that hardly does. */
         int32_t set_abs = set < 0 ? -set : set;
         uint32_t got = rolled >= 0 ? (uint32_t)rolled : 0u - (uint32_t)rolled;
@@ -111,7 +94,6 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
         duty[w] = (int16_t)clamp(ff + pi, -MOTION_DUTY_MAX, MOTION_DUTY_MAX); /* both small */
     }
-    block_watch(m, m->set_um_tick[0] + m->set_um_tick[1], rolled_sum);
 }
 
 bool motion_stalled(const motion_t *m)

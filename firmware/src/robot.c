@@ -79,7 +79,6 @@ void robot_tick(robot_t *r)
     /* What does the sonar say: one step of the sweep. */
     uint32_t echo_us;
     sweep_echo_t echo = poll_sonar(&r->sweep, &echo_us);
-    r->sweep.look_wanted = explore_wants_look(&r->explore);
     sweep_step(&r->sweep, echo, echo_us, &r->last);
     if (r->last.servo_cmd) {
         hal_servo_set_pulse(r->last.servo_pulse_us);
@@ -117,12 +116,6 @@ void robot_tick(robot_t *r)
         }
     }
 
-    if (r->last.look_ready) {
-        /* A look maps nothing: its obstacle point is for the exploration alone. */
-        odom_pose_t at = loc_apply(&r->loc.tick.corr, &r->mapper.ping_pose);
-        mapper_note(&r->mapper, &at, &r->last.reading);
-    }
-
     /* Telemetry: the pose ten times a second, and every reading. */
     if (r->ticks % ROBOT_POSE_EVERY == 0u) {
         telem_post_pose(&r->telem, r->ticks, &r->pose);
@@ -147,14 +140,10 @@ void robot_tick(robot_t *r)
             r->pose = r->umbmark.start;
         }
     } else {
-        /* Touched: the body held back (however the wheels turn), or a wheel that stalled.
-         * A bump switch would be one more source. One wheel stalled while the body moves
-         * on is a wheel or its count that failed, not a touch. */
-        bool blocked = motion_blocked(&r->motion);
-        bool touched = blocked || motion_stalled(&r->motion);
-        r->explore.moves.one_wheel = touched && !blocked && motion_one_wheel(&r->motion);
+        bool stalled = motion_stalled(&r->motion);
+        r->explore.moves.one_wheel = stalled && motion_one_wheel(&r->motion);
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick.ahead,
-                     touched, target_mm_s);
+                     stalled, target_mm_s);
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];

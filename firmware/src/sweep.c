@@ -26,24 +26,6 @@ SLAM_START_UP void sweep_init(sweep_t *s, const slam_config_t *cfg)
         int32_t pulse = cfg->servo_pulse_0deg_us + (pulse_span_us * mdeg + 90000) / 180000;
         s->stop_pulse_us[i] = (uint16_t)pulse;
     }
-    /* The look: 70° left of straight ahead, where the paper's sweep (25° left at most)
-     * never points; its settle scaled from a stop's by the servo's travel to it. */
-    s->look_mdeg = SWEEP_LOOK_MDEG;
-    s->look_bam = fix_bam_from_mdeg(SWEEP_LOOK_MDEG);
-    s->look_pulse_us = (uint16_t)(cfg->servo_pulse_0deg_us +
-                                  (pulse_span_us * SWEEP_LOOK_MDEG + 90000) / 180000);
-    int32_t step = s->stops > 1u ? span_mdeg / (int32_t)(s->stops - 1u) : 0;
-    step = step < 0 ? -step : step;
-    int32_t travel = cfg->sweep_first_mdeg - SWEEP_LOOK_MDEG;
-    travel = travel < 0 ? -travel : travel;
-    uint32_t settle = step > 0 ? (uint32_t)cfg->settle_ticks * (uint32_t)((travel + step - 1) / step)
-                               : cfg->settle_ticks;
-    settle = settle < cfg->settle_ticks ? cfg->settle_ticks : settle;
-    s->look_settle_ticks = (uint8_t)(settle > UINT8_MAX ? UINT8_MAX : settle);
-    /* A sweep that reaches the look's angle itself (or stands at one stop) never looks. */
-    int32_t lo = cfg->sweep_first_mdeg < cfg->sweep_last_mdeg ? cfg->sweep_first_mdeg : cfg->sweep_last_mdeg;
-    s->look_on = s->stops > 1u && lo > SWEEP_LOOK_MDEG;
-    s->settle = s->settle_ticks;
     s->phase = SWEEP_BEGIN;
 }
 
@@ -60,29 +42,13 @@ uint8_t sweep_stop_at(const sweep_t *s, uint8_t seq)
 static void begin_stop(sweep_t *s, sweep_out_t *out)
 {
     out->servo_cmd = true;
-    out->servo_pulse_us = s->looking ? s->look_pulse_us : s->stop_pulse_us[sweep_stop_at(s, s->seq)];
+    out->servo_pulse_us = s->stop_pulse_us[sweep_stop_at(s, s->seq)];
     s->phase = SWEEP_SETTLE;
     s->ticks = 0u;
 }
 
 static void finish_stop(sweep_t *s, bool echo, uint32_t echo_us, sweep_out_t *out)
 {
-    if (s->looking) {
-        /* Back to the first stop, from further away. */
-        out->look_ready = true;
-        out->reading = (sweep_reading_t){
-            .stop = SWEEP_LOOK_STOP,
-            .echo = echo,
-            .servo_mdeg = s->look_mdeg,
-            .servo = s->look_bam,
-            .echo_us = echo ? echo_us : 0u,
-        };
-        s->looks++;
-        s->looking = false;
-        s->settle = s->look_settle_ticks;
-        begin_stop(s, out);
-        return;
-    }
     uint8_t stop = sweep_stop_at(s, s->seq);
     out->reading_ready = true;
     out->reading = (sweep_reading_t){
@@ -98,12 +64,6 @@ static void finish_stop(sweep_t *s, bool echo, uint32_t echo_us, sweep_out_t *ou
         s->timeouts++;
     }
     s->seq = (uint8_t)((s->seq + 1u) % (2u * s->stops));
-    s->settle = s->settle_ticks;
-    /* The turn at the first stop: a look first, if one is wanted. */
-    if (s->seq == 0u && s->look_wanted && s->look_on) {
-        s->looking = true;
-        s->settle = s->look_settle_ticks;
-    }
     begin_stop(s, out);
 }
 
@@ -118,12 +78,12 @@ void sweep_step(sweep_t *s, sweep_echo_t echo, uint32_t echo_us, sweep_out_t *ou
         begin_stop(s, out);
         break;
     case SWEEP_SETTLE:
-        if (s->ticks < s->settle) {
+        if (s->ticks < s->settle_ticks) {
             s->ticks++;
         }
         /* The servo settles while the last ping's sound dies away: the stop costs the
          * longer of the two, not their sum. */
-        if (s->ticks >= s->settle && s->since_ping >= s->ping_interval_ticks) {
+        if (s->ticks >= s->settle_ticks && s->since_ping >= s->ping_interval_ticks) {
             out->trigger = true;
             s->pings++;
             s->phase = SWEEP_WAIT;

@@ -95,8 +95,6 @@ typedef enum {
     EXPLORE_SEEK,     /**< walls mode: find the nearest frontier block in sight */
     EXPLORE_FACE,     /**< walls mode: turn in place to face a point (a block, an opening) */
     EXPLORE_HOLD,     /**< the wheels stalled: stand still a while, then back off */
-    EXPLORE_ESCAPE,   /**< no progress for too long: out along the way chosen, in the
-                           body's own corridor */
 } explore_state_t;
 
 /** Exploration state: one sub-struct a source file (explore_types.h). */
@@ -110,7 +108,6 @@ typedef struct {
     explore_wall_t wall;       /**< the wall on the right */
     explore_moves_t moves;     /**< turning, looking, backing off along the trail
                                     (moves.one_wheel: set by the caller) */
-    explore_escape_t escape;   /**< progress, and leaving a place without */
     /* Weighing the ways and seeking a frontier block never run at once (both stand in a
      * state of their own, DECIDE and SEEK, which hands over to the other only after it
      * has ended): they share their work space. */
@@ -144,15 +141,6 @@ void explore_init(explore_t *e, const slam_config_t *cfg);
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
                   const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
                   int32_t target_mm_s[2]);
-
-/** Whether the sweep should look to the blind left at its next turn (sweep.h): while the
- *  robot drives on. ISR-safe. */
-static inline bool explore_wants_look(const explore_t *e)
-{
-    uint8_t s = e->machine.state;
-    return !e->machine.blind && (s == EXPLORE_FORWARD || s == EXPLORE_FOLLOW ||
-                                 s == EXPLORE_PASS || s == EXPLORE_ESCAPE);
-}
 
 /** Whether the exploration stands on purpose (EXPLORE_STOP): its mode stands still, the
  *  square is done, or everything reachable has been explored. ISR-safe. */

@@ -22,8 +22,7 @@
 #include "slam/grid.h"
 
 #define EXPLORE_POINTS 16u        /**< obstacle points remembered */
-#define EXPLORE_TRAIL 16u         /**< trail positions kept */
-#define EXPLORE_SPOTS 8u          /**< places marked blocked, kept */
+#define EXPLORE_TRAIL 8u          /**< trail positions kept */
 #define EXPLORE_BLOCK_SHIFT 4u    /**< frontier blocks are 16 x 16 cells */
 #define EXPLORE_BLOCKS_A ((SLAM_GRID_A + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS_B ((SLAM_GRID_B + 15u) >> EXPLORE_BLOCK_SHIFT)
@@ -49,8 +48,6 @@ typedef struct {
                             INT32_MAX if none */
     int32_t behind_q10;/**< the squared distance of the nearest point on the right behind
                             the axle, likewise */
-    int32_t spot_um;   /**< the near edge of the nearest blocked spot the corridor meets,
-                            ahead; INT32_MAX if none (weighing the ways reads it) */
 } explore_scan_t;
 
 /** From the configuration, at explore_init(). */
@@ -106,12 +103,7 @@ typedef struct {
     uint16_t echo_bits;      /**< the last readings, the newest in bit 0: 1 an echo */
     uint8_t echoes;          /**< echoes among them */
     uint8_t next_point;      /**< the slot the next point goes to */
-    int32_t spot_x_um[EXPLORE_SPOTS]; /**< places left for want of progress, world: */
-    int32_t spot_y_um[EXPLORE_SPOTS]; /**< the passes count each as an obstacle */
-    uint8_t spots;           /**< spots held */
-    uint8_t next_spot;       /**< the slot the next spot goes to */
-    uint8_t next;            /**< the next slot the pass checks (the points', then the
-                                  spots') */
+    uint8_t next;            /**< the next slot the pass checks */
     uint8_t pending;         /**< a reading's point waits to enter the memory */
     bool narrow;             /**< the corridor checked is the body's alone (set while
                                   passing an opening) */
@@ -171,20 +163,9 @@ typedef struct {
     uint8_t holds;            /**< HOLD: stalls since the backing off began */
     bool hold_back;           /**< HOLD: back off after it (else look) */
     bool trail_fresh;         /**< a trail position was added: the walls mode looks at it */
-    bool trail_prune;         /**< and a loop it may close is still to be cut out */
     bool one_wheel;           /**< set by the caller with `stalled`: only one wheel stalled,
                                    the other turning (motion_one_wheel()) */
-    bool escaping;            /**< BACK: backing out of a place left for want of progress */
-    uint32_t back_um;         /**< BACK: how far to back off */
 } explore_moves_t;
-
-/** escape.c: progress, and leaving a place where there is none. */
-typedef struct {
-    int32_t x_um, y_um; /**< where the robot last made progress */
-    int32_t was_x_um, was_y_um; /**< and where it made it the time before */
-    uint32_t at;        /**< `now` then (moved on by a deliberate stand) */
-    uint8_t stalls;     /**< stalls since */
-} explore_escape_t;
 
 /** decide.c: the weighing of candidate headings under way (DECIDE). */
 typedef struct {
@@ -198,7 +179,6 @@ typedef struct {
     uint8_t first;       /**< where the weighing began */
     uint8_t span;        /**< candidates to weigh from the first one */
     uint8_t then;        /**< the state the weighing ends in */
-    bool visited;        /**< ways the robot has driven win (escaping), not the unvisited */
 } explore_decide_t;
 
 /** seek.c: the search for a frontier block under way (SEEK). */

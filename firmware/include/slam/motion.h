@@ -32,11 +32,6 @@
  *  fast (µm/tick), for MOTION_STALL_TICKS ticks in a row: pushing against something. */
 #define MOTION_STALL_MIN_UM_TICK 300
 #define MOTION_STALL_TICKS 25u
-/** The body is blocked when, over a window of this many ticks, the wheels together made
- *  under a quarter of the forward travel asked of them (asked at MOTION_STALL_MIN_UM_TICK
- *  on average at least): held against something, whatever the steer. Turning in place
- *  asks for none. */
-#define MOTION_BLOCK_TICKS 32u
 /** After this many of those ticks the wheel is driven by its feed-forward alone. */
 #define MOTION_DEAD_TICKS 5u
 
@@ -57,10 +52,6 @@ typedef struct {
     int32_t ki_q8;             /**< duty per µm of accumulated error, Q8 */
     int32_t integral_max_um;   /**< |Σe| limit: the integral term alone stays in range */
     uint16_t slow_ticks[2];    /**< ticks in a row below a quarter of the set speed */
-    int32_t asked_um;          /**< the window: forward travel asked, |left + right| summed */
-    int32_t made_um;           /**< and made */
-    uint8_t window;            /**< ticks into it */
-    bool blocked;              /**< the last whole window made under a quarter of the asked */
 } motion_t;
 
 /** Start at rest with the gains and limits of a checked configuration. */
@@ -83,14 +74,6 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
 
 /** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
 bool motion_stalled(const motion_t *m);
-
-/** Whether the body was blocked over the last window (MOTION_BLOCK_TICKS): the wheels
- *  together made under a quarter of the forward travel asked, even if a steer or wheel
- *  noise keeps one of them turning. ISR-safe, O(1). */
-static inline bool motion_blocked(const motion_t *m)
-{
-    return m->blocked;
-}
 
 /** Whether one wheel has stalled while the other turns as asked: not a body held against
  *  something (that stops both), but a wheel or an encoder that stopped on its own. */

@@ -17,12 +17,6 @@
  *   5. deliver exactly one reading tagged with the stop's servo angle, and begin the next
  *      stop in the same tick.
  *
- * A look: while the caller asks for one (sweep_t.look_wanted), the turn at the first stop
- * (the left end of the paper's sweep) goes on to one stop outside it, the look angle, and
- * back: one ping there, delivered as a look (look_ready), which maps nothing and only
- * tells the exploration what is on the side the sweep cannot see. The settle before the
- * look and after it grows with the servo's longer travel.
- *
  * The module does no I/O: sweep_step() takes what the sonar reported this tick and says
  * what to do (command the servo, trigger a ping) and what was read. robot_tick() does the
  * HAL calls. All timing is counted in control ticks (10 ms).
@@ -57,8 +51,6 @@ typedef struct {
     bool servo_cmd;          /**< command the servo to servo_pulse_us now */
     bool trigger;            /**< trigger a ping now */
     bool reading_ready;      /**< reading holds a completed reading */
-    bool look_ready;         /**< reading holds a completed look (stop SWEEP_LOOK_STOP): not
-                                  a reading of the sweep, nothing maps it */
     uint16_t servo_pulse_us; /**< servo pulse width, µs */
     sweep_reading_t reading;
 } sweep_out_t;
@@ -69,12 +61,6 @@ typedef enum {
     SWEEP_SETTLE,    /**< the servo is moving and settling */
     SWEEP_WAIT,      /**< the ping is out; waiting for the echo */
 } sweep_phase_t;
-
-/** The look's servo angle: 70° left of straight ahead. */
-#define SWEEP_LOOK_MDEG 20000
-
-/** The stop index a look's reading carries. */
-#define SWEEP_LOOK_STOP 0xFFu
 
 /** Sweep state and counters. */
 typedef struct {
@@ -89,16 +75,6 @@ typedef struct {
     uint8_t seq;                 /**< position in the back-and-forth cycle, 0 .. 2n-1 */
     uint8_t phase;               /**< a sweep_phase_t */
     uint8_t ticks;               /**< ticks spent in the phase */
-    int32_t look_mdeg;           /**< the look's servo angle */
-    bam32_t look_bam;            /**< the same as a binary angle */
-    uint16_t look_pulse_us;      /**< its servo pulse */
-    uint8_t look_settle_ticks;   /**< settle to it, and back to the first stop after it */
-    uint8_t settle;              /**< the settle of the stop under way */
-    bool look_on;                /**< the sweep looks when asked (it does not reach the
-                                      look's angle itself, and has more than one stop) */
-    bool looking;                /**< the stop under way is a look */
-    bool look_wanted;            /**< set by the caller: look at the next turn at the first stop */
-    uint32_t looks;              /**< looks made */
     uint32_t pings;              /**< pings triggered */
     uint32_t echoes;             /**< readings with an echo */
     uint32_t timeouts;           /**< readings without one (HAL or sweep timeout) */

@@ -12,7 +12,6 @@ void explore_ahead_init(explore_t *e)
     e->ahead.scan.ahead_um = INT32_MAX;
     e->ahead.scan.right_q10 = INT32_MAX;
     e->ahead.scan.behind_q10 = INT32_MAX;
-    e->ahead.scan.spot_um = INT32_MAX;
     e->ahead.map_um = INT32_MAX;
 }
 

@@ -19,14 +19,7 @@ void explore_decide(explore_t *e, uint8_t first, uint8_t span, explore_state_t t
     d->weighed = 0u;
     d->best_cost = UINT32_MAX;
     d->phase = 0u;
-    d->visited = false;
     explore_enter(e, EXPLORE_DECIDE);
-}
-
-void explore_decide_visited(explore_t *e, explore_state_t then)
-{
-    explore_decide(e, 0u, EXPLORE_CANDIDATES, then);
-    e->decide.visited = true;
 }
 
 /*
@@ -70,9 +63,7 @@ static void ray_walk(explore_t *e, const grid_t *g)
             d->ray.left = 0u;
             return;
         }
-        /* Escaping, a cell the robot has been in is a way its body fits through. */
-        d->ray_cost += d->visited ? (g->tm[k] != 0u ? 0u : e->cfg.tm_max)
-                                  : g->tm[k] + (st == GRID_FREE ? 1u : 0u);
+        d->ray_cost += g->tm[k] + (st == GRID_FREE ? 1u : 0u);
         d->ray.left--;
     }
 }
@@ -94,9 +85,7 @@ void explore_decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     }
     uint32_t cost = d->ray_cost;
     int32_t ahead = e->memory.work.ahead_um;
-    if ((ahead != INT32_MAX && ahead - e->cfg.mount_x_um < e->cfg.avoid_um) ||
-        e->memory.work.spot_um < EXPLORE_LOOK_UM) {
-        /* Something just ahead, or a place left for want of progress within the ray. */
+    if (ahead != INT32_MAX && ahead - e->cfg.mount_x_um < e->cfg.avoid_um) {
         cost += 2u * EXPLORE_LOOK_UM / e->cfg.cell_um * e->cfg.tm_max;
     }
     /* Among equally visited ways, the smallest turn: 0 for straight on, 6 for back. */

@@ -17,7 +17,6 @@
 #define EXPLORE_NUDGE_MARGIN_UM 15000 /* a nudge leaves the edge this far out of the way */
 #define EXPLORE_DOOR_SKEW_Q16 11380   /* sin 10°: the robot drives along the wall */
 #define EXPLORE_DOOR_TRAIL_MM 200     /* over a trail at least this long */
-#define EXPLORE_DOOR_TRAIL_STEPS 7u   /* of the last 7 steps at most (0.35 m) */
 #define EXPLORE_DOOR_ALIGN_Q16 5712   /* sin 5°: backing up turns in place first beyond */
 #define EXPLORE_DOOR_STEER_Q16 200    /* and steers 1 mm/s per this much sine within */
 
@@ -56,9 +55,7 @@ static bool walk_begin(explore_t *e, const grid_t *g)
     const explore_moves_t *mv = &e->moves;
     d->ux = e->memory.frame.cos >> 14; /* Q16 */
     d->uy = e->memory.frame.sin >> 14;
-    uint8_t steps = mv->trail_len - 1u < EXPLORE_DOOR_TRAIL_STEPS ? (uint8_t)(mv->trail_len - 1u)
-                                                                  : EXPLORE_DOOR_TRAIL_STEPS;
-    uint8_t old = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - steps) % EXPLORE_TRAIL);
+    uint8_t old = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - (mv->trail_len - 1u)) % EXPLORE_TRAIL);
     int32_t dx = (mv->trail_x_um[mv->trail_head] - mv->trail_x_um[old]) / 1000; /* mm */
     int32_t dy = (mv->trail_y_um[mv->trail_head] - mv->trail_y_um[old]) / 1000;
     uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
@@ -205,14 +202,6 @@ void explore_door_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
         /* A positive skew: the wall's direction is to the left, a counter-clockwise turn. */
         target_mm_s[ODOM_LEFT] = v - steer;
         target_mm_s[ODOM_RIGHT] = v + steer;
-        /* The trail positions backed past are no longer the way back. */
-        explore_moves_t *mv = &e->moves;
-        if (mv->trail_len > 1u &&
-            along_wall(d, pose->x_um, pose->y_um, mv->trail_x_um[mv->trail_head],
-                       mv->trail_y_um[mv->trail_head]) > EXPLORE_TRAIL_STEP_UM) {
-            mv->trail_head = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - 1u) % EXPLORE_TRAIL);
-            mv->trail_len--;
-        }
         return;
     }
     if (ahead > EXPLORE_DOOR_ABREAST_UM) {

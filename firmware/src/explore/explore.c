@@ -77,7 +77,6 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
     explore_ahead_init(e);
     explore_corridor_init(e, cfg);
     explore_moves_init(e, cfg);
-    explore_escape_init(e, cfg);
     mode_init(e);
 }
 
@@ -86,10 +85,6 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
  * the right), else the mode's (a slice of the pass). */
 static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const int32_t held[2])
 {
-    if (e->moves.trail_prune) {
-        explore_trail_prune(e);
-        return;
-    }
     if (e->memory.pending != 0u) {
         explore_memory_take(e);
         if (e->machine.state == EXPLORE_FOLLOW) {
@@ -99,8 +94,6 @@ static void job(explore_t *e, const odom_pose_t *pose, const grid_t *g, const in
     }
     mode_job(e, pose, g, held);
 }
-
-#define EXPLORE_PROGRESS_MASK 15u /* progress is looked at every 16 ticks */
 
 /* FORWARD: the mode's when something is ahead, else on at the speed for it. */
 static void forward(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32_t target_mm_s[2])
@@ -122,9 +115,9 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
 {
     e->machine.now++;
     e->machine.ticks++;
-    if (sw->reading_ready || sw->look_ready) {
+    if (sw->reading_ready) {
         /* This tick maps the reading: only note it, and keep the wheels as they were. */
-        e->machine.readings = (uint16_t)(e->machine.readings + sw->reading_ready);
+        e->machine.readings++;
         explore_memory_note(e, sw, m);
         target_mm_s[ODOM_LEFT] = e->moves.target_mm_s[ODOM_LEFT];
         target_mm_s[ODOM_RIGHT] = e->moves.target_mm_s[ODOM_RIGHT];
@@ -132,11 +125,6 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
     }
     job(e, pose, g, held);
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
-    /* Progress, looked at now and then: a place without any is left. */
-    if ((e->machine.now & EXPLORE_PROGRESS_MASK) == 0u && !e->machine.blind &&
-        explore_stuck(e, pose)) {
-        explore_escape(e, pose);
-    }
     if (explore_memory_deaf(e)) {
         /* Deaf: stand (the wheels at 0) until an echo comes back, or for long enough. */
     } else if (!stalled || !explore_stall(e, pose)) {
@@ -163,26 +151,17 @@ void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
             break;
         case EXPLORE_BACK:
             if (explore_back_step(e, pose, target_mm_s)) {
-                bool escaped = e->moves.escaping;
-                e->moves.escaping = false;
-                mode_next(e, pose, escaped ? EXPLORE_WHY_ESCAPED : EXPLORE_WHY_BACKED);
+                mode_next(e, pose, EXPLORE_WHY_BACKED);
             }
             break;
         case EXPLORE_HOLD:
             explore_hold_step(e);
             break;
-        case EXPLORE_ESCAPE:
-            if (explore_escape_step(e, pose, target_mm_s)) {
-                mode_next(e, pose, EXPLORE_WHY_ESCAPED);
-            }
-            break;
         default:
             mode_step(e, pose, g, target_mm_s);
             break;
         }
-        uint8_t s = e->machine.state;
-        if (s == EXPLORE_FORWARD || s == EXPLORE_FOLLOW || s == EXPLORE_PASS ||
-            s == EXPLORE_ESCAPE) {
+        if (e->machine.state == EXPLORE_FORWARD || e->machine.state == EXPLORE_FOLLOW) {
             explore_trail_step(e, pose);
         }
     }

@@ -7,9 +7,6 @@
 #define EXPLORE_RIGHT_BEHIND_UM 100000 /* walls: the right side from 0.1 m behind the axle */
 #define EXPLORE_RIGHT_AHEAD_UM 400000  /* to 0.4 m ahead */
 #define EXPLORE_RIGHT_WIDE_UM 1000000  /* and 1 m to the side */
-/* A place left for want of progress is kept out of as a disc this wide about where the
- * robot stood: the nook it could not leave, and its mouth. */
-#define EXPLORE_SPOT_UM 250000
 
 void explore_memory_put(explore_t *e, int32_t x_um, int32_t y_um)
 {
@@ -29,55 +26,10 @@ void explore_memory_take(explore_t *e)
     explore_memory_put(e, e->memory.pending_x_um, e->memory.pending_y_um);
 }
 
-/* A new spot near one held moves it there: spots side by side would fence the robot in. */
-void explore_memory_block(explore_t *e, int32_t x_um, int32_t y_um)
-{
-    explore_memory_t *m = &e->memory;
-    uint8_t at = m->next_spot;
-    for (uint8_t i = 0; i < m->spots; i++) {
-        int32_t dx = (m->spot_x_um[i] - x_um) / 1024;
-        int32_t dy = (m->spot_y_um[i] - y_um) / 1024;
-        int32_t r = 2 * EXPLORE_SPOT_UM / 1024;
-        if (dx * dx + dy * dy < r * r) {
-            at = i;
-        }
-    }
-    m->spot_x_um[at] = x_um;
-    m->spot_y_um[at] = y_um;
-    if (at == m->next_spot) {
-        m->next_spot = (uint8_t)((m->next_spot + 1u) % EXPLORE_SPOTS);
-        m->spots = (uint8_t)(m->spots < EXPLORE_SPOTS ? m->spots + 1u : EXPLORE_SPOTS);
-    }
-}
-
-/*
- * A blocked spot in the pass: the corridor meets its disc when the centre lies ahead,
- * within clear + EXPLORE_SPOT_UM to either side; it is then as far ahead as the disc's
- * near edge. From inside the disc it is not in the way. A spot weighs against a way
- * (decide.c) but never stops the robot: spots beside a passage would close it.
- */
-static void spot_in_pass(explore_memory_t *m, uint32_t i, int32_t clear)
-{
-    int32_t side;
-    int32_t ahead = fix_frame_point(&m->frame, m->spot_x_um[i], m->spot_y_um[i], &side);
-    int32_t reach = clear + EXPLORE_SPOT_UM;
-    if (ahead <= 0 || side <= -reach || side >= reach) {
-        return;
-    }
-    int32_t a = ahead / 1024;
-    int32_t d = side / 1024;
-    int32_t r = EXPLORE_SPOT_UM / 1024;
-    if (ahead < EXPLORE_SPOT_UM && a * a + d * d < r * r) {
-        return;
-    }
-    int32_t edge = ahead > EXPLORE_SPOT_UM ? ahead - EXPLORE_SPOT_UM : 1;
-    m->work.spot_um = edge < m->work.spot_um ? edge : m->work.spot_um;
-}
-
 void explore_memory_begin(explore_t *e, const explore_frame_t *f)
 {
     e->memory.frame = *f;
-    e->memory.work = (explore_scan_t){INT32_MAX, 0, INT32_MAX, INT32_MAX, INT32_MAX};
+    e->memory.work = (explore_scan_t){INT32_MAX, 0, INT32_MAX, INT32_MAX};
     e->memory.next = 0u;
 }
 
@@ -90,12 +42,8 @@ bool explore_memory_points(explore_t *e)
     explore_frame_t f = m->frame;
     int32_t clear = m->narrow ? EXPLORE_PASS_CLEAR_UM : e->cfg.clearance_um;
     bool right = m->right;
-    for (uint32_t n = 0; n < EXPLORE_SCAN_POINTS && m->next < EXPLORE_POINTS + m->spots; n++) {
+    for (uint32_t n = 0; n < EXPLORE_SCAN_POINTS && m->next < EXPLORE_POINTS; n++) {
         uint8_t i = m->next++;
-        if (i >= EXPLORE_POINTS) {
-            spot_in_pass(m, i - EXPLORE_POINTS, clear);
-            continue;
-        }
         if (e->machine.now - m->pt_seen[i] > EXPLORE_MEMORY_TICKS || m->pt_seen[i] == 0u) {
             continue;
         }
@@ -121,7 +69,7 @@ bool explore_memory_points(explore_t *e)
             }
         }
     }
-    return m->next >= EXPLORE_POINTS + m->spots;
+    return m->next >= EXPLORE_POINTS;
 }
 
 bool explore_blocked(const explore_t *e, const odom_pose_t *pose)

@@ -51,7 +51,6 @@ void explore_random_next(explore_t *e, const odom_pose_t *pose, explore_why_t wh
         random_turn(e, pose, EXPLORE_DEG(90), away(e));
         break;
     case EXPLORE_WHY_BACKED:
-    case EXPLORE_WHY_ESCAPED:
         random_turn(e, pose, EXPLORE_DEG(90), 0);
         break;
     }

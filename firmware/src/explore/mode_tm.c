@@ -45,7 +45,6 @@ void explore_tm_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)
         avoid(e);
         break;
     case EXPLORE_WHY_BACKED:
-    case EXPLORE_WHY_ESCAPED:
         e->tm.fresh = true;
         explore_enter(e, EXPLORE_LOOK);
         break;

@@ -127,12 +127,9 @@ void explore_walls_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,
         return;
     }
     uint8_t s = e->machine.state;
-    if (s == EXPLORE_LOOK || s == EXPLORE_FOLLOW || s == EXPLORE_PASS || s == EXPLORE_FORWARD) {
-        if (explore_pass_slice(e, pose, g, held)) {
-            explore_seek_scan(e, g);
-        }
-    } else if (s != EXPLORE_SEEK && s != EXPLORE_DECIDE) {
-        explore_seek_scan(e, g); /* nothing else to do this tick */
+    if ((s == EXPLORE_LOOK || s == EXPLORE_FOLLOW || s == EXPLORE_PASS || s == EXPLORE_FORWARD) &&
+        explore_pass_slice(e, pose, g, held)) {
+        explore_seek_scan(e, g);
     }
 }
 
@@ -186,14 +183,6 @@ void explore_walls_next(explore_t *e, const odom_pose_t *pose, explore_why_t why
         /* Turn so that what is ahead (or was, before backing off) is on the right, and
          * follow it. */
         explore_turn_by(e, pose, (int32_t)EXPLORE_DEG(90), EXPLORE_FOLLOW);
-        break;
-    case EXPLORE_WHY_ESCAPED:
-        /* Out of a place without progress: the least visited way all round (the way
-         * into the place weighs as blocked), then on to the nearest frontier block. */
-        e->walls.lefts = 0u;
-        e->walls.retrace = 0u;
-        e->seek.reached = true;
-        explore_decide(e, 0u, EXPLORE_CANDIDATES, EXPLORE_FORWARD);
         break;
     }
 }

@@ -34,8 +34,6 @@ typedef enum {
     EXPLORE_WHY_BLOCKED, /* LOOK is done: something within avoid_um ahead */
     EXPLORE_WHY_AHEAD,   /* FORWARD: something came within avoid_um (an avoidance) */
     EXPLORE_WHY_BACKED,  /* BACK is done: the trail starts again where the robot stands */
-    EXPLORE_WHY_ESCAPED, /* no progress for too long: the place is marked blocked (and the
-                            robot has backed out of it if it could) */
 } explore_why_t;
 
 #define EXPLORE_MODE_HOOKS(id, value, name, summary)                                         \

@@ -143,34 +143,6 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)
 
 /* ---- the trail, stalls and backing off ------------------------------------------------ */
 
-#define EXPLORE_LOOP_UNITS 48 /* a loop closes within 50 mm (48 units of 1.024 mm) */
-
-void explore_trail_prune(explore_t *e)
-{
-    explore_moves_t *mv = &e->moves;
-    mv->trail_prune = false;
-    int32_t x = mv->trail_x_um[mv->trail_head];
-    int32_t y = mv->trail_y_um[mv->trail_head];
-    /* The oldest position it comes back to, not the one just before it: the biggest
-     * loop goes. */
-    for (uint32_t k = mv->trail_len - 1u; k >= 2u; k--) {
-        uint32_t i = (mv->trail_head + EXPLORE_TRAIL - k) % EXPLORE_TRAIL;
-        int32_t dx = (mv->trail_x_um[i] - x) / 1024;
-        int32_t dy = (mv->trail_y_um[i] - y) / 1024;
-        if (dx > -EXPLORE_LOOP_UNITS && dx < EXPLORE_LOOP_UNITS && dy > -EXPLORE_LOOP_UNITS &&
-            dy < EXPLORE_LOOP_UNITS &&
-            dx * dx + dy * dy < EXPLORE_LOOP_UNITS * EXPLORE_LOOP_UNITS) {
-            /* Positions i+1 .. head-1 go: the new one follows i. */
-            uint32_t at = (i + 1u) % EXPLORE_TRAIL;
-            mv->trail_x_um[at] = x;
-            mv->trail_y_um[at] = y;
-            mv->trail_head = (uint8_t)at;
-            mv->trail_len = (uint8_t)(mv->trail_len - k + 1u);
-            return;
-        }
-    }
-}
-
 /* Wheels that stall while driving: stand, then back off along the trail. */
 bool explore_stall(explore_t *e, const odom_pose_t *pose)
 {
@@ -181,7 +153,6 @@ bool explore_stall(explore_t *e, const odom_pose_t *pose)
         return false;
     }
     e->count.stalls++;
-    e->escape.stalls++;
     e->memory.narrow = false;
     e->wall.door = false; /* an opening being measured or passed is given up */
     /* Reversing: what stopped it is behind, or a count stopped; stand, then go on backing
@@ -202,8 +173,6 @@ bool explore_stall(explore_t *e, const odom_pose_t *pose)
     mv->leg_x_um = pose->x_um;
     mv->leg_y_um = pose->y_um;
     mv->back_left = mv->trail_len;
-    mv->back_um = EXPLORE_BACK_UM;
-    mv->escaping = false;
     mv->holds = 0u;
     mv->hold_back = true;
     explore_enter(e, EXPLORE_HOLD);
@@ -225,7 +194,7 @@ void explore_hold_step(explore_t *e)
 bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     explore_moves_t *mv = &e->moves;
-    int64_t back = mv->back_um;
+    int64_t back = EXPLORE_BACK_UM;
     if (explore_dist2(pose, mv->leg_x_um, mv->leg_y_um) >= (uint64_t)(back * back) ||
         e->machine.ticks > EXPLORE_TURN_MAX_TICKS || mv->holds > EXPLORE_HOLDS_MAX) {
         mv->trail_len = 1u;
@@ -235,13 +204,6 @@ bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
     }
     int32_t v = -EXPLORE_BACK_MM_S;
     explore_frame_t f = explore_frame_of(pose);
-    if (mv->escaping && mv->back_left == 0u) {
-        /* Out along the whole trail: beyond it the robot would back blind. */
-        mv->trail_len = 1u;
-        mv->trail_x_um[mv->trail_head] = pose->x_um;
-        mv->trail_y_um[mv->trail_head] = pose->y_um;
-        return true;
-    }
     while (mv->back_left > 0u) {
         uint8_t i = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - (mv->trail_len - mv->back_left)) %
                               EXPLORE_TRAIL);

@@ -50,13 +50,7 @@ static inline void explore_trail_step(explore_t *e, const odom_pose_t *pose)
     mv->trail_y_um[mv->trail_head] = pose->y_um;
     mv->trail_len = (uint8_t)(mv->trail_len < EXPLORE_TRAIL ? mv->trail_len + 1u : EXPLORE_TRAIL);
     mv->trail_fresh = true;
-    mv->trail_prune = true;
 }
-
-/* After a trail step, a tick of its own: a loop the path has closed (the new position
- * back within a step of an older one) is cut out of the trail, so that the trail is the
- * way back, however long the robot went round in a nook. */
-void explore_trail_prune(explore_t *e);
 
 /* The wheels stalled: what it means in this state. False when nothing is to be done (a
  * blind mode, or a state that stands anyway); else the robot now holds. */
@@ -69,25 +63,6 @@ void explore_hold_step(explore_t *e);
  * starts again where the robot stands, and the mode chooses what next. */
 bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2]);
 
-/* ---- escape.c ----------------------------------------------------------------------- */
-
-/* Progress is measured from the start pose. */
-void explore_escape_init(explore_t *e, const slam_config_t *cfg);
-
-/* Has the robot come far enough from where it last made progress (the clock starts again
- * there), or is it stuck: too long without, or stalled too often? Standing on purpose
- * (STOP) is progress. */
-bool explore_stuck(explore_t *e, const odom_pose_t *pose);
-
-/* Leave the place: mark it blocked, and back out along the trail (BACK); without a trail
- * to back along, weigh the ways by the cells driven before and drive out along the best
- * in the body's own corridor (ESCAPE). Counted. */
-void explore_escape(explore_t *e, const odom_pose_t *pose);
-
-/* ESCAPE: straight out, the corridor the body's own, until far enough or something is
- * ahead. True when done: the mode chooses what next. */
-bool explore_escape_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2]);
-
 /* ---- decide.c ----------------------------------------------------------------------- */
 
 #define EXPLORE_CANDIDATES 12u /* headings weighed, 30° apart; candidate 0 is straight on,
@@ -96,10 +71,6 @@ bool explore_escape_step(explore_t *e, const odom_pose_t *pose, int32_t target_m
 /* Stand still and weigh candidates first .. first + span - 1 (mod EXPLORE_CANDIDATES),
  * turning then to the best one; the weighing ends in `then`. */
 void explore_decide(explore_t *e, uint8_t first, uint8_t span, explore_state_t then);
-
-/* The same over every way, the ways through cells the robot has been in winning (the
- * way out of a place it cannot leave); the weighing ends in `then`. */
-void explore_decide_visited(explore_t *e, explore_state_t then);
 
 /* DECIDE: one tick of weighing. */
 void explore_decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g);

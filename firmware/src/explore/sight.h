@@ -30,13 +30,6 @@ _Static_assert(EXPLORE_ECHO_WINDOW <= 16u, "memory.echo_bits holds the window");
 static inline void explore_memory_note(explore_t *e, const sweep_out_t *sw, const mapper_t *m)
 {
     explore_memory_t *mem = &e->memory;
-    if (sw->look_ready) {
-        /* A look to the blind side: its point alone, not one of the sweep's echoes. */
-        mem->pending = sw->reading.echo && m->last == MAPPER_HIT ? 1u : 0u;
-        mem->pending_x_um = m->last_x_um;
-        mem->pending_y_um = m->last_y_um;
-        return;
-    }
     uint32_t echo = sw->reading.echo ? 1u : 0u;
     uint32_t out = (mem->echo_bits >> (EXPLORE_ECHO_WINDOW - 1u)) & 1u;
     mem->echoes = (uint8_t)(mem->echoes + echo - out);
@@ -69,10 +62,6 @@ void explore_memory_take(explore_t *e);
 
 /* A world point into the memory, in place of the oldest. */
 void explore_memory_put(explore_t *e, int32_t x_um, int32_t y_um);
-
-/* A place left for want of progress: every pass from now on counts it as an obstacle
- * (a disc about it), in place of the oldest such place. */
-void explore_memory_block(explore_t *e, int32_t x_um, int32_t y_um);
 
 /* Begin a pass over the memory in a frame. */
 void explore_memory_begin(explore_t *e, const explore_frame_t *f);
