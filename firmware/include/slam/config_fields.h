@@ -91,9 +91,9 @@
       LIVE, "-1000000..1000000")                                                                \
     X(mount_yaw_mdeg, I32, 0, -180000, 180000, NONE, 24, LIVE, "-180000..180000")               \
     /* Sweep. */                                                                                \
-    X(sweep_first_mdeg, I32, 65000, 0, 180000, NONE, 25, FIXED, "0..180000")                    \
-    X(sweep_last_mdeg, I32, 155000, 0, 180000, NONE, 26, FIXED, "0..180000")                    \
-    X(sweep_stops, U8, 6, 1, SLAM_SWEEP_STOPS_MAX, STOPS, 27, FIXED,                            \
+    X(sweep_first_mdeg, I32, 40000, 0, 180000, NONE, 25, FIXED, "0..180000")                    \
+    X(sweep_last_mdeg, I32, 180000, 0, 180000, NONE, 26, FIXED, "0..180000")                    \
+    X(sweep_stops, U8, 8, 1, SLAM_SWEEP_STOPS_MAX, STOPS, 27, FIXED,                            \
       "1..16, and 1 only when sweep_first_mdeg equals sweep_last_mdeg")                         \
     X(settle_ticks, U8, 3, 1, UINT8_MAX, NONE, 28, FIXED, "1..255")                             \
     X(echo_timeout_ticks, U8, 4, 1, UINT8_MAX, NONE, 29, FIXED, "1..255")                       \

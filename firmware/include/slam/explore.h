@@ -3,9 +3,9 @@
  * @file
  * Exploration (paper §II.E): where to drive next, from the sonar and the maps.
  *
- * The sweep sees from 25° left to 65° right of straight ahead (with the beam's 7.5° half
- * cone, 32.5° and 72.5°), so the left flank is blind: a wall that converges from the left
- * at less than about 12° is never met at an incidence that echoes. Every mode shares what
+ * The default sweep sees from 50° left to 90° right of straight ahead (the paper's from
+ * 25° left to 65° right), so the left flank is blind beyond it: a wall that converges
+ * from the left at a small angle is never met at an incidence that echoes. Every mode shares what
  * keeps the robot clear of what it cannot see:
  *
  * - An obstacle memory: the last EXPLORE_POINTS obstacle points the sonar placed inside
