@@ -116,8 +116,11 @@ compare:
 # firmware's behaviour changes (the test replay_host_matches_trace says when). The world
 # is the optimistic sonar's: the self-test must see the pose correction applied, and with
 # the typical sonar the robot hears too few walls in 110 s for one (26 hits, 56 refused).
+# The robot must not seek a frontier within it either: the frontier's rolling scan goes
+# over host_sim's 256 x 256 grid, not the MCU's, at its own pace, and the two part ways
+# from the first seek (seed 9 seeks at 108 s since the sweep reaches 90 deg right).
 trace: build-host
-	build/host/host_sim/host_sim --duration 110 --seed 9 --set start_cell_a=80 \
+	build/host/host_sim/host_sim --duration 110 --seed 2 --set start_cell_a=80 \
 	    --set start_cell_b=80 --sonar optimistic --trace tests/data/default_room_110s.trace \
 	    --out out/trace --no-plot --quiet
 

@@ -36,7 +36,8 @@ static const char *origin(const cfg_origin_t *w, const char *key, char *buf, siz
         snprintf(buf, n, "%s:%u", w->o->calibration, line);
         return buf;
     }
-    if (w->o->paper && (strcmp(key, "om_mode") == 0 || strncmp(key, "post_", 5) == 0)) {
+    if (w->o->paper && (strcmp(key, "om_mode") == 0 || strncmp(key, "post_", 5) == 0 ||
+                       strncmp(key, "sweep_", 6) == 0)) {
         snprintf(buf, n, "--paper");
         return buf;
     }

@@ -288,6 +288,14 @@ static inline double bam_rad(bam32_t b)
 
 /* ---- what a run measures (observe.c, coverage.c) and reports (report.c) ------------------ */
 
+/** Progress is coming this far (m) from where the robot last made progress. */
+#define PROGRESS_M 0.2
+/** A touch is recovered from once the body is out of contact and this far (m) from
+ *  where it began. */
+#define MOVED_ON_M 0.05
+/** The touches whose recovery times metrics.json lists. */
+#define TOUCHES_LISTED 16u
+
 /* Everything measured while the robot runs. */
 typedef struct {
     map_geom_t geom;
@@ -315,6 +323,17 @@ typedef struct {
     double touch_t, touch_x, touch_y, touch_th, touch_bearing, touch_pos_err, touch_th_err;
     double last_x, last_y;
     double marked_x, marked_y;  /* the sonar position last marked observable around */
+    /* Progress (observe.c): where the robot last came PROGRESS_M from the place before and
+     * when, not counting a deliberate stand; the longest time without, and when it began. */
+    double prog_x, prog_y, prog_t, stuck_s, stuck_from_s;
+    /* Touches (observe.c): one begins when the body meets an obstacle, and it is recovered
+     * from once the body is out of contact and MOVED_ON_M from where it began. */
+    bool touching;
+    double touch_from_t, touch_from_x, touch_from_y;
+    uint32_t touches;          /* begun */
+    double touch_recovery_max_s; /* the longest recovery so far */
+    double touch_recovery_s[TOUCHES_LISTED]; /* of the first ones, < 0: not recovered */
+    double explored_at_s;      /* when the firmware said it was done; < 0: never */
     /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
      * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
     uint32_t walls_lowered[2];

@@ -74,6 +74,9 @@ int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t 
     r->last_x = sc->sx;
     r->last_y = sc->sy;
     r->marked_x = r->marked_y = HUGE_VAL;
+    r->prog_x = sc->sx;
+    r->prog_y = sc->sy;
+    r->explored_at_s = -1.0;
     return 0;
 }
 
@@ -107,6 +110,57 @@ static void track_coverage(run_t *r, const robot_t *robot, double t)
                     r->time_to[k] = t;
                 }
             }
+        }
+    }
+}
+
+/*
+ * Progress: the time since the robot last came PROGRESS_M from where it was then. A
+ * deliberate stand (the exploration done, or its mode standing; a hold for a save, a
+ * command or STOP) does not count: it moves the clock on without forgiving the time
+ * before or after it, so a robot wedged between two saves is still seen wedged.
+ */
+static void progress_tick(run_t *r, const robot_t *robot, double x, double y, double t)
+{
+    if (robot->hold != 0u || explore_standing(&robot->explore)) {
+        r->prog_t += TICK_S;
+    }
+    if (hypot(x - r->prog_x, y - r->prog_y) >= PROGRESS_M) {
+        r->prog_x = x;
+        r->prog_y = y;
+        r->prog_t = t;
+    } else if (t - r->prog_t > r->stuck_s) {
+        r->stuck_s = t - r->prog_t;
+        r->stuck_from_s = r->prog_t;
+    }
+    if (r->explored_at_s < 0.0 && explore_explored(&robot->explore)) {
+        r->explored_at_s = t;
+    }
+}
+
+/* Touches: each from the body meeting an obstacle until it is out of contact and has moved
+ * on MOVED_ON_M from where it met it. */
+static void touches_tick(run_t *r, bool contact, double x, double y, double t)
+{
+    if (r->touching) {
+        if (!contact && hypot(x - r->touch_from_x, y - r->touch_from_y) >= MOVED_ON_M) {
+            r->touching = false;
+            double took = t - r->touch_from_t;
+            if (r->touches <= TOUCHES_LISTED) {
+                r->touch_recovery_s[r->touches - 1u] = took;
+            }
+            r->touch_recovery_max_s = took > r->touch_recovery_max_s ? took : r->touch_recovery_max_s;
+        }
+        return;
+    }
+    if (contact) {
+        r->touching = true;
+        r->touches++;
+        r->touch_from_t = t;
+        r->touch_from_x = x;
+        r->touch_from_y = y;
+        if (r->touches <= TOUCHES_LISTED) {
+            r->touch_recovery_s[r->touches - 1u] = -1.0;
         }
     }
 }
@@ -255,6 +309,8 @@ void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t 
     sim_truth_t after = sim_truth(sim);
     clearance_tick(r, after.x, after.y);
     touch_tick(r, after.contact, after.x, after.y, after.th, t, ep, eth);
+    touches_tick(r, after.contact, after.x, after.y, t);
+    progress_tick(r, robot, after.x, after.y, t);
     if (((tick + 1u) % COVERAGE_EVERY == 0u || last) && r->nseries < 4096u) {
         series_point(r, t);
     }

@@ -258,6 +258,23 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
         fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][2]);
     }
     fprintf(f, "],\n    \"min_clearance_m\": %.4f,\n", r->min_clearance);
+    fprintf(f, "    \"longest_without_progress_s\": %.2f,\n    \"without_progress_from_s\": %.2f,\n",
+            r->stuck_s, r->stuck_from_s);
+    json_time(f, "explored_at_s", r->explored_at_s, true);
+    double longest = r->touch_recovery_max_s;
+    if (r->touching && robot->ticks * TICK_S - r->touch_from_t > longest) {
+        longest = robot->ticks * TICK_S - r->touch_from_t;
+    }
+    json_time(f, "longest_touch_recovery_s", r->touches > 0u ? longest : -1.0, true);
+    fprintf(f, "    \"touch_recovery_s\": [");
+    for (uint32_t i = 0; i < r->touches && i < TOUCHES_LISTED; i++) {
+        if (r->touch_recovery_s[i] < 0.0) {
+            fprintf(f, "%snull", i ? ", " : "");
+        } else {
+            fprintf(f, "%s%.2f", i ? ", " : "", r->touch_recovery_s[i]);
+        }
+    }
+    fprintf(f, "],\n");
     if (r->touch_t < 0.0) {
         fprintf(f, "    \"first_touch\": null\n  },\n");
     } else {
@@ -273,11 +290,13 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
                "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
                "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
-               "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u},\n",
+               "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u, "
+               "\"escapes\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
             m->outside, tr.collisions, robot->explore.count.turns,
             robot->explore.count.avoidances, robot->explore.count.stalls,
-            robot->explore.count.leaves, robot->explore.count.doors, robot->explore.count.seeks);
+            robot->explore.count.leaves, robot->explore.count.doors, robot->explore.count.seeks,
+            robot->explore.count.escapes);
     json_pings(f, sim, r);
     const loc_t *lo = &robot->loc;
     fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "

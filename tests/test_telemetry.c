@@ -114,7 +114,7 @@ static void test_robot_stream_decodes(void **state)
             break;
         case TELEM_READING:
             assert_int_equal(f.len, 26u);
-            assert_true(f.payload[4] < 6u);                    /* stop */
+            assert_true(f.payload[4] < cfg.sweep_stops);        /* stop */
             assert_int_equal(f.payload[5], MAPPER_HIT);        /* all within rc */
             assert_true(get32(f.payload + 10) > 400000u);      /* range about 0.5 m */
             break;

@@ -30,6 +30,9 @@ void slam_config_paper(slam_config_t *cfg)
     cfg->post_threshold = 3u;
     cfg->post_template_k = 1u;
     cfg->post_insert = 1u;
+    cfg->sweep_first_mdeg = 65000;
+    cfg->sweep_last_mdeg = 155000;
+    cfg->sweep_stops = 6u;
 }
 
 /* How a field is stored (two bits); a Q1.30 factor is an int32_t. */

@@ -14,11 +14,13 @@ moves which. No touch in 30 runs would fail a fault's test by chance one time in
 touches in 30 happen by chance one time in 160, and a fault level that touches one run in
 ten fails its test four times in five.
 
-The floors and the touch rule were set with the optimistic sonar, and are judged with it
-(SONAR): at the typical level, the default since issue 28, the floors hold but six of the
-twelve faults touch in two to eleven of their 30 runs (tools/sim_report.py
---faults-only --host-arg=--sonar --host-arg=typical lists them). Drop SONAR to judge them
-at the default level once the firmware copes.
+The floors and the touch rule were set with the optimistic sonar. Since the default
+sweep reaches 90 deg right (firmware/experiments.md, "Exploration") they are judged at the
+default level, the typical sonar, for every fault but two (OPTIMISTIC): at the typical
+level, seeds 1-10, every floor holds and 9 of the 370 runs touch, 3 with sonar dropouts
+(level 3) and 5 with servo stalls (levels 1-3), which fail the touch rule; those two are
+still judged with the optimistic sonar (1 touch each there). With the paper's sweep 28 of
+the 370 runs touched at the typical level.
 
 usage: test_sim_faults.py HOST_SIM SOURCE_DIR FAULT
 """
@@ -30,9 +32,10 @@ from simtest import Sim, check, fail, mean
 
 SEEDS = range(1, 11)
 DURATION = 600
-SONAR = ("--sonar", "optimistic")
+OPTIMISTIC = ("dropout", "servo_stall")
 
 fault = sys.argv.pop(3) if len(sys.argv) > 3 else None
+SONAR = ("--sonar", "optimistic") if fault in OPTIMISTIC else ()
 sim = Sim()
 spec = importlib.util.spec_from_file_location(
     "sim_report", os.path.join(sim.src, "tools", "sim_report.py"))

@@ -65,6 +65,10 @@ static inline uint8_t ew_om_free(void)
 static void setup_mode(uint8_t mode)
 {
     slam_config_default(&cfg);
+    /* The readings tick() makes are at the paper's six stops. */
+    cfg.sweep_first_mdeg = 65000;
+    cfg.sweep_last_mdeg = 155000;
+    cfg.sweep_stops = 6u;
     cfg.explore_mode = mode;
     explore_init(&ex, &cfg);
     mapper_init(&mapper, &cfg);

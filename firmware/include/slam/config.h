@@ -83,10 +83,14 @@ typedef struct {
     int32_t mount_y_um;            /**< servo axis in the robot frame, left; 0 */
     int32_t mount_yaw_mdeg;        /**< extra yaw of the servo's 90° from straight ahead; 0 */
 
-    /* Sweep (§II.A): stops from first to last, then back, all timing in control ticks. */
-    int32_t sweep_first_mdeg;       /**< 65° */
-    int32_t sweep_last_mdeg;        /**< 155° */
-    uint8_t sweep_stops;            /**< 6 (18° apart) */
+    /* Sweep (§II.A): stops from first to last, then back, all timing in control ticks. The
+     * paper sweeps 65° to 155° in six stops (slam_config_paper()); the default reaches 90°
+     * to the right, where the wall the walls mode follows stands square to the beam, and
+     * 50° to the left: a real HC-SR04 answers a wall only near its normal (firmware/
+     * experiments.md, "Exploration": own-pose F1 0.82 -> 0.91 at the typical sonar). */
+    int32_t sweep_first_mdeg;       /**< 40° (the paper: 65°) */
+    int32_t sweep_last_mdeg;        /**< 180° (the paper: 155°) */
+    uint8_t sweep_stops;            /**< 8, 20° apart (the paper: 6, 18° apart) */
     uint8_t settle_ticks;           /**< servo travel + settle before the ping; 3 (30 ms) */
     uint8_t echo_timeout_ticks;     /**< give up on an echo after this; 4 (40 ms >= 38 ms) */
     uint16_t servo_pulse_0deg_us;   /**< servo pulse at 0°; 500 µs (SG90) */
@@ -146,7 +150,7 @@ void slam_config_default(slam_config_t *cfg);
  * Turn a configuration to the paper's method, leaving the robot's geometry alone: the pose
  * is odometry alone, OM counts hits (Eq. 6, OM_MODE_COUNT) and post-processing is the
  * paper's threshold TH 3, template (K 1: the paper's four neighbours erase one-cell walls)
- * and insert.
+ * and insert, and the sweep is the paper's, 65° to 155° in six stops.
  */
 void slam_config_paper(slam_config_t *cfg);
 

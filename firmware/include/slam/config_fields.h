@@ -96,11 +96,11 @@
     X(mount_yaw_mdeg, I32, 0, -20000, 20000, NONE, 24, LIVE,                                    \
       "-20000..20000 (a mounting error: the sonar faces forward)")                              \
     /* Sweep: it always takes in straight ahead, the servo's 90 degrees. */                     \
-    X(sweep_first_mdeg, I32, 65000, 0, 90000, NONE, 25, FIXED,                                  \
+    X(sweep_first_mdeg, I32, 40000, 0, 90000, NONE, 25, FIXED,                                  \
       "0..90000 (the sweep takes in straight ahead, 90 degrees)")                               \
-    X(sweep_last_mdeg, I32, 155000, 90000, 180000, NONE, 26, FIXED,                             \
+    X(sweep_last_mdeg, I32, 180000, 90000, 180000, NONE, 26, FIXED,                             \
       "90000..180000 (the sweep takes in straight ahead, 90 degrees)")                          \
-    X(sweep_stops, U8, 6, 1, SLAM_SWEEP_STOPS_MAX, STOPS, 27, FIXED,                            \
+    X(sweep_stops, U8, 8, 1, SLAM_SWEEP_STOPS_MAX, STOPS, 27, FIXED,                            \
       "1..16, and 1 only when sweep_first_mdeg equals sweep_last_mdeg")                         \
     X(settle_ticks, U8, 3, 1, UINT8_MAX, NONE, 28, FIXED, "1..255")                             \
     X(echo_timeout_ticks, U8, 4, 1, UINT8_MAX, NONE, 29, FIXED, "1..255")                       \

@@ -3,9 +3,9 @@
  * @file
  * Exploration (paper §II.E): where to drive next, from the sonar and the maps.
  *
- * The sweep sees from 25° left to 65° right of straight ahead (with the beam's 7.5° half
- * cone, 32.5° and 72.5°), so the left flank is blind: a wall that converges from the left
- * at less than about 12° is never met at an incidence that echoes. Every mode shares what
+ * The default sweep sees from 50° left to 90° right of straight ahead (the paper's from
+ * 25° left to 65° right), so the left flank is blind beyond it: a wall that converges
+ * from the left at a small angle is never met at an incidence that echoes. Every mode shares what
  * keeps the robot clear of what it cannot see:
  *
  * - An obstacle memory: the last EXPLORE_POINTS obstacle points the sonar placed inside
@@ -141,6 +141,20 @@ void explore_init(explore_t *e, const slam_config_t *cfg);
 void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
                   const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
                   int32_t target_mm_s[2]);
+
+/** Whether the exploration stands on purpose (EXPLORE_STOP): its mode stands still, the
+ *  square is done, or everything reachable has been explored. ISR-safe. */
+static inline bool explore_standing(const explore_t *e)
+{
+    return e->machine.state == EXPLORE_STOP;
+}
+
+/** Whether the exploration is done: it has explored every way it could reach, and
+ *  stands. ISR-safe. */
+static inline bool explore_explored(const explore_t *e)
+{
+    return e->machine.explored;
+}
 
 /**
  * Whether a remembered obstacle lies in the corridor ahead of a pose, closer than

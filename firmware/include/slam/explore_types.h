@@ -74,6 +74,7 @@ typedef struct {
     uint32_t leaves;     /**< walls mode: walls left for the least visited way */
     uint32_t doors;      /**< walls mode: openings passed */
     uint32_t seeks;      /**< walls mode: frontier blocks crossed to */
+    uint32_t escapes;    /**< places left for want of progress, and marked blocked */
 } explore_count_t;
 
 /** machine.c: the state, its clock and the random stream. */
@@ -86,6 +87,7 @@ typedef struct {
     uint8_t state;     /**< an explore_state_t */
     bool blind;        /**< the mode drives by odometry alone (the square): it does not look
                             after a turn, and neither deafness nor a stall stops it */
+    bool explored;     /**< every way it could reach has been explored: it stands (STOP) */
 } explore_machine_t;
 
 /** memory.c: what the sonar heard, the obstacle points, and the pass over them. */

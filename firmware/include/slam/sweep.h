@@ -3,8 +3,9 @@
  * @file
  * The servo sweep of the sonar (paper §II.A): a state machine run once per control tick.
  *
- * The servo visits its stops from the first angle to the last (65°, 83°, ... 155°: six
- * stops 18° apart by default) and then back from the last to the first, over and over;
+ * The servo visits its stops from the first angle to the last (40°, 60°, ... 180°: eight
+ * stops 20° apart by default; the paper's 65°, 83°, ... 155° with slam_config_paper()) and
+ * then back from the last to the first, over and over;
  * each direction visits every stop once, so every bearing is sampled equally often.
  * At each stop:
  *
