@@ -116,7 +116,7 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
     if (s == HAL_SONAR_ECHO || s == HAL_SONAR_TIMEOUT) {
         fake_hal.sonar_next = HAL_SONAR_IDLE; /* reported once */
     }
-    return s;
+    return (int)s;
 }
 
 uint8_t hal_bump_count(void)

@@ -128,7 +128,7 @@ static void test_wires_reach_the_world(void **state)
     hal_host_step();
     hal_host_step();
     hal_host_step();
-    hal_sonar_status_t st = hal_sonar_poll(HAL_SONAR_SWEPT, &w);
+    int st = hal_sonar_poll(HAL_SONAR_SWEPT, &w);
     assert_true(st == HAL_SONAR_ECHO || st == HAL_SONAR_TIMEOUT);
     if (st == HAL_SONAR_ECHO) {
         assert_int_equal(w, sim_last_ping(world).echo_us);

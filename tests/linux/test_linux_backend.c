@@ -140,7 +140,7 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 {
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
-        st = hal_sonar_poll(HAL_SONAR_SWEPT, w);
+        st = (hal_sonar_status_t)hal_sonar_poll(HAL_SONAR_SWEPT, w); /* never an error for sonar 0 */
         if (st == HAL_SONAR_BUSY) {
             wait_ms(1);
         }

@@ -207,7 +207,7 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
     static const char code[] = {'i', 'b', 'e', 't'};
     rec.poll = code[st];
     rec.echo_us = st == HAL_SONAR_ECHO ? *echo_us : 0u;
-    return st;
+    return (int)st;
 }
 
 size_t hal_uart_write(const uint8_t *data, size_t len)

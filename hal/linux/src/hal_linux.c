@@ -540,7 +540,7 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
     pthread_mutex_lock(&lx_sonar_lock);
     hal_sonar_status_t st = echo_poll(&lx.echo[sonar], lx_now(), echo_us);
     pthread_mutex_unlock(&lx_sonar_lock);
-    return st;
+    return (int)st;
 }
 
 uint8_t hal_bump_count(void)
