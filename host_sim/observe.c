@@ -125,7 +125,9 @@ static void progress_tick(run_t *r, const robot_t *robot, double x, double y, do
     if (robot->hold != 0u || explore_standing(&robot->explore)) {
         r->prog_t += TICK_S;
     }
-    if (hypot(x - r->prog_x, y - r->prog_y) >= PROGRESS_M) {
+    double dx = x - r->prog_x;
+    double dy = y - r->prog_y;
+    if (dx * dx + dy * dy >= PROGRESS_M * PROGRESS_M) { /* every tick: no hypot() */
         r->prog_x = x;
         r->prog_y = y;
         r->prog_t = t;
