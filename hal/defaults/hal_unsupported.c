@@ -2,8 +2,9 @@
 /*
  * The HAL's answers for what a backend does not have: no map storage (size 0 and
  * HAL_ENOSYS, as hal.h documents), no command input (hal_uart_read() never receives a
- * byte), no bump switches (count 0, HAL_ENOSYS), and no way to tell whether the UART has
- * a listener (hal_uart_has_reader(): it may). Each definition is weak, so a backend that
+ * byte), only the paper's servo and sonar (each count 1), no bump switches (count 0,
+ * HAL_ENOSYS), and no way to tell whether the UART has a listener (hal_uart_has_reader():
+ * it may). Each definition is weak, so a backend that
  * has the feature defines the call and its definition wins; one that lacks it links this
  * library and leaves the call out.
  *
@@ -65,6 +66,17 @@ __attribute__((weak)) int hal_storage_read(uint8_t slot, uint32_t offset, void *
     (void)data;
     (void)len;
     return HAL_ENOSYS;
+}
+
+/* The paper's servo and sonar, instance 0 of each, and no other. */
+__attribute__((weak)) uint8_t hal_servo_count(void)
+{
+    return 1u;
+}
+
+__attribute__((weak)) uint8_t hal_sonar_count(void)
+{
+    return 1u;
 }
 
 __attribute__((weak)) uint8_t hal_bump_count(void)

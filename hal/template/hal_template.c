@@ -4,10 +4,11 @@
  * a copy of this file (see README, "Porting to a new board"); each function says what the
  * real one must do. Calls that cannot work yet answer HAL_ENOSYS rather than pretend.
  *
- * Map storage (hal_storage_*), hal_uart_read(), hal_uart_has_reader() and the bump
- * switches (hal_bump_*) are optional: link hal_unsupported (hal/defaults) and a board
- * without them answers "no storage", "nothing received", "a listener may be there" and
- * "no switches".
+ * Map storage (hal_storage_*), hal_uart_read(), hal_uart_has_reader(), the instance
+ * counts (hal_servo_count(), hal_sonar_count()) and the bump switches (hal_bump_*) are
+ * optional: link hal_unsupported (hal/defaults) and a board without them answers "no
+ * storage", "nothing received", "a listener may be there", "the paper's servo and sonar
+ * only" and "no switches".
  * A board that has them defines them here, and its definitions replace the defaults.
  */
 #include "hal/hal.h"
@@ -51,16 +52,9 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     (void)duty;
 }
 
-uint8_t hal_servo_count(void)
-{
-    /* Instance 0 sweeps the paper's sonar; a board with more lists them in a table. */
-    return 1u;
-}
-
-uint8_t hal_sonar_count(void)
-{
-    return 1u;
-}
+/* Instance 0 sweeps the paper's sonar; hal_unsupported's hal_servo_count() and
+ * hal_sonar_count() answer 1. A board with more sensors lists them in a table and defines
+ * both counts. */
 
 int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {

@@ -131,17 +131,8 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     w.duty[wheel] = duty;
 }
 
-/* The scripted robot has the paper's servo and sonar (instance 0) only. */
-
-uint8_t hal_servo_count(void)
-{
-    return 1u;
-}
-
-uint8_t hal_sonar_count(void)
-{
-    return 1u;
-}
+/* The scripted robot has the paper's servo and sonar (instance 0) only (hal_servo_count()
+ * and hal_sonar_count() are hal_unsupported's 1). */
 
 int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {

@@ -197,17 +197,8 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty)
     rp.duty[wheel == HAL_WHEEL_RIGHT ? 1 : 0] = duty;
 }
 
-/* A trace records the paper's servo and sonar (instance 0) only: the replay has no other. */
-
-uint8_t hal_servo_count(void)
-{
-    return 1u;
-}
-
-uint8_t hal_sonar_count(void)
-{
-    return 1u;
-}
+/* A trace records the paper's servo and sonar (instance 0) only: the replay has no other
+ * (hal_servo_count() and hal_sonar_count() are hal_unsupported's 1). */
 
 int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
 {
