@@ -438,7 +438,9 @@ class Decoder:
         while True:
             i = buf.find(SYNC, pos)
             if i < 0:
-                keep = 1 if buf[-1:] == SYNC[:1] else 0
+                # A last A5 not yet looked at may be the first half of a sync; one that
+                # ended the frame just taken is not.
+                keep = 1 if end > pos and buf[end - 1] == SYNC[0] else 0
                 self.skipped += end - keep - pos
                 pos = end - keep
                 break
