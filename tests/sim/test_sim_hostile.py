@@ -150,7 +150,8 @@ for sig, folder in ((signal.SIGINT, sim.out("n7new")), (signal.SIGTERM, earlier)
     p = subprocess.Popen([sim.bin, "--no-plot", "--quiet", "--duration", "100000", "--out", folder],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     deadline = time.monotonic() + 120
-    while not hidden(folder) and time.monotonic() < deadline:
+    # (the logs are opened one after the other: wait for them all, not for the first)
+    while len(hidden(folder)) < 3 and time.monotonic() < deadline:
         time.sleep(0.05)
     check(len(hidden(folder)) >= 3, "N7: a run writes its logs under temporary names (%s)"
           % ", ".join(hidden(folder)))
