@@ -271,11 +271,12 @@ int parse_options(int argc, char **argv, options_t *o)
             o->has_seed = true;
         } else if (strcmp(a, "--cell") == 0) {
             if (!take(argc, argv, &i, 1)) {
-                return fail_usage("--cell needs whole millimetres between 5 and 1000");
+                return fail_usage("--cell needs whole millimetres between 20 and 1000");
             }
-            num_t r = parse_double(argv[i], 5.0, 1000.0, &o->cell_mm);
+            /* cell_um's range in config_fields.h, in millimetres. */
+            num_t r = parse_double(argv[i], 20.0, 1000.0, &o->cell_mm);
             if (r != NUM_OK) {
-                return bad_number("--cell", argv[i], r, 5.0, 1000.0);
+                return bad_number("--cell", argv[i], r, 20.0, 1000.0);
             }
             if (o->cell_mm != floor(o->cell_mm)) {
                 return fail_usage("--cell: '%.40s' is not whole millimetres", argv[i]);

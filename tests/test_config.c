@@ -70,6 +70,9 @@ BAD(start_y, c->start_y_um = -1000000001)
 BAD(start_h, c->start_heading_mdeg = 360001)
 BAD(cell_zero, c->cell_um = 0u)
 BAD(cell_huge, c->cell_um = 1000001u)
+BAD(cell_small, c->cell_um = 19999u)
+/* 20 mm cells: 15 rows of the corridor, 16 columns at most (a clearance below 160 mm). */
+BAD(corridor, c->cell_um = 20000u; c->clearance_um = 160000u; c->follow_um = 400000u)
 BAD(start_a, c->start_cell_a = (uint16_t)SLAM_GRID_A)
 BAD(start_b, c->start_cell_b = 0xFFFFu)
 BAD(om_max, c->om_max = 0u)
@@ -110,7 +113,8 @@ static void test_every_bad_field_is_named(void **state)
         {"cal_right", bad_cal_r},                     {"cal_base", bad_cal_b},
         {"start_x_um", bad_start_x},                  {"start_y_um", bad_start_y},
         {"start_heading_mdeg", bad_start_h},          {"cell_um", bad_cell_zero},
-        {"cell_um", bad_cell_huge},                   {"start_cell_a", bad_start_a},
+        {"cell_um", bad_cell_huge},                   {"cell_um", bad_cell_small},
+        {"clearance_um", bad_corridor},               {"start_cell_a", bad_start_a},
         {"start_cell_b", bad_start_b},                {"om_max", bad_om_max},
         {"tm_max", bad_tm_max},                       {"confidence_radius_um", bad_rc_small},
         {"confidence_radius_um", bad_rc_zero},        {"range_min_um", bad_range_min},
@@ -151,7 +155,8 @@ static void test_edges_of_valid_ranges_pass(void **state)
     c.encoder_counts_per_rev = 16u;
     c.cal_left = FIX_Q30_ONE / 2;
     c.cal_right = FIX_Q30_ONE + FIX_Q30_ONE / 2;
-    c.cell_um = 5000u;
+    c.cell_um = 20000u;
+    c.clearance_um = 159999u; /* the widest corridor 20 mm cells take */
     c.start_cell_a = (uint16_t)(SLAM_GRID_A - 1u);
     c.start_cell_b = 0u;
     c.sweep_stops = 1u;

@@ -72,7 +72,7 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->start_y_um = (int32_t)pick(s, -1000000000, 1000000000);
     c->start_heading_mdeg = (int32_t)pick(s, -360000, 360000);
     uint32_t side = SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B;
-    c->cell_um = (uint32_t)pick(s, 5000, 1000000000 / side < 1000000 ? 1000000000 / side : 1000000);
+    c->cell_um = (uint32_t)pick(s, 20000, 1000000000 / side < 1000000 ? 1000000000 / side : 1000000);
     c->start_cell_a = (uint16_t)pick(s, 0, SLAM_GRID_A - 1);
     c->start_cell_b = (uint16_t)pick(s, 0, SLAM_GRID_B - 1);
     c->om_max = (uint8_t)pick(s, 1, 255);
@@ -108,7 +108,10 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->cruise_mm_s = (uint16_t)pick(s, 1, c->top_speed_mm_s);
     c->turn_mm_s = (uint16_t)pick(s, 1, c->top_speed_mm_s);
     c->avoid_um = (uint32_t)pick(s, 50000, 4000000);
-    c->clearance_um = (uint32_t)pick(s, 10000, 1999999);
+    /* The widest clearance whose corridor ahead the cell size takes (config.h). */
+    uint32_t columns = SLAM_CORRIDOR_CELLS_MAX / slam_corridor_rows(c->cell_um);
+    uint32_t widest = (columns - 1u) * c->cell_um / 2u + c->cell_um / 2u - 1u;
+    c->clearance_um = (uint32_t)pick(s, 10000, widest < 1999999u ? widest : 1999999);
     c->follow_um = (uint32_t)pick(s, c->clearance_um < 50000u ? 50000 : c->clearance_um + 1u,
                                   2000000);
     c->square_side_um = (uint32_t)pick(s, 100000, 100000000);

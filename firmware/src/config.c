@@ -47,9 +47,10 @@ enum {
     RULE_PULSES,        /* servo_pulse_180deg_us != servo_pulse_0deg_us */
     RULE_THRESHOLD,     /* post_threshold below OMmax (counting) or the evidence limit */
     RULE_TOP_SPEED,     /* no faster than top_speed_mm_s */
-    RULE_ABOVE_CLEARANCE /* follow_um > clearance_um */
+    RULE_ABOVE_CLEARANCE, /* follow_um > clearance_um */
+    RULE_CORRIDOR         /* clearance_um · the corridor ahead fits SLAM_CORRIDOR_CELLS_MAX */
 };
-_Static_assert(RULE_ABOVE_CLEARANCE < 64, "a rule fits the six bits above a field's storage");
+_Static_assert(RULE_CORRIDOR < 64, "a rule fits the six bits above a field's storage");
 
 /* What a row of config_fields.h must agree with: its member exists and has the row's type
  * (a compile error names the member otherwise), rows follow the members' order (so the
@@ -169,6 +170,9 @@ static bool rule_holds(const slam_config_t *c, unsigned rule, uint32_t v)
         return v <= c->top_speed_mm_s;
     case RULE_ABOVE_CLEARANCE:
         return v > c->clearance_um;
+    case RULE_CORRIDOR:
+        return slam_corridor_rows(c->cell_um) * slam_corridor_columns(c->cell_um, v) <=
+               SLAM_CORRIDOR_CELLS_MAX;
     default:
         return true;
     }

@@ -31,6 +31,7 @@ typedef struct {
 #define PARTNERS_THRESHOLD "om_max om_mode"
 #define PARTNERS_TOP_SPEED "top_speed_mm_s"
 #define PARTNERS_ABOVE_CLEARANCE "clearance_um"
+#define PARTNERS_CORRIDOR "cell_um"
 
 /* The rows of config_fields.h. Their words are the only place the firmware's ranges are
  * said in words: the firmware names only the field. A leading "lo..hi" is the field's

@@ -91,7 +91,7 @@ check(filecmp.cmp(os.path.join(a, "readings.csv"), os.path.join(b, "readings.csv
 
 # Range errors give the key, the value, the range and who set it.
 for args, says in [
-    (["--set", "cell_um=0"], "--set cell_um=0: cell_um = 0 is out of its valid range: 5000..1000000"),
+    (["--set", "cell_um=0"], "--set cell_um=0: cell_um = 0 is out of its valid range: 20000..1000000"),
     (["--set", "sweep_stops=1"], "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"),
     (["--set", "top_speed_mm_s=150"],
      "--set top_speed_mm_s=150: cruise_mm_s = 200 is out of its valid range: 1..5000, at most "

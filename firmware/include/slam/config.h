@@ -33,6 +33,27 @@
 /** The most servo stops a sweep may have. */
 #define SLAM_SWEEP_STOPS_MAX 16u
 
+/** The corridor ahead that exploration reads on the map (explore/corridor.c): rows of
+ *  cells up to this far ahead of the axle, each as wide as twice clearance_um. */
+#define SLAM_CORRIDOR_REACH_UM 300000u
+/** The most cells the corridor may hold: it is read 8 cells a tick, so a pass over the
+ *  largest takes 0.3 s. The configuration check refuses a cell size and clearance whose
+ *  corridor would be larger (20 mm cells take a clearance below 160 mm). */
+#define SLAM_CORRIDOR_CELLS_MAX 240u
+
+/** The corridor's rows: the cells whose centres lie within the reach, one at least. */
+static inline uint32_t slam_corridor_rows(uint32_t cell_um)
+{
+    uint32_t rows = SLAM_CORRIDOR_REACH_UM / cell_um;
+    return rows < 1u ? 1u : rows;
+}
+
+/** The corridor's columns: cell-spaced samples spread over ±clearance_um. */
+static inline uint32_t slam_corridor_columns(uint32_t cell_um, uint32_t clearance_um)
+{
+    return 2u * clearance_um / cell_um + 1u;
+}
+
 /** What an OM cell holds (grid.h). */
 typedef enum {
     OM_MODE_COUNT = 0,    /**< the paper's Eq. 6: hits counted up to OMmax, nothing else */

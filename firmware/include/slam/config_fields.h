@@ -14,7 +14,7 @@
  * - lo, hi: the valid range, both included (signed for I32 and Q30).
  * - rule: what the field must hold besides its range, comparing it with other fields
  *   (config.c's RULE_*: NONE, CELL, ABOVE_MIN, STOPS, PULSES, THRESHOLD, TOP_SPEED,
- *   ABOVE_CLEARANCE); the field named when the rule fails is this one.
+ *   ABOVE_CLEARANCE, CORRIDOR); the field named when the rule fails is this one.
  * - id: its telemetry key for GET and SET (telemetry.h), 1..255. The ids are the
  *   protocol: never renumber one; a new field takes a new id, whatever its place.
  * - live: LIVE when SET may change it while the robot runs, FIXED when it takes effect
@@ -70,8 +70,8 @@
       FIXED, "-1000000000..1000000000")                                                         \
     X(start_heading_mdeg, I32, 0, -360000, 360000, NONE, 10, FIXED, "-360000..360000")          \
     /* Grids. */                                                                                \
-    X(cell_um, U32, 50000, 5000, 1000000, CELL, 11, FIXED,                                      \
-      "5000..1000000, and at most 1 km over the grid's longer side")                            \
+    X(cell_um, U32, 50000, 20000, 1000000, CELL, 11, FIXED,                                     \
+      "20000..1000000, and at most 1 km over the grid's longer side")                            \
     X(start_cell_a, U16, SLAM_GRID_A / 2, 0, SLAM_GRID_A - 1, NONE, 12, FIXED,                  \
       "0..65535, below the grid's cells along x")                                               \
     X(start_cell_b, U16, SLAM_GRID_B / 2, 0, SLAM_GRID_B - 1, NONE, 13, FIXED,                  \
@@ -127,8 +127,8 @@
     X(turn_mm_s, U16, 100, 1, UINT16_MAX, TOP_SPEED, 41, LIVE,                                  \
       "1..5000, at most top_speed_mm_s")                                                        \
     X(avoid_um, U32, 300000, 50000, 4000000, NONE, 42, LIVE, "50000..4000000")                  \
-    X(clearance_um, U32, 130000, 10000, 2000000, NONE, 43, LIVE,                                \
-      "10000..2000000, below follow_um")                                                        \
+    X(clearance_um, U32, 130000, 10000, 2000000, CORRIDOR, 43, LIVE,                            \
+      "10000..2000000, below follow_um; the corridor ahead at most 240 cells")                                                        \
     X(square_side_um, U32, 1500000, 100000, 100000000, NONE, 44, LIVE, "100000..100000000")     \
     X(square_laps, U8, 1, 0, UINT8_MAX, NONE, 45, LIVE, "0..255 (0: for ever)")                 \
     X(explore_seed, U32, 1, 1, UINT32_MAX, NONE, 46, LIVE, "1..4294967295 (not 0)")             \

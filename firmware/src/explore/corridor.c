@@ -2,18 +2,16 @@
 /* The corridor ahead on the map: occupied cells the body would sweep, a few a tick. */
 #include "sight.h"
 
-#define EXPLORE_MAP_REACH_UM 300000 /* the corridor is read on the map this far ahead */
-#define EXPLORE_MAP_ALONG 12u       /* rows of the corridor read, at most */
-#define EXPLORE_MAP_ACROSS 8u       /* and columns */
-#define EXPLORE_MAP_CELLS 8u        /* cells read a tick */
+#define EXPLORE_MAP_CELLS 8u /* cells read a tick */
 
+_Static_assert(SLAM_CORRIDOR_CELLS_MAX <= UINT8_MAX, "the corridor's walk counts in a byte");
+
+/* The whole corridor at every cell size: slam_config_check() refuses a cell size and
+ * clearance whose corridor would not fit SLAM_CORRIDOR_CELLS_MAX, so nothing is cut. */
 void explore_corridor_init(explore_t *e, const slam_config_t *cfg)
 {
-    uint32_t along = EXPLORE_MAP_REACH_UM / cfg->cell_um;
-    uint32_t across = 2u * cfg->clearance_um / cfg->cell_um + 1u;
-    e->corridor.along =
-        (uint8_t)(along < 1u ? 1u : (along > EXPLORE_MAP_ALONG ? EXPLORE_MAP_ALONG : along));
-    e->corridor.across = (uint8_t)(across > EXPLORE_MAP_ACROSS ? EXPLORE_MAP_ACROSS : across);
+    e->corridor.along = (uint8_t)slam_corridor_rows(cfg->cell_um);
+    e->corridor.across = (uint8_t)slam_corridor_columns(cfg->cell_um, cfg->clearance_um);
 }
 
 /*
