@@ -16,17 +16,25 @@ bytes). The simulator is deterministic: the same build gives the same numbers.
 Generators:
   make-sim   README.md: what `make sim` prints; host_sim/figures/default_room.png, its
              figure.png (the README's first picture)
+  headline   README.md: the table of "How good the maps are", the paper's row included,
+             and the runs' wall coverage and touches: every shipped room x seeds 1-10,
+             ten minutes, at the default (typical) sonar (180 runs, under a minute)
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;
 2 bad options.
 """
 import difflib
 import filecmp
+import glob
+import json
 import os
 import re
 import shutil
 import subprocess
+import statistics
 import sys
 import tempfile
+import textwrap
+from concurrent.futures import ThreadPoolExecutor
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BLOCK = re.compile(r"(<!-- figures: ([a-z0-9-]+) -->\n)(.*?)(<!-- /figures -->)", re.S)
@@ -51,7 +59,67 @@ def make_sim(host_sim, work):
                                   os.path.join(out, "figure.png")}
 
 
-GENERATORS = {"make-sim": make_sim}
+# The rows of the README's table: what each runs beyond the default robot.
+HEADLINE_ROWS = (
+    ("the paper's map (`--paper --set localize=0`: hit counts, TH 3, K 1, insert; odometry "
+     "alone)", ["--paper", "--set", "localize=0"]),
+    ("free-space evidence, odometry alone (`--set localize=0`)", ["--set", "localize=0"]),
+    ("free-space evidence and the pose correction (the default)", []),
+)
+HEADLINE_SEEDS = 10
+
+
+def headline_run(host_sim, out, args):
+    """One ten-minute run; its metrics.json read, its folder removed."""
+    p = subprocess.run([host_sim, "--out", out, "--no-plot", "--quiet", "--duration", "600"]
+                       + args, cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                       text=True)
+    if p.returncode != 0:
+        raise Failed("host_sim %s exited %d:\n%s" % (" ".join(args), p.returncode, p.stderr))
+    with open(os.path.join(out, "metrics.json"), encoding="utf-8") as f:
+        m = json.load(f)
+    shutil.rmtree(out, ignore_errors=True)
+    return m
+
+
+def headline(host_sim, work):
+    """The README's table: mean final F1 from the robot's own pose and from the true poses,
+    the median final heading error, over every shipped room x seeds 1..10; then the
+    default robot's wall coverage and the runs that touched."""
+    rooms = sorted(glob.glob(os.path.join(SRC, "host_sim", "rooms", "*.room")))
+    jobs = [(r, room, seed) for r in range(len(HEADLINE_ROWS)) for room in rooms
+            for seed in range(1, HEADLINE_SEEDS + 1)]
+
+    def one(job):
+        r, room, seed = job
+        name = "headline-%d-%s-%d" % (r, os.path.basename(room)[:-5], seed)
+        return r, headline_run(host_sim, os.path.join(work, name),
+                               ["--room", os.path.relpath(room, SRC), "--seed", str(seed)]
+                               + HEADLINE_ROWS[r][1])
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        done = list(pool.map(one, jobs))
+    lines = ["| method | F1 from the robot's own pose | F1 at the true poses | "
+             "heading error, median |", "|---|---|---|---|"]
+    for r, (label, _) in enumerate(HEADLINE_ROWS):
+        ms = [m for i, m in done if i == r]
+        own = statistics.mean(m["maps"]["odometry"]["insert"]["f1"] for m in ms)
+        true = statistics.mean(m["maps"]["perfect_odometry"]["insert"]["f1"] for m in ms)
+        head = statistics.median(m["odometry"]["final_heading_deg"] for m in ms)
+        bold = "**%s**" if r == len(HEADLINE_ROWS) - 1 else "%s"
+        lines.append("| %s | %s | %s | %s |" % (label, bold % ("%.3f" % own),
+                                                bold % ("%.3f" % true),
+                                                bold % ("%.1f°" % head)))
+    ms = [m for i, m in done if i == len(HEADLINE_ROWS) - 1]
+    cover = statistics.mean(m["exploration"]["wall_coverage"] for m in ms)
+    touched = sum(1 for m in ms if m["exploration"]["first_touch"] is not None)
+    lines += [""] + textwrap.wrap(
+        "With the default robot the sonar looked at %.0f %% of the walls from within 1 m "
+        "(wall coverage %.2f), and %d of the %d runs touched an obstacle."
+        % (100 * cover, cover, touched, len(ms)), width=90)
+    return {"README.md": "\n".join(lines) + "\n"}, {}
+
+
+GENERATORS = {"make-sim": make_sim, "headline": headline}
 
 
 def blocks_of(page):
