@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""A generated room's model and its furniture, for tools/roomgen.py.
+"""A generated room's model and its furniture, for slamtools/roomgen.py.
 
 A Scene is a room or a flat in whole millimetres: outer walls (zero-width rectangles),
 inner walls and furniture (axis-parallel boxes), legs and bins (circles), the doors, and
@@ -12,8 +12,8 @@ Every number comes from one Draw, the seed's stream.
 """
 import random
 
-import roomfile
-from roomfile import CELL, START_CLEAR
+from . import roomfile
+from .roomfile import CELL, START_CLEAR
 
 GAP = 600          # mm: furniture touches a wall or another piece, or keeps this far away
 DOOR_KEEP = 800    # mm in front of a door, on both sides, kept free of furniture
