@@ -13,7 +13,7 @@ from simtest import Sim, check
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
 import compare  # noqa: E402  (tools/ is on the path only now)
-import mapscore  # noqa: E402
+from slamtools import mapscore  # noqa: E402
 
 tool = os.path.join(sim.src, "tools", "mapscore.py")
 

@@ -7,7 +7,7 @@ the *parts* of its floor (rooms, hall) that must all be reachable. A Region is t
 being furnished, with the faces of its walls and its convex corners. Furniture is placed
 by one rule that keeps passages open: a piece touches a wall or another piece, or keeps
 GAP away from it (tables and screens always keep GAP), and nothing stands before a door;
-place_start() then checks the whole on the 5 cm raster of tools/roomfile.py.
+place_start() then checks the whole on the 5 cm raster of roomfile.py.
 Every number comes from one Draw, the seed's stream.
 """
 import random
