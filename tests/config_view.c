@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* Prints what the compiled C makes of every configuration field and exploration mode, for
- * tests/test_config_tables.py to hold against tools/slamlink.py's reading of the tables.
+ * tests/test_config_tables.py to hold against tools/slamtools/link.py's reading of the tables.
  *
  * Each fact comes from the code that uses it, not from the table alone: the names, their
  * order, the defaults and the types from the text configuration (cfgtext_*), the keys and

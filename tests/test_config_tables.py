@@ -3,11 +3,12 @@
 """C, the text configuration and the Python tools agree on every configuration field
 (name, order, type, default, range, telemetry key, live, words) and every exploration mode:
 tests/config_view.c prints what the compiled C does with config_fields.h and
-explore_modes.h, and tools/slamlink.py's own reading of those headers must match it.
+explore_modes.h, and tools/slamtools/link.py's own reading of those headers must match it.
 
 usage: test_config_tables.py CONFIG_VIEW SOURCE_DIR [HOST_SIM]"""
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -17,7 +18,7 @@ if len(sys.argv) < 3:
 view, src = sys.argv[1], sys.argv[2]
 host_sim = sys.argv[3] if len(sys.argv) > 3 else None
 sys.path.insert(0, os.path.join(src, "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 failures = []
 
@@ -91,14 +92,13 @@ if host_sim:
 # inside the parser.
 with tempfile.TemporaryDirectory(prefix="slam-config-tables-") as work:
     os.mkdir(os.path.join(work, "tools"))
-    with open(os.path.join(src, "tools", "slamlink.py")) as fh, \
-            open(os.path.join(work, "tools", "slamlink.py"), "w") as out_fh:
-        out_fh.write(fh.read())
+    shutil.copytree(os.path.join(src, "tools", "slamtools"), os.path.join(work, "tools", "slamtools"),
+                    ignore=shutil.ignore_patterns("__pycache__"))
     p = subprocess.run([sys.executable, "-c", "import sys; sys.path.insert(0, %r)\n"
-                        "import slamlink" % os.path.join(work, "tools")],
+                        "from slamtools import link" % os.path.join(work, "tools")],
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     last = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else ""
-    check(p.returncode != 0 and last.startswith("slamlink.TableError: cannot read ") and
+    check(p.returncode != 0 and last.startswith("slamtools.link.TableError: cannot read ") and
           "config_fields.h" in last, "slamlink away from the source tree says why: %s" % last)
 
 if failures:

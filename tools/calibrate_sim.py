@@ -25,19 +25,15 @@ import os
 import subprocess
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import umbmark  # noqa: E402
+from slamtools import umbmark
+from slamtools.errors import FAILED, ToolError, main as tool_main
+from slamtools.runs import SRC
 
-SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_WRITE = os.path.join(SRC, "host_sim", "calibration", "default_robot.conf")
 SIDE_MM = 1500     # fits the default 5 m x 4 m room both ways from its start pose
 PAUSE_S = 2        # the simulated person is quick
 TARGET = 10.0      # Borenstein & Feng report 10-22x on real robots
 VERIFY_SEEDS = 5   # fresh random errors the calibration is verified on
-
-
-class Failed(Exception):
-    pass
 
 
 def round_of(host_sim, out, seed, side_mm, calibration, extra, title):
@@ -55,15 +51,15 @@ def round_of(host_sim, out, seed, side_mm, calibration, extra, title):
     p = subprocess.run(args, stdout=subprocess.PIPE,
                        stderr=None if title else subprocess.DEVNULL, text=True)
     if p.returncode != 0:
-        raise Failed("host_sim failed (exit %d): %s" % (p.returncode, " ".join(args)))
+        raise ToolError("host_sim failed (exit %d): %s" % (p.returncode, " ".join(args)), FAILED)
     try:
         a, text = umbmark.calibrate(os.path.join(out, "umbmark.csv"),
                                     os.path.join(out, "config.txt"))
-    except umbmark.Bad as e:
-        raise Failed("the runs of %s: %s" % (out, e))
+    except ToolError as e:
+        raise ToolError("the runs of %s: %s" % (out, e), FAILED) from None
     if a["n_cw"] + a["n_ccw"] != 2 * umbmark.RUNS_EACH_WAY:
-        raise Failed("%s: %d runs measured, not %d (the run ended early?)"
-                     % (out, a["n_cw"] + a["n_ccw"], 2 * umbmark.RUNS_EACH_WAY))
+        raise ToolError("%s: %d runs measured, not %d (the run ended early?)"
+                        % (out, a["n_cw"] + a["n_ccw"], 2 * umbmark.RUNS_EACH_WAY), FAILED)
     if title:
         print("  E_max,syst = %.1f mm (centres of gravity: cw %.1f mm, ccw %.1f mm)"
               % (a["e_max_syst"], a["r_cw"], a["r_ccw"]), flush=True)
@@ -87,23 +83,17 @@ def main(argv):
             opts[argv[i]] = argv[i + 1]
             i += 2
             continue
-        print("calibrate_sim.py: unknown option or missing value '%s' (--help)" % argv[i],
-              file=sys.stderr)
-        return 2
+        raise ToolError("unknown option or missing value '%s' (--help)" % argv[i])
     try:
         side_mm = float(opts["--side-mm"])
         seed = int(opts["--seed"])
         nverify = int(opts["--verify"])
     except ValueError:
-        print("calibrate_sim.py: --side-mm, --seed and --verify take numbers", file=sys.stderr)
-        return 2
+        raise ToolError("--side-mm, --seed and --verify take numbers") from None
     if not 1 <= nverify <= 100:
-        print("calibrate_sim.py: --verify N: N must lie in 1..100", file=sys.stderr)
-        return 2
+        raise ToolError("--verify N: N must lie in 1..100")
     if not os.access(host_sim, os.X_OK):
-        print("calibrate_sim.py: %s is not a program (build host_sim first)" % host_sim,
-              file=sys.stderr)
-        return 2
+        raise ToolError("%s is not a program (build host_sim first)" % host_sim)
     out = opts["--out"]
     os.makedirs(out, exist_ok=True)
     print("UMBmark on the simulated robot: a %.2f m square, %d runs each way, a tape of +-5 mm"
@@ -129,9 +119,8 @@ def main(argv):
                           before["e_max_syst"], after["e_max_syst"]))
             print("  seed %3d: E_max,syst before %6.1f mm, after %5.1f mm: %6.1fx"
                   % (s, before["e_max_syst"], after["e_max_syst"], gains[-1][0]), flush=True)
-    except (Failed, OSError) as e:
-        print("calibrate_sim.py: %s" % e, file=sys.stderr)
-        return 1
+    except OSError as e:
+        raise ToolError(str(e), FAILED) from None
     worst = min(gains)
     ordered = sorted(g[0] for g in gains)
     median = ordered[len(ordered) // 2] if len(ordered) % 2 else \
@@ -148,16 +137,13 @@ def main(argv):
     try:
         umbmark.write_atomic(opts["--write"], header + cal_text)
     except OSError as e:
-        print("calibrate_sim.py: cannot write %s: %s" % (opts["--write"], e.strerror),
-              file=sys.stderr)
-        return 1
+        raise ToolError("cannot write %s: %s" % (opts["--write"], e.strerror), FAILED) from None
     print("calibration written to %s" % opts["--write"])
     if worst[0] < TARGET:
-        print("calibrate_sim.py: UMBmark cut E_max,syst only %.1fx on seed %d (expected at "
-              "least %.0fx)" % (worst[0], worst[1], TARGET), file=sys.stderr)
-        return 1
+        raise ToolError("UMBmark cut E_max,syst only %.1fx on seed %d (expected at least %.0fx)"
+                        % (worst[0], worst[1], TARGET), FAILED)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    tool_main(main, sys.argv[1:])

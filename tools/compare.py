@@ -35,7 +35,8 @@ import sys
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
-import mapscore
+from slamtools import mapscore
+from slamtools.errors import FAILED, ToolError, main as tool_main
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -69,13 +70,20 @@ VARIANTS = (
 )
 
 
-class CompareError(Exception):
-    """A step that failed; the message says which and why. `status` is the exit status:
-    2 when a program refused its input (a malformed room file, say), else 1."""
+def score_file(path, truth, observable):
+    """mapscore's score of a map this comparison made: one it cannot read is a failure of
+    the comparison (exit 1), not bad input."""
+    try:
+        return mapscore.score_file(path, truth, observable)
+    except ToolError as e:
+        raise ToolError(str(e), FAILED) from None
 
-    def __init__(self, msg, status=1):
-        super().__init__(msg)
-        self.status = status
+
+def load_truth(run_dir):
+    try:
+        return mapscore.load_truth(run_dir)
+    except ToolError as e:
+        raise ToolError(str(e), FAILED) from None
 
 
 def parse_seeds(text):
@@ -94,7 +102,7 @@ def parse_seeds(text):
 def run(cmd, what):
     p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        raise CompareError("%s failed (exit %d): %s\n%s%s" % (what, p.returncode, " ".join(cmd),
+        raise ToolError("%s failed (exit %d): %s\n%s%s" % (what, p.returncode, " ".join(cmd),
                                                              p.stdout, p.stderr),
                            2 if p.returncode == 2 else 1)
     return p
@@ -109,7 +117,7 @@ def callgrind(cmd, toggles, out_file, what):
         for line in f:
             if line.startswith("summary:") or line.startswith("totals:"):
                 return int(line.split()[1])
-    raise CompareError("%s: no instruction total in %s" % (what, out_file))
+    raise ToolError("%s: no instruction total in %s" % (what, out_file), FAILED)
 
 
 POSE_KEYS = ("x_m", "y_m", "th_rad")
@@ -156,7 +164,7 @@ def config_value(run_dir, key):
     with open(os.path.join(run_dir, "config.txt")) as f:
         m = re.search(r"(?m)^%s\s*=\s*(\S+)" % re.escape(key), f.read())
     if m is None:
-        raise CompareError("%s/config.txt: no %s" % (run_dir, key))
+        raise ToolError("%s/config.txt: no %s" % (run_dir, key), FAILED)
     return float(m.group(1))
 
 
@@ -167,11 +175,11 @@ def estimate_log(run_dir, out_path):
     est_path = os.path.join(run_dir, "scoring_estimate.csv")
     ehead, est = read_csv(est_path)
     if len(est) != len(rows):
-        raise CompareError("%s: %d rows, readings.csv has %d" % (est_path, len(est), len(rows)))
+        raise ToolError("%s: %d rows, readings.csv has %d" % (est_path, len(est), len(rows)), FAILED)
     t = ehead.index("t_s")
     for r, e in zip(rows, est):
         if r[0] != e[t]:
-            raise CompareError("%s: a row of t_s %s, readings.csv's is %s" % (est_path, e[t], r[0]))
+            raise ToolError("%s: a row of t_s %s, readings.csv's is %s" % (est_path, e[t], r[0]), FAILED)
     cols = [ehead.index("est_" + k) for k in POSE_KEYS]
     write_log(out_path, head, rows, [[e[c] for c in cols] for e in est])
 
@@ -202,10 +210,10 @@ def check_scorer(run_dir, truth, observable):
     with open(os.path.join(run_dir, "metrics.json")) as f:
         maps = json.load(f)["maps"]
     for pgm, which in (("om.pgm", "odometry"), ("om_ideal.pgm", "perfect_odometry")):
-        mine = mapscore.score_file(os.path.join(run_dir, pgm), truth, observable)
+        mine = score_file(os.path.join(run_dir, pgm), truth, observable)
         if not same_4(mine, maps[which]["raw"]):
-            raise CompareError("%s/%s: the scorer gives %s, metrics.json %s" % (
-                run_dir, pgm, mine, maps[which]["raw"]))
+            raise ToolError("%s/%s: the scorer gives %s, metrics.json %s" % (
+                run_dir, pgm, mine, maps[which]["raw"]), FAILED)
 
 
 def one_run(a, room, seed, variants, count):
@@ -215,7 +223,7 @@ def one_run(a, room, seed, variants, count):
     d = os.path.join(a.out, name)
     run([a.host_sim, "--room", room, "--seed", str(seed), "--duration", str(a.duration),
          "--out", d, "--no-plot", "--quiet", "--scoring"], "host_sim " + name)
-    truth, observable = mapscore.load_truth(d)
+    truth, observable = load_truth(d)
     check_scorer(d, truth, observable)
     res = {"room": name.rsplit("-", 1)[0], "seed": seed, "variants": {}}
 
@@ -231,8 +239,8 @@ def one_run(a, room, seed, variants, count):
     with open(os.path.join(fw_dir, "om.pgm"), "rb") as f1, \
             open(os.path.join(d, "om_ideal.pgm"), "rb") as f2:
         if f1.read() != f2.read():
-            raise CompareError("%s: the replay from the true poses differs from om_ideal.pgm" % d)
-    res["firmware"] = mapscore.score_file(os.path.join(fw_dir, "om.pgm"), truth, observable)
+            raise ToolError("%s: the replay from the true poses differs from om_ideal.pgm" % d, FAILED)
+    res["firmware"] = score_file(os.path.join(fw_dir, "om.pgm"), truth, observable)
 
     pgm = os.path.join(d, "octomap.pgm")
     cmd = octomap_cmd(a.octomap, d, VARIANTS[0][1], pgm)
@@ -242,23 +250,23 @@ def one_run(a, room, seed, variants, count):
                                       os.path.join(d, "octomap.callgrind.out"), what)
     else:
         run(cmd, what)
-    res["octomap"] = mapscore.score_file(pgm, truth, observable)
+    res["octomap"] = score_file(pgm, truth, observable)
 
     # From the estimated poses: the run's own map, and OctoMap from the same estimate.
-    res["firmware_est"] = mapscore.score_file(os.path.join(d, "om.pgm"), truth, observable)
+    res["firmware_est"] = score_file(os.path.join(d, "om.pgm"), truth, observable)
     est = os.path.join(d, "readings_estimate.csv")
     estimate_log(d, est)
     pgm = os.path.join(d, "octomap_estimate.pgm")
     run(octomap_cmd(a.octomap, d, VARIANTS[0][1], pgm, est, "odom"),
         "OctoMap on %s from the estimated poses" % name)
-    res["octomap_est"] = mapscore.score_file(pgm, truth, observable)
+    res["octomap_est"] = score_file(pgm, truth, observable)
     for k, (label, args) in enumerate(variants):
         if label == CHOSEN:
             res["variants"][label] = res["octomap"]
             continue
         pgm = os.path.join(d, "variant%d.pgm" % k)
         run(octomap_cmd(a.octomap, d, args, pgm), "OctoMap (%s) on %s" % (label, name))
-        res["variants"][label] = mapscore.score_file(pgm, truth, observable)
+        res["variants"][label] = score_file(pgm, truth, observable)
     return res
 
 
@@ -398,25 +406,21 @@ def main():
         return r
 
     irs = {}
-    try:
+    with ThreadPoolExecutor(max_workers=a.jobs) as ex:
+        results = list(ex.map(job, work))
+    results.sort(key=lambda r: (r["room"], r["seed"]))
+    if variants:
+        first = next(r for r in results if "octomap_ir" in r)
+        d = os.path.join(a.out, "%s-%d" % (first["room"], first["seed"]))
+        irs = {"run": "%s, seed %d" % (first["room"], first["seed"]),
+               "firmware": first["firmware_ir"] / first["readings"],
+               CHOSEN: first["octomap_ir"] / first["readings"]}
+        print("  counting the instructions of every OctoMap setting on %s" % irs["run"],
+              file=sys.stderr, flush=True)
+        ks = [k for k, (label, _) in enumerate(VARIANTS) if label != CHOSEN]
         with ThreadPoolExecutor(max_workers=a.jobs) as ex:
-            results = list(ex.map(job, work))
-        results.sort(key=lambda r: (r["room"], r["seed"]))
-        if variants:
-            first = next(r for r in results if "octomap_ir" in r)
-            d = os.path.join(a.out, "%s-%d" % (first["room"], first["seed"]))
-            irs = {"run": "%s, seed %d" % (first["room"], first["seed"]),
-                   "firmware": first["firmware_ir"] / first["readings"],
-                   CHOSEN: first["octomap_ir"] / first["readings"]}
-            print("  counting the instructions of every OctoMap setting on %s" % irs["run"],
-                  file=sys.stderr, flush=True)
-            ks = [k for k, (label, _) in enumerate(VARIANTS) if label != CHOSEN]
-            with ThreadPoolExecutor(max_workers=a.jobs) as ex:
-                for k, ir in zip(ks, ex.map(lambda k: variant_instructions(a, d, k), ks)):
-                    irs[VARIANTS[k][0]] = ir / first["readings"]
-    except (CompareError, mapscore.ScoreError) as e:
-        print("compare: %s" % e, file=sys.stderr)
-        return getattr(e, "status", 1)
+            for k, ir in zip(ks, ex.map(lambda k: variant_instructions(a, d, k), ks)):
+                irs[VARIANTS[k][0]] = ir / first["readings"]
     rooms = [os.path.splitext(os.path.basename(r))[0] for r in a.rooms]
     with open(os.path.join(a.out, "compare.json"), "w") as f:
         json.dump({"octomap": {"setting": CHOSEN, "args": VARIANTS[0][1]}, "runs": results,
@@ -439,4 +443,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    tool_main(main)

@@ -39,8 +39,10 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
-import roomgen
-from sim_report import BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg
+from slamtools import roomgen
+from slamtools.errors import ToolError, main as tool_main
+from slamtools.runs import (BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg, percentile,
+                            std_error)
 
 BANDS = ((0, 12, "under 12 m²"), (12, 25, "12–25 m²"), (25, 40, "25–40 m²"),
          (40, math.inf, "over 40 m²"))
@@ -172,17 +174,6 @@ def run_all(args, jobs):
     return done, failed, time.monotonic() - t0
 
 
-def percentile(xs, q):
-    """The q-th percentile (0..100), linear between the nearest ranks."""
-    xs = sorted(xs)
-    if not xs:
-        return math.nan
-    pos = (len(xs) - 1) * q / 100.0
-    lo = int(pos)
-    hi = min(lo + 1, len(xs) - 1)
-    return xs[lo] + (xs[hi] - xs[lo]) * (pos - lo)
-
-
 def summarise(runs):
     """The summary of (status, figures) pairs: counts, and for each figure its mean,
     standard error, 5th and 95th percentile over the runs that fit the grid."""
@@ -195,7 +186,7 @@ def summarise(runs):
     for key in ("f1", "gap", "position_m", "heading_deg", "wall_coverage"):
         xs = [f[key] for f in ok]
         out[key] = {"mean": statistics.mean(xs) if xs else math.nan,
-                    "se": statistics.stdev(xs) / math.sqrt(len(xs)) if len(xs) > 1 else math.nan,
+                    "se": std_error(xs),
                     "p5": percentile(xs, 5), "p95": percentile(xs, 95)}
     return out
 
@@ -324,9 +315,7 @@ def main():
         ap.error("--jobs and --seeds need at least 1; --rooms, --flats and --first-seed "
                  "cannot be negative")
     if not os.path.exists(args.host_sim):
-        print("corpus_report: %s not found: build it first (make sim)" % args.host_sim,
-              file=sys.stderr)
-        sys.exit(2)
+        raise ToolError("%s not found: build it first (make sim)" % args.host_sim)
     if args.quick:
         args.seeds, args.rooms = min(args.seeds, 2), min(args.rooms, 6)
         args.flats = min(args.flats, 2)
@@ -345,8 +334,8 @@ def main():
         len(done), wall, args.jobs, path), file=sys.stderr)
     for msg in failed:
         print("failed: %s" % msg, file=sys.stderr)
-    sys.exit(1 if failed else 0)
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":
-    main()
+    tool_main(main)

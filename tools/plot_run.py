@@ -24,20 +24,19 @@ Exit status: 0 drawn; 1 the picture could not be written; 2 nothing to draw in T
 import csv
 import json
 import os
-import stat
 import struct
 import sys
 import zlib
 
-import slamlink
+from slamtools import link as slamlink, pgm
+from slamtools.errors import ToolError, main as tool_main
 
 MAGIC = 0x4D414C53  # "SLAM": mapstore.h
 # What a tool believes of a header before it allocates by it: a grid of GRID_SIDE_MIN ..
 # GRID_SIDE_MAX cells a side (grid.h), a header of at most a KiB, and files of at most
-# FILE_MAX bytes: a record of the largest grid is 32 MiB; an MCU's flash is 1 MiB, a Linux
-# robot's slot at most 16 MiB (storage_bytes), an image of the largest grid 16 MiB.
+# pgm.FILE_MAX bytes: a record of the largest grid is 32 MiB; an MCU's flash is 1 MiB, a
+# Linux robot's slot at most 16 MiB (storage_bytes), an image of the largest grid 16 MiB.
 HEADER_MAX = 1024
-FILE_MAX = 64 << 20
 HEADER = struct.Struct("<IHHHHIiiIIiiIBBBBII")
 HEADER_NAMES = ("magic", "version", "header_bytes", "a", "b", "cell_um", "origin_x_um",
                 "origin_y_um", "seq", "ticks", "pose_x_um", "pose_y_um", "pose_heading",
@@ -45,75 +44,6 @@ HEADER_NAMES = ("magic", "version", "header_bytes", "a", "b", "cell_um", "origin
 MAP_NAMES = (("truth", "ground truth"), ("om", "OM: obstacle map"),
              ("om_post", "OM after post-processing"), ("om_ideal", "OM from the true poses"),
              ("tm", "TM: trajectory map"))
-
-
-class Fatal(Exception):
-    def __init__(self, msg, status=2):
-        super().__init__(msg)
-        self.status = status
-
-
-def read_limited(path):
-    """A whole file of at most FILE_MAX bytes (never reading more than a byte beyond);
-    Fatal when it is larger, not a regular file, or cannot be read."""
-    try:
-        if not stat.S_ISREG(os.stat(path).st_mode):  # a FIFO would wait, a device never end
-            raise Fatal("%s: not a regular file" % path)
-        with open(path, "rb") as f:
-            data = f.read(FILE_MAX + 1)
-    except OSError as e:
-        raise Fatal("%s: %s" % (path, e.strerror))
-    if len(data) > FILE_MAX:
-        raise Fatal("%s: larger than %d bytes: no map of a robot's grid is" % (path, FILE_MAX))
-    return data
-
-
-def read_pgm(path):
-    """A binary PGM as rows top-down (a numpy array); Fatal when it is not one, or larger
-    than a grid can be (GRID_SIDE_MAX cells a side)."""
-    import numpy as np
-    data = read_limited(path)
-    fields, pos = [], 0
-    try:
-        while len(fields) < 4:
-            while data[pos:pos + 1].isspace():
-                pos += 1
-            if data[pos:pos + 1] == b"#":
-                pos = data.index(b"\n", pos) + 1
-                continue
-            end = pos
-            while end < len(data) and not data[end:end + 1].isspace():
-                end += 1
-            fields.append(data[pos:end])
-            pos = end
-        w = slamlink.parse_int(fields[1].decode("ascii"), 1)
-        h = slamlink.parse_int(fields[2].decode("ascii"), 1)
-        if fields[0] != b"P5" or len(data) < pos + 1 + w * h:
-            raise ValueError
-    except (ValueError, IndexError, UnicodeDecodeError):
-        raise Fatal("%s: not a binary PGM (P5) map" % path)
-    if w > slamlink.GRID_SIDE_MAX or h > slamlink.GRID_SIDE_MAX:
-        raise Fatal("%s: %d x %d pixels, larger than a grid can be (%d a side)"
-                    % (path, w, h, slamlink.GRID_SIDE_MAX))
-    return np.frombuffer(data[pos + 1:pos + 1 + w * h], dtype=np.uint8).reshape(h, w)
-
-
-def read_yaml_geometry(path):
-    """resolution and origin of a ROS map_server YAML (the two keys a figure needs)."""
-    geo = {}
-    try:
-        for line in read_limited(path).decode("utf-8").splitlines():
-            key, _, value = line.partition(":")
-            if key.strip() == "resolution":
-                geo["resolution"] = slamlink.parse_real(value.strip(), 1e-6, 1e4)
-            elif key.strip() == "origin":
-                geo["origin"] = [slamlink.parse_real(v.strip(), -1e7, 1e7)
-                                 for v in value.strip().strip("[]").split(",")[:2]]
-    except (ValueError, UnicodeDecodeError):
-        raise Fatal("%s: not a ROS map YAML" % path)
-    if "resolution" not in geo or len(geo.get("origin", [])) != 2:
-        raise Fatal("%s: no resolution or origin" % path)
-    return geo
 
 
 def records(data, where):
@@ -172,7 +102,7 @@ def figure_of_run(out, plt):
                     path[k][0].append(float(row[k + "_x_m"]))
                     path[k][1].append(float(row[k + "_y_m"]))
     except (OSError, ValueError, KeyError, TypeError) as e:
-        raise Fatal("%s: not a complete host_sim output (%s)" % (out, e))
+        raise ToolError("%s: not a complete host_sim output (%s)" % (out, e))
     extent = [ox, ox + a * cell, oy, oy + b * cell]
     panels = [("truth", "ground truth"),
               ("om", "raw OM (F1 %.2f)" % maps["raw"]["f1"]),
@@ -180,11 +110,11 @@ def figure_of_run(out, plt):
               ("tm", "trajectory map TM")]
     fig, axes = plt.subplots(1, 5, figsize=(22, 5))
     for ax, (name, title) in zip(axes, panels):
-        ax.imshow(read_pgm(os.path.join(out, name + ".pgm")), cmap="gray", vmin=0, vmax=255,
+        ax.imshow(pgm.read(os.path.join(out, name + ".pgm")), cmap="gray", vmin=0, vmax=255,
                   extent=extent, interpolation="nearest")
         label(ax, title)
     ax = axes[4]
-    ax.imshow(read_pgm(os.path.join(out, "truth.pgm")), cmap="gray", vmin=0, vmax=255,
+    ax.imshow(pgm.read(os.path.join(out, "truth.pgm")), cmap="gray", vmin=0, vmax=255,
               extent=extent, interpolation="nearest", alpha=0.5)
     ax.plot(*path["true"], color="tab:green", lw=1.0, label="true path")
     ax.plot(*path["odom"], color="tab:red", lw=1.0, label="odometry")
@@ -205,11 +135,11 @@ def pgm_panels(folder):
     """The maps of a folder that have their YAML: (title, image, extent)."""
     panels = []
     for name, title in MAP_NAMES:
-        pgm = os.path.join(folder, name + ".pgm")
+        image = os.path.join(folder, name + ".pgm")
         yaml = os.path.join(folder, name + ".yaml")
-        if os.path.isfile(pgm) and os.path.isfile(yaml):
-            img = read_pgm(pgm)
-            geo = read_yaml_geometry(yaml)
+        if os.path.isfile(image) and os.path.isfile(yaml):
+            img = pgm.read(image)
+            geo = pgm.read_yaml(yaml)
             res, (ox, oy) = geo["resolution"], geo["origin"]
             h, w = img.shape
             panels.append((title + " (%s.pgm)" % name, img,
@@ -260,7 +190,7 @@ def main(argv):
     if "--out" in args:
         i = args.index("--out")
         if i + 1 >= len(args):
-            raise Fatal("--out needs a file name")
+            raise ToolError("--out needs a file name")
         out_png = args[i + 1]
         del args[i:i + 2]
     if len(args) != 1 or args[0] in ("-h", "--help"):
@@ -268,13 +198,13 @@ def main(argv):
         return 0 if args and args[0] in ("-h", "--help") else 2
     target = args[0]
     if not os.path.exists(target):
-        raise Fatal("%s: no such file or folder" % target)
+        raise ToolError("%s: no such file or folder" % target)
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError as e:
-        raise Fatal("%s (install: tools/install-deps.sh sim)" % e)
+        raise ToolError("%s (install: tools/install-deps.sh sim)" % e)
 
     if os.path.isdir(target):
         png = out_png or os.path.join(target, "figure.png")
@@ -285,37 +215,30 @@ def main(argv):
             recs = []
             for name in sorted(os.listdir(target)):
                 if name.startswith("slot") and name.endswith(".bin"):
-                    recs += records(read_limited(os.path.join(target, name)), name)
+                    recs += records(pgm.read_file(os.path.join(target, name)), name)
             if recs:
                 panels += record_panels(recs, quiet)
             if not panels:
-                raise Fatal("%s holds nothing to draw: no metrics.json (a host_sim run), no "
+                raise ToolError("%s holds nothing to draw: no metrics.json (a host_sim run), no "
                             "om.pgm with om.yaml (a replay, a robot's maps), no slot*.bin "
                             "with a good map record" % target)
             fig = figure_of_maps(panels, os.path.abspath(target), plt)
     else:
         png = out_png or os.path.splitext(target)[0] + ".png"
-        recs = records(read_limited(target), os.path.basename(target))
+        recs = records(pgm.read_file(target), os.path.basename(target))
         if not recs:
-            raise Fatal("%s holds no map record whose CRCs check out (a dump of the storage "
+            raise ToolError("%s holds no map record whose CRCs check out (a dump of the storage "
                         "flash or a slot file is expected)" % target)
         fig = figure_of_maps(record_panels(recs, quiet), os.path.abspath(target), plt)
     fig.tight_layout()
     try:
         fig.savefig(png, dpi=90, metadata={"Software": None})
     except OSError as e:
-        raise Fatal("cannot write %s: %s" % (png, e.strerror), 1)
+        raise ToolError("cannot write %s: %s" % (png, e.strerror), 1)
     if not quiet:
         print("plot_run: wrote %s" % png)
     return 0
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main(sys.argv))
-    except Fatal as e:
-        print("plot_run: %s" % e, file=sys.stderr)
-        sys.exit(e.status)
-    except MemoryError:  # the limits keep every array small; this is the last word
-        print("plot_run: out of memory", file=sys.stderr)
-        sys.exit(1)
+    tool_main(main, sys.argv)

@@ -32,8 +32,9 @@ import os
 import statistics
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sim_report import SRC, ROOMS, add_host_arg, cores, mean, run_all  # noqa: E402
+from slamtools import pgm
+from slamtools.errors import ToolError, main as tool_main
+from slamtools.runs import ROOMS, SRC, add_host_arg, cores, mean, median, run_all
 
 MODES = (("off", "0"), ("on", "1"))
 LONG = (3600, 36000)  # s: the 1-hour and 10-hour runs
@@ -41,14 +42,6 @@ LONG_SEEDS = 12  # a ten-hour run's outcome turns on small differences: one seed
 # Odometry without an error of any kind, systematic or not (--perfect-odometry).
 PERFECT_ODOMETRY = ["--error", "ed=1", "--error", "eb=1", "--error", "noise=0",
                     "--error", "slip=0", "--calibration", "none"]
-
-
-def median(xs):
-    xs = sorted(xs)
-    n = len(xs)
-    if n == 0:
-        return float("nan")
-    return xs[n // 2] if n % 2 else 0.5 * (xs[n // 2 - 1] + xs[n // 2])
 
 
 def rooms():
@@ -194,7 +187,7 @@ def report(args):
           % (", ".join(worse) if worse else "none"))
     if args.figure:
         if not longs:
-            sys.exit("pose_report: --figure draws the long runs: leave out --no-long")
+            raise ToolError("--figure draws the long runs: leave out --no-long")
         figure(args, base, longs[0])
 
 
@@ -231,17 +224,16 @@ def figure(args, base, name):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        from plot_run import read_pgm
     except ImportError as e:
-        sys.exit("pose_report: %s (tools/install-deps.sh sim)" % e)
+        raise ToolError("%s (tools/install-deps.sh sim)" % e, 1)
     fig, axes = plt.subplots(1, 4, figsize=(19, 4.6))
     folders = {mode: os.path.join(base, "%s-%s-1" % (name, mode)) for mode, _ in MODES}
     panels = ((folders["off"], "om.pgm", "without correction (odometry alone)"),
               (folders["on"], "om.pgm", "with the pose correction"),
               (folders["on"], "truth.pgm", "the room (truth)"))
     crop = room_window(os.path.join(folders["on"], "metrics.json"))
-    for ax, (folder, pgm, title) in zip(axes[:3], panels):
-        ax.imshow(read_pgm(os.path.join(folder, pgm))[crop], cmap="gray", vmin=0, vmax=255)
+    for ax, (folder, image, title) in zip(axes[:3], panels):
+        ax.imshow(pgm.read(os.path.join(folder, image))[crop], cmap="gray", vmin=0, vmax=255)
         ax.set_title("%s, %s" % (title, "%g min" % (int(name[4:]) / 60.0)), fontsize=10)
         ax.set_xticks([])
         ax.set_yticks([])
@@ -283,9 +275,9 @@ def main():
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs need at least 1")
     if not os.path.exists(args.host_sim):
-        sys.exit("pose_report: %s not found: build it first (make sim)" % args.host_sim)
+        raise ToolError("%s not found: build it first (make sim)" % args.host_sim)
     report(args)
 
 
 if __name__ == "__main__":
-    main()
+    tool_main(main)

@@ -31,28 +31,15 @@ out/report); its logs and maps are deleted once read, unless --keep.
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
-import json
 import math
 import os
-import subprocess
-import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
 
-SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-ROOMS = os.path.join(SRC, "host_sim", "rooms")
+from slamtools.errors import ToolError, main as tool_main
+from slamtools.runs import BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg, cores, mean, run_all
+
 STEPS = ("raw", "threshold", "template", "insert")
 ACCELS = (300, 10000)  # mm/s²: moderate, and so great that the motors limit it
 MODES = ("walls", "random", "tm")  # the default first
-# Building maps of other projects (each with its licence in its folder), and the part of
-# each the robot explores: the crops host_building_maps loads.
-BUILDINGS = (
-    ("edu_room", "edu_room/edu_room_cropped.yaml", None),
-    ("intel_lab", "intel_lab/intel.yaml", (5.0, 5.0, 12.0, 10.0)),
-    ("willow_garage", "willow_garage/willow-2010-02-18-0.10.yaml", (20.0, 20.0, 12.0, 12.0)),
-    ("utexas_gdc_3ne", "utexas_gdc_3ne/3ne.yaml", (-20.0, -10.0, 12.0, 10.0)),
-)
-BUILDING_S = 1800
 # The sonar's realism levels (host_sim --sonar), the default in the middle.
 SONAR_LEVELS = ("optimistic", "typical", "pessimistic")
 
@@ -123,93 +110,6 @@ def fault_rows(group, baseline):
             rows.append(("%s, level %d" % (what, k + 1), (" ".join(args), floor),
                          group("fault-%s-%d" % (name, k + 1))))
     return rows
-
-
-# What a run writes that grows with its length: deleted once its metrics.json is read,
-# unless the run is kept (--keep, or a figure draws it), so that a report's hundreds of
-# runs leave megabytes, not gigabytes (the ten-hour runs' logs alone are 70 MB each).
-BULKY_FILES = ("readings.csv", "trajectory.csv", "scoring_estimate.csv")
-BULKY_EXT = (".pgm", ".yaml")
-
-
-def bulky(out):
-    return [n for n in os.listdir(out) if n in BULKY_FILES or n.endswith(BULKY_EXT)]
-
-
-def run(bin_, out, args, keep=False):
-    """One host_sim run (cached: an existing metrics.json of the same args and the same
-    host_sim binary is reused; a rebuilt binary runs again, and so does a run to keep whose
-    files were deleted). Unless keep, its bulky files are deleted once it is read."""
-    stamp = os.path.join(out, "args.json")
-    key = {"args": [str(a) for a in args], "host_sim_mtime_ns": os.stat(bin_).st_mtime_ns}
-    cached = False
-    if os.path.exists(stamp) and os.path.exists(os.path.join(out, "metrics.json")):
-        with open(stamp) as f:
-            cached = json.load(f) == key and \
-                (not keep or os.path.exists(os.path.join(out, "trajectory.csv")))
-    if not cached:
-        cmd = [bin_, "--quiet", "--no-plot", "--out", out] + [str(a) for a in args]
-        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        if p.returncode != 0:
-            sys.exit("sim_report: %s failed:\n%s" % (" ".join(cmd), p.stderr))
-        with open(stamp, "w") as f:
-            json.dump(key, f)
-    with open(os.path.join(out, "metrics.json")) as f:
-        m = json.load(f)
-    if not keep:
-        for name in bulky(out):
-            os.remove(os.path.join(out, name))
-    return m
-
-
-def cores():
-    """The processors this process may run on: every one, unless an affinity mask (taskset,
-    a container) leaves it fewer."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:
-        return os.cpu_count() or 2
-
-
-def duration(args):
-    """The simulated seconds a run's arguments ask for (host_sim's default: 600)."""
-    a = [str(x) for x in args]
-    if "--duration" in a[:-1]:
-        try:
-            return float(a[a.index("--duration") + 1])
-        except ValueError:
-            pass
-    return 600.0
-
-
-def run_all(bin_, base, jobs, workers, what="sim_report", keep=lambda name: False):
-    """jobs: {name: args}; returns {name: metrics}, running `workers` at a time, the longest
-    runs first (a ten-hour run started last would finish alone on one core), and says on
-    stderr how long it took. keep(name): whether that run keeps its bulky files."""
-    names = sorted(jobs)
-    order = sorted(names, key=lambda n: -duration(jobs[n]))
-    fresh = []
-    t0 = time.monotonic()
-
-    def one(n):
-        stamp = os.path.join(base, n, "args.json")  # run() rewrites it when it runs
-        before = os.stat(stamp).st_mtime_ns if os.path.exists(stamp) else None
-        m = run(bin_, os.path.join(base, n), jobs[n], keep(n))
-        if before is None or os.stat(stamp).st_mtime_ns != before:
-            fresh.append(n)
-        return m
-
-    with ThreadPoolExecutor(max_workers=workers) as ex:
-        done = dict(zip(order, ex.map(one, order)))
-    print("%s: %d runs of host_sim (%d reused) in %.0f s, %d at a time"
-          % (what, len(names), len(names) - len(fresh), time.monotonic() - t0, workers),
-          file=sys.stderr)
-    return {n: done[n] for n in names}
-
-
-def mean(xs):
-    xs = list(xs)
-    return sum(xs) / len(xs) if xs else float("nan")
 
 
 def post_means(ms, which="odometry"):
@@ -561,7 +461,7 @@ def figure(args, res, group, base):
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError as e:
-        sys.exit("sim_report: %s (tools/install-deps.sh sim)" % e)
+        raise ToolError("%s (tools/install-deps.sh sim)" % e, 1)
     fig, axes = plt.subplots(1, 3, figsize=(17, 4.6))
     ax = axes[0]
     labels = ("raw", "threshold", "template", "insert", "tuned")
@@ -616,14 +516,6 @@ def figure(args, res, group, base):
     print("\n(figure: %s)" % args.figure)
 
 
-def add_host_arg(ap, example):
-    """--host-arg, as sim_report and pose_report take it: one more host_sim argument for
-    every run."""
-    ap.add_argument("--host-arg", action="append", default=[], metavar="ARG",
-                    help="one more host_sim argument for every run (repeatable), for example "
-                    + example)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument("--host-sim", default=os.path.join(SRC, "build", "host", "host_sim", "host_sim"))
@@ -645,13 +537,11 @@ def main():
     add_host_arg(ap, "--host-arg=--set --host-arg=sweep_stops=7")
     args = ap.parse_args()
     if not os.path.exists(args.host_sim):
-        print("sim_report: %s not found: build it first (make sim)" % args.host_sim,
-              file=sys.stderr)
-        sys.exit(2)
+        raise ToolError("%s not found: build it first (make sim)" % args.host_sim)
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs need a positive number")
     report(args)
 
 
 if __name__ == "__main__":
-    main()
+    tool_main(main)

@@ -49,30 +49,22 @@ import stat
 import sys
 import time
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import slamlink  # noqa: E402
-from slamlink import SYNC, Decoder, decode, reading_status  # noqa: E402,F401  (the API)
+from slamtools import link as slamlink, pgm
+from slamtools.errors import ToolError, main as tool_main
+from slamtools.link import SYNC, Decoder, decode, reading_status  # noqa: F401  (the API)
 
 BAM = slamlink.BAM
-
-
-class Fatal(Exception):
-    """A message for the user and an exit status; never a traceback."""
-
-    def __init__(self, msg, status=2):
-        super().__init__(msg)
-        self.status = status
 
 
 def open_port(path, baud):
     try:
         import serial
     except ImportError:
-        raise Fatal("reading %s needs python3-serial (tools/install-deps.sh sim)" % path)
+        raise ToolError("reading %s needs python3-serial (tools/install-deps.sh sim)" % path)
     try:
         return serial.Serial(path, baud, timeout=0.1)
     except (serial.SerialException, OSError) as e:
-        raise Fatal("cannot open %s: %s" % (path, e))
+        raise ToolError("cannot open %s: %s" % (path, e))
 
 
 class Source:
@@ -87,9 +79,9 @@ class Source:
         try:
             mode = os.stat(path).st_mode
         except OSError as e:
-            raise Fatal("%s: %s" % (path, e.strerror))
+            raise ToolError("%s: %s" % (path, e.strerror))
         if stat.S_ISDIR(mode):
-            raise Fatal("%s is a directory: give a serial device or a telemetry log file" % path)
+            raise ToolError("%s is a directory: give a serial device or a telemetry log file" % path)
         self.path = path
         self.device = stat.S_ISCHR(mode)
         self.follow = follow
@@ -104,7 +96,7 @@ class Source:
             try:
                 f = open(path, "rb")
             except OSError as e:
-                raise Fatal("%s: %s" % (path, e.strerror))
+                raise ToolError("%s: %s" % (path, e.strerror))
             self.read = lambda: f.read(65536)
 
     def __iter__(self):
@@ -114,7 +106,7 @@ class Source:
             try:
                 data = self.read()
             except OSError as e:
-                raise Fatal("reading %s: %s" % (self.path, e), 1)
+                raise ToolError("reading %s: %s" % (self.path, e), 1)
             if data:
                 last_data = time.monotonic()
             elif not self.device and self.until_idle is not None and \
@@ -139,9 +131,9 @@ class Source:
         return self.dec.bad + self.malformed
 
     def summary(self, prog):
-        """A line on stderr: what was read; Fatal when nothing valid was."""
+        """A line on stderr: what was read; a ToolError when nothing valid was."""
         if self.frames == 0:
-            raise Fatal("%s holds no telemetry frame (%d bytes outside frames, %d frames "
+            raise ToolError("%s holds no telemetry frame (%d bytes outside frames, %d frames "
                         "with a bad CRC or length)" % (self.path, self.dec.skipped, self.bad))
         if self.bad:
             print("telemetry %s: %d frames read, %d bad frames skipped (bad CRC or length)"
@@ -235,9 +227,9 @@ def cmd_view(args):
         import matplotlib.pyplot as plt
         import numpy as np
     except ImportError as e:
-        raise Fatal("%s (tools/install-deps.sh sim)" % e)
+        raise ToolError("%s (tools/install-deps.sh sim)" % e)
     if not args.png and matplotlib.get_backend().lower() not in INTERACTIVE:
-        raise Fatal("no display to draw on (matplotlib backend '%s'%s). Draw into a "
+        raise ToolError("no display to draw on (matplotlib backend '%s'%s). Draw into a "
                     "picture instead: tools/telemetry.py view %s --png view.png%s"
                     % (matplotlib.get_backend(), "" if os.environ.get("DISPLAY") else
                        ", DISPLAY is not set", args.source,
@@ -287,7 +279,7 @@ def cmd_to_readings(args):
     rows go to the file as they are read: memory stays the same for a log of any length."""
     src = Source(args.log, args.baud, False)
     if src.device:
-        raise Fatal("%s is a device: record a log first (cat %s > run.log, or "
+        raise ToolError("%s is a device: record a log first (cat %s > run.log, or "
                     "host_sim --telemetry FILE)" % (args.log, args.log))
     out = args.out or os.path.splitext(args.log)[0] + "-readings"
     hello = None
@@ -301,7 +293,7 @@ def cmd_to_readings(args):
         os.makedirs(out, exist_ok=True)
         f = open(tmp, "w")
     except OSError as e:
-        raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+        raise ToolError("cannot write into %s: %s" % (out, e.strerror), 1)
     done = False
     try:
         with f:
@@ -322,11 +314,11 @@ def cmd_to_readings(args):
                     drops = fr["drops"]
         src.summary("to-readings")
         if hello is None:
-            raise Fatal("%s has no HELLO frame with the sonar's settings (the firmware "
+            raise ToolError("%s has no HELLO frame with the sonar's settings (the firmware "
                         "sends one every 5 s; a log from before telemetry version 2 lacks them)"
                         % args.log)
         if not rows:
-            raise Fatal("%s has no READING frame" % args.log)
+            raise ToolError("%s has no READING frame" % args.log)
         # The grid's origin is start - (cell (0, 0)) - half a cell: with the start in cell
         # (0, 0), start = origin + half a cell, whatever the robot's own start cell was.
         half = hello["cell_um"] // 2
@@ -346,7 +338,7 @@ def cmd_to_readings(args):
         os.replace(tmp, csv_path)
         done = True
     except OSError as e:
-        raise Fatal("cannot write into %s: %s" % (out, e.strerror), 1)
+        raise ToolError("cannot write into %s: %s" % (out, e.strerror), 1)
     finally:
         if not done:  # a log that gives nothing leaves nothing behind
             if os.path.exists(tmp):
@@ -377,26 +369,20 @@ def write_text(path, text):
 def write_pgm(out, name, img, geo, yaml):
     """An image (first row the northern one) as the simulator writes it: PGM, and the ROS
     YAML of a trinary map when yaml is set (TM has none: it is not a map to load)."""
-    h, w = img.shape
-    with open(os.path.join(out, name + ".pgm"), "wb") as f:
-        f.write(b"P5\n%d %d\n255\n" % (w, h) + img.tobytes())
+    pgm.write(os.path.join(out, name + ".pgm"), img)
     if yaml:
-        write_text(os.path.join(out, name + ".yaml"), slamlink.MAP_YAML % (
-            name, slamlink.um_text(geo["cell_um"]), slamlink.um_text(geo["origin_x_um"]),
-            slamlink.um_text(geo["origin_y_um"])))
+        write_text(os.path.join(out, name + ".yaml"),
+                   pgm.yaml_text(name, geo["cell_um"], geo["origin_x_um"], geo["origin_y_um"]))
 
 
 def cmd_send(args):
-    try:
-        data = slamlink.command(args.words)
-    except slamlink.CommandError as e:
-        raise Fatal("%s" % e)
+    data = slamlink.command(args.words)
     try:
         mode = os.stat(args.port).st_mode
     except OSError as e:
-        raise Fatal("%s: %s" % (args.port, e.strerror))
+        raise ToolError("%s: %s" % (args.port, e.strerror))
     if not stat.S_ISCHR(mode):
-        raise Fatal("%s is not a serial device or a pseudo-terminal" % args.port)
+        raise ToolError("%s is not a serial device or a pseudo-terminal" % args.port)
     port = open_port(args.port, args.baud)
     port.write(data)
     port.flush()
@@ -435,13 +421,13 @@ def cmd_send(args):
         if want_map and geo and map_complete(have, geo):
             break
     if answer is None:
-        raise Fatal("%s did not answer within %g s" % (args.port, args.wait), 1)
+        raise ToolError("%s did not answer within %g s" % (args.port, args.wait), 1)
     if answer["type"] == "error":
-        raise Fatal("the robot refused it: %s" % slamlink.ERROR_TEXT.get(
+        raise ToolError("the robot refused it: %s" % slamlink.ERROR_TEXT.get(
             slamlink.ERRORS.get(answer["code"]), "code %d" % answer["code"]), 1)
     if want_map:
         if geo is None or not map_complete(have, geo):
-            raise Fatal("the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
+            raise ToolError("the maps did not arrive whole within %g s (--wait)" % args.wait, 1)
         os.makedirs(args.out, exist_ok=True)
         import numpy as np
         grids = [np.zeros((geo["b"], geo["a"]), np.uint8) for _ in range(2)]
@@ -460,29 +446,21 @@ def map_complete(have, geo):
 
 
 def cmd_frame(args):
-    try:
-        print(slamlink.command(args.words).hex(" "))
-    except slamlink.CommandError as e:
-        raise Fatal("%s" % e)
+    print(slamlink.command(args.words).hex(" "))
 
 
 def cmd_serve(args):
-    import ws_bridge
+    from slamtools import bridge
     try:
-        ws_bridge.serve(args.source, args.host, args.port, args.baud, args.follow,
-                        record=args.record)
-    except ws_bridge.BridgeError as e:
-        raise Fatal(str(e))
+        bridge.serve(args.source, args.host, args.port, args.baud, args.follow,
+                     record=args.record)
     except KeyboardInterrupt:
         pass
 
 
 def cmd_to_bag(args):
-    import rosbag_out
-    try:
-        n = rosbag_out.log_to_bag(args.log, args.out, args.fov, args.max_range)
-    except rosbag_out.BagError as e:
-        raise Fatal(str(e), e.status)
+    from slamtools import rosbag
+    n = rosbag.log_to_bag(args.log, args.out, args.fov, args.max_range)
     print("telemetry to-bag: wrote %s: %s" % (args.out, ", ".join(
         "%d on %s" % (c, t) for t, c in sorted(n.items()))))
 
@@ -558,9 +536,9 @@ def main(argv=None):
     signal.signal(signal.SIGINT, stop)
     try:
         handlers[args.command](args)
-    except Fatal as e:
-        print("telemetry %s: %s" % (args.command, e), file=sys.stderr)
-        return e.status
+    except ToolError as e:
+        e.prog = e.prog or "telemetry " + args.command
+        raise
     except MemoryError:
         # The limits above keep every array a frame asks for small; this is the last word
         # when the machine has less memory than even that needs.
@@ -584,4 +562,4 @@ def frames(path, baud=115200, follow=False):
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    tool_main(main)

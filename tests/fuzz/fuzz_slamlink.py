@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""Property-based tests of the Python side of the link (tools/slamlink.py), with Debian's
+"""Property-based tests of the Python side of the link (tools/slamtools/link.py), with Debian's
 python3-hypothesis: the telemetry decoder (Decoder, decode, describe), the command
 encoder (command) and the rule for numbers (parse_int, parse_real).
 
@@ -21,7 +21,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 try:
     from hypothesis import HealthCheck, example, given, settings, strategies as st

@@ -11,7 +11,7 @@ from simtest import Sim, check
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-from sim_report import BUILDINGS  # noqa: E402
+from slamtools.runs import BUILDINGS  # noqa: E402
 
 maps = os.path.join(sim.src, "host_sim", "maps")
 for name, yaml, crop in BUILDINGS:

@@ -12,7 +12,7 @@ from simtest import Sim, check
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import umbmark  # noqa: E402
+from slamtools import umbmark  # noqa: E402
 
 TOLERANCE = 1e-4  # 0.01 %: 0.3 mm of return error on the 1.5 m square
 shipped_path = os.path.join(sim.src, "host_sim", "calibration", "default_robot.conf")

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 """One rule for numbers in text, in every reader: decimal only, the whole text, no blanks.
 
-tools/slamlink.py's parse_int() and parse_real() against tests/data/numbers.txt (the table
+tools/slamtools/link.py's parse_int() and parse_real() against tests/data/numbers.txt (the table
 tests/test_number.c holds the C rule to), then each reader given '0x10' (which strtod, and
 Python's int(x, 0), read as 16) and ' 5': refused with a message, exit 2, nothing written.
 """
@@ -15,7 +15,7 @@ from simtest import Sim, check
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 # ---- the Python rule against the shared table ---------------------------------------------
 cases = 0

@@ -64,7 +64,7 @@ from simtest import Sim, check, fail  # noqa: E402
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import umbmark  # noqa: E402
+from slamtools import umbmark  # noqa: E402
 
 with open(os.path.join(sim.src, "README.md")) as f:
     blocks = dict(BLOCK.findall(f.read()))

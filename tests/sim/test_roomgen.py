@@ -14,7 +14,7 @@ from simtest import Sim, check, fail
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import roomfile  # noqa: E402
+from slamtools import roomfile  # noqa: E402
 
 ROOMGEN = os.path.join(sim.src, "tools", "roomgen.py")
 ROOMS, FLATS = 200, 30

@@ -9,10 +9,12 @@ import filecmp
 import importlib.util
 import math
 import os
+import sys
 
 from simtest import Sim, check, fail
 
 sim = Sim()
+sys.path.insert(0, os.path.join(sim.src, "tools"))  # the tool imports slamtools
 spec = importlib.util.spec_from_file_location("telemetry", os.path.join(sim.src, "tools", "telemetry.py"))
 telemetry = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(telemetry)

@@ -17,7 +17,7 @@ from simtest import Sim, check
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import umbmark  # noqa: E402  (the calibration file's reader)
+from slamtools import umbmark  # noqa: E402  (the calibration file's reader)
 
 
 def config_of(out):

@@ -37,6 +37,7 @@ OPTIMISTIC = ("dropout", "servo_stall")
 fault = sys.argv.pop(3) if len(sys.argv) > 3 else None
 SONAR = ("--sonar", "optimistic") if fault in OPTIMISTIC else ()
 sim = Sim()
+sys.path.insert(0, os.path.join(sim.src, "tools"))  # the tool imports slamtools
 spec = importlib.util.spec_from_file_location(
     "sim_report", os.path.join(sim.src, "tools", "sim_report.py"))
 report = importlib.util.module_from_spec(spec)

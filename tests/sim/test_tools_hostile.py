@@ -23,7 +23,7 @@ from simtest import Sim, check
 
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 TOOLS = os.path.join(sim.src, "tools")
 CEILING = 768 << 20  # address space for a tool: ample for numpy and matplotlib, not for 8 GiB
@@ -193,7 +193,7 @@ for value in ("inf", "1e400", "-inf", "nan", "1e308"):
           "N2: frame set cal_left %s: exit 2, a message (%s)" % (value, p.stderr.strip()))
 
 # ---- the decoder's work on adversarial bytes -------------------------------------------------
-# Lines of slamlink.py run per byte fed, counted by a tracer: the CRC in Python cost about
+# Lines of slamtools/link.py run per byte fed, counted by a tracer: the CRC in Python cost about
 # 500 lines a sync of length 255 (about 130 a byte, ~100 KB/s); now a few per sync.
 
 

@@ -13,7 +13,8 @@ from simtest import Sim, check
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
 import compare  # noqa: E402  (tools/ is on the path only now)
-import mapscore  # noqa: E402
+from slamtools import mapscore  # noqa: E402
+from slamtools.errors import ToolError  # noqa: E402
 
 tool = os.path.join(sim.src, "tools", "mapscore.py")
 
@@ -112,7 +113,7 @@ with open(os.path.join(run, "scoring_estimate.csv"), "w") as f:
 try:
     compare.estimate_log(run, est)
     check(False, "an estimate log with a row missing is refused")
-except compare.CompareError as e:
+except ToolError as e:
     check("scoring_estimate.csv" in str(e), "an estimate log with a row missing is refused: %s" % e)
 
 # Bad input: a message naming the file, exit 2.

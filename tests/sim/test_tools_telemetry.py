@@ -19,7 +19,7 @@ from simtest import Sim, check
 sim = Sim()
 tool = os.path.join(sim.src, "tools", "telemetry.py")
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 
 def run_tool(*args, env=None):
@@ -38,7 +38,7 @@ fields = re.findall(r"^\s+\w+ (\w+);", struct_body, re.M)
 ids = [k for k, _, _, _ in slamlink.KEYS]
 check([f.name for f in slamlink.FIELDS] == fields and len(set(ids)) == len(ids) and
       sorted(slamlink.KEY_IDS) == sorted(fields),
-      "tools/slamlink.py's %d keys are config_fields.h's, one per slam_config_t field" % len(ids))
+      "tools/slamtools/link.py's %d keys are config_fields.h's, one per slam_config_t field" % len(ids))
 
 log = sim.out("run.log")
 sim.run("--duration", 30, "--seed", 3, "--out", sim.out("run"), "--telemetry", log)

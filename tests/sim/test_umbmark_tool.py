@@ -15,7 +15,7 @@ from simtest import Sim, check
 sim = Sim()
 tool = os.path.join(sim.src, "tools", "umbmark.py")
 sys.path.insert(0, os.path.join(sim.src, "tools"))
-import umbmark  # noqa: E402
+from slamtools import umbmark  # noqa: E402
 
 
 def run_tool(*args):

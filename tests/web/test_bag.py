@@ -16,7 +16,7 @@ from webtest import check, fail
 
 sys.path.insert(0, os.path.join(sys.argv[2], "tools"))
 sys.path.insert(0, os.path.join(sys.argv[2], "tests", "sim"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 from simtest import Sim  # noqa: E402
 
 try:

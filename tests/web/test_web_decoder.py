@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """The page's decoder (tools/web/protocol.js, in headless Chromium) agrees with the Python
-one (tools/slamlink.py, which tools/telemetry.py dump runs) frame for frame on every
+one (tools/slamtools/link.py, which tools/telemetry.py dump runs) frame for frame on every
 recorded stream the tests have: the telemetry fuzz corpus, host_sim runs (the paper's
 hit counts, commands answered and refused), and those streams damaged (bytes flipped, cut,
 dropped, doubled, noise): the same frames, the same counts of bad frames and skipped
@@ -20,7 +20,7 @@ if len(sys.argv) < 3:
     sys.exit("usage: %s HOST_SIM SOURCE_DIR" % sys.argv[0])
 HOST_SIM, SRC = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(SRC, "tools"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 
 sys.path.insert(0, os.path.join(SRC, "tests", "sim"))
 from simtest import Sim  # noqa: E402

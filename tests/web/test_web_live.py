@@ -22,7 +22,7 @@ from webtest import check, fail
 
 sys.path.insert(0, os.path.join(sys.argv[2], "tools"))
 sys.path.insert(0, os.path.join(sys.argv[2], "tests", "sim"))
-import slamlink  # noqa: E402
+from slamtools import link as slamlink  # noqa: E402
 from simtest import Sim  # noqa: E402
 
 sim = Sim()
@@ -167,7 +167,7 @@ try:
 
     # A page that joins late gets the robot's map at once: the bridge's catch-up frames,
     # then the live bytes, draw what the whole stream so far draws.
-    import ws_bridge
+    from slamtools import bridge as ws_bridge
     data = open(tee, "rb").read()
     cut = len(data) * 2 // 3 + 7  # in the middle of a frame
     catchup = ws_bridge.Catchup()

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The robot's telemetry link in the browser: frames, CRC, the decoder and the commands, as
-// firmware/include/slam/telemetry.h specifies them and tools/slamlink.py implements them.
+// firmware/include/slam/telemetry.h specifies them and tools/slamtools/link.py implements them.
 // Bytes in, plain objects out: no transport and no drawing here, so a test can feed it.
 "use strict";
 (function (sv) {

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """The robot's link in Python: telemetry frames in, command frames out, as
-firmware/include/slam/telemetry.h describes them (tools/telemetry.py is the program)."""
+firmware/include/slam/telemetry.h describes them (tools/telemetry.py is the program),
+the one rule for numbers, and the configuration and mode tables read from the firmware."""
 import ast
 import binascii
 import collections
@@ -8,6 +9,8 @@ import math
 import os
 import re
 import struct
+
+from .errors import FAILED, ToolError
 
 SYNC = b"\xa5\x5a"
 HELLO, POSE, READING, MAP_ROW, STATUS, ACK, ERROR, CONFIG = range(1, 9)
@@ -81,7 +84,7 @@ _WHOLE = re.compile(r"[+-]?[0-9]+")
 _REAL = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 
 
-class NumberError(ValueError):
+class NumberError(ToolError, ValueError):
     """Text that is not a number by the rule, or a number out of range; the message says
     which, with the text shown escaped."""
 
@@ -145,12 +148,16 @@ def _arg(parse, lo, hi):
 # imported: the tools hold no copy of them. tests/test_config_tables.py holds this reading
 # to what the compiled C does.
 
-SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SOURCE_DIR = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HEADER_DIR = os.path.join(SOURCE_DIR, "firmware", "include", "slam")
 
 
-class TableError(RuntimeError):
-    """A firmware table could not be read; the message names the file and what is wrong."""
+class TableError(ToolError, RuntimeError):
+    """A firmware table could not be read; the message names the file and what is wrong.
+    The tree is broken, not the user's input: a failure (exit 1)."""
+
+    def __init__(self, message):
+        super().__init__(message, FAILED)
 
 
 # One row of config_fields.h. type: U8, U16, U32, I32 or Q30 (an I32 holding a Q1.30
@@ -591,7 +598,7 @@ def describe(fr):
     return "unknown type=%d length=%d" % (fr["code"], fr["length"])
 
 
-class CommandError(ValueError):
+class CommandError(ToolError, ValueError):
     """A command line that cannot be encoded; the message says why."""
 
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""A generated room's model and its furniture, for tools/roomgen.py.
+"""A generated room's model and its furniture, for slamtools/roomgen.py.
 
 A Scene is a room or a flat in whole millimetres: outer walls (zero-width rectangles),
 inner walls and furniture (axis-parallel boxes), legs and bins (circles), the doors, and
@@ -7,13 +7,13 @@ the *parts* of its floor (rooms, hall) that must all be reachable. A Region is t
 being furnished, with the faces of its walls and its convex corners. Furniture is placed
 by one rule that keeps passages open: a piece touches a wall or another piece, or keeps
 GAP away from it (tables and screens always keep GAP), and nothing stands before a door;
-place_start() then checks the whole on the 5 cm raster of tools/roomfile.py.
+place_start() then checks the whole on the 5 cm raster of roomfile.py.
 Every number comes from one Draw, the seed's stream.
 """
 import random
 
-import roomfile
-from roomfile import CELL, START_CLEAR
+from . import roomfile
+from .roomfile import CELL, START_CLEAR
 
 GAP = 600          # mm: furniture touches a wall or another piece, or keeps this far away
 DOOR_KEEP = 800    # mm in front of a door, on both sides, kept free of furniture

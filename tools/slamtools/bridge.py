@@ -20,9 +20,10 @@ import sys
 import termios
 import tty
 
-import slamlink
+from . import link as slamlink
+from .errors import ToolError
 
-WEB_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web")
+WEB_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "web")
 LINK_PATH = "/link"
 FILE_CHUNK = 65536
 BACKLOG = 1 << 22  # bytes a slow page may fall behind by before the bridge drops some
@@ -31,15 +32,11 @@ BAUDS = {9600: termios.B9600, 19200: termios.B19200, 38400: termios.B38400,
          460800: termios.B460800, 921600: termios.B921600}
 
 
-class BridgeError(Exception):
-    """A message for the user: the source or the address cannot be used."""
-
-
 def need_websockets():
     try:
         import websockets.legacy.server  # noqa: F401
     except ImportError:
-        raise BridgeError("the bridge needs python3-websockets (tools/install-deps.sh web)")
+        raise ToolError("the bridge needs python3-websockets (tools/install-deps.sh web)")
 
 
 class Catchup:
@@ -119,22 +116,22 @@ class Bridge:
         try:
             mode = os.stat(source).st_mode
         except OSError as e:
-            raise BridgeError("%s: %s" % (source, e.strerror))
+            raise ToolError("%s: %s" % (source, e.strerror))
         if stat.S_ISDIR(mode):
-            raise BridgeError("%s is a directory: give a serial device, a pseudo-terminal or a "
+            raise ToolError("%s is a directory: give a serial device, a pseudo-terminal or a "
                               "telemetry file" % source)
         if baud not in BAUDS:
-            raise BridgeError("--baud %d: not one of %s" % (baud, ", ".join(map(str, BAUDS))))
+            raise ToolError("--baud %d: not one of %s" % (baud, ", ".join(map(str, BAUDS))))
         self.device = stat.S_ISCHR(mode)
         if record is not None and not self.device:
-            raise BridgeError("--record: the source is a file already")
+            raise ToolError("--record: the source is a file already")
         if self.device:
             self.open_device()  # fail now, with the reason, rather than in the loop
         if record is not None:
             try:
                 self.record = open(record, "ab")
             except OSError as e:
-                raise BridgeError("--record %s: %s" % (record, e.strerror))
+                raise ToolError("--record %s: %s" % (record, e.strerror))
 
     def say(self, text):
         if not self.quiet:
@@ -153,7 +150,7 @@ class Bridge:
         try:
             fd = os.open(self.source, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
         except OSError as e:
-            raise BridgeError("cannot open %s: %s" % (self.source, e.strerror))
+            raise ToolError("cannot open %s: %s" % (self.source, e.strerror))
         self.pty = os.path.realpath(self.source).startswith("/dev/pts/")
         if os.isatty(fd):
             try:
@@ -165,7 +162,7 @@ class Bridge:
                     termios.tcsetattr(fd, termios.TCSANOW, attrs)
             except termios.error as e:
                 os.close(fd)
-                raise BridgeError("cannot set up %s: %s" % (self.source, e))
+                raise ToolError("cannot set up %s: %s" % (self.source, e))
         self.fd = fd
 
     def close_device(self, why):
@@ -181,7 +178,7 @@ class Bridge:
     def reopen(self):
         try:
             self.open_device()
-        except BridgeError:
+        except ToolError:
             asyncio.get_running_loop().call_later(1.0, self.reopen)
             return
         self.say("%s is back" % self.source)
@@ -321,7 +318,7 @@ async def run(bridge, host, port, ready=None):
         server = await wss.serve(bridge.handler, host, port, process_request=bridge.http,
                                  max_size=2 ** 16, compression=None)
     except OSError as e:
-        raise BridgeError("cannot listen on %s port %d: %s" % (host, port, e.strerror))
+        raise ToolError("cannot listen on %s port %d: %s" % (host, port, e.strerror))
     if bridge.device:
         asyncio.get_running_loop().add_reader(bridge.fd, bridge.readable)
     bound = server.sockets[0].getsockname()[1]
@@ -335,7 +332,7 @@ async def run(bridge, host, port, ready=None):
 
 def serve(source, host="127.0.0.1", port=8765, baud=115200, follow=False, quiet=False,
           record=None):
-    """Run the bridge until interrupted; BridgeError for what the user must fix."""
+    """Run the bridge until interrupted; ToolError for what the user must fix."""
     need_websockets()
     bridge = Bridge(source, baud, follow, quiet, record)
     try:

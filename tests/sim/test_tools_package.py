@@ -1,0 +1,76 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""The tools' common ground: every script of tools/ starts with Debian's python3 and finds
+the package slamtools without editing sys.path, and the one PGM reader refuses a
+malformed map with the one error type, naming the file."""
+import os
+import re
+import subprocess
+import sys
+
+from simtest import Sim, check
+
+sim = Sim()
+TOOLS = os.path.join(sim.src, "tools")
+sys.path.insert(0, TOOLS)
+from slamtools import errors, pgm  # noqa: E402
+
+# The scripts in subfolders that still reach tools/cortex_m/ or tools/ by a path of their
+# own: the Cortex-M tools run from the Makefile and CMake by their paths, and gen_tables
+# from tools/web/.
+PATH_EDIT_LEFT = {"web/gen_tables.py", "stm32f4/bench_arm.py", "stm32f4/tick_unicorn.py",
+                  "stm32f4/qemu.py", "cortex_m/stack_depth.py"}
+PATH_EDIT = re.compile(r"sys\.path(\.insert|\.append|\[|\s*=|\.extend)")
+
+scripts, modules = [], []
+for folder, dirs, files in os.walk(TOOLS):
+    dirs[:] = [d for d in dirs if d not in ("__pycache__", "proto")]
+    for name in files:
+        if name.endswith(".py"):
+            path = os.path.join(folder, name)
+            rel = os.path.relpath(path, TOOLS)
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+            # A script is what runs as a program; the rest are modules to import.
+            (scripts if '__name__ == "__main__"' in text else modules).append((rel, text))
+
+check(len(scripts) > 20, "%d scripts found in tools/" % len(scripts))
+bad = [rel for rel, text in scripts if not text.startswith("#!/usr/bin/python3\n")]
+check(not bad, "every script starts with #!/usr/bin/python3: %s" % (bad or "yes"))
+bad = [rel for rel, text in scripts + modules if PATH_EDIT.search(text) and rel not in PATH_EDIT_LEFT]
+check(not bad, "no script or module of tools/ edits sys.path: %s" % (bad or "none does"))
+bad = [rel for rel, _ in scripts if rel.startswith("slamtools" + os.sep)]
+check(not bad, "the package holds no script: %s" % (bad or "none"))
+
+# One PGM reader: every malformed file is a ToolError (exit 2) that names it.
+CASES = (("text.pgm", b"P2\n2 2\n255\n0 0 0 0\n"), ("short.pgm", b"P5\n4 4\n255\n\0\0"),
+         ("maxval.pgm", b"P5\n2 2\n65535\n" + bytes(8)), ("header.pgm", b"P5\n2"),
+         ("huge.pgm", b"P5\n65535 65535\n255\n" + bytes(4)), ("zero.pgm", b"P5\n0 3\n255\n"),
+         ("empty.pgm", b""), ("comment.pgm", b"P5\n# never ends"))
+for name, data in CASES:
+    path = sim.out(name)
+    with open(path, "wb") as f:
+        f.write(data)
+    try:
+        pgm.read(path)
+        check(False, "%s: read, but it is malformed" % name)
+    except errors.ToolError as e:
+        check(e.exit_code == 2 and path in str(e), "%s refused: %s" % (name, e))
+path = sim.out("good.pgm")
+with open(path, "wb") as f:
+    f.write(b"P5\n# a comment\n3 2\n255\n" + bytes(range(6)))
+img = pgm.read(path)
+check(img.shape == (2, 3) and img[1, 2] == 5 and pgm.encode(img) == b"P5\n3 2\n255\n" + bytes(range(6)),
+      "a PGM with a comment reads as 2 x 3, first row first, and writes back without it")
+try:
+    pgm.read(sim.out("no-such.pgm"))
+    check(False, "a missing file was read")
+except errors.ToolError as e:
+    check(e.exit_code == 2 and "no-such.pgm" in str(e), "a missing file: %s" % e)
+
+# A tool ends on it as every tool does: `prog: message`, exit 2, no traceback.
+p = subprocess.run(["/usr/bin/python3", os.path.join(TOOLS, "mapscore.py"), sim.out("short.pgm"),
+                    sim.out("nowhere")], capture_output=True, text=True)
+check(p.returncode == 2 and p.stderr.startswith("mapscore: ") and "Traceback" not in p.stderr,
+      "mapscore.py on bad input: exit 2, one message (%s)" % p.stderr.strip())
+sim.done()

@@ -1,0 +1,6 @@
+# SPDX-License-Identifier: MIT
+"""What the host-side tools share: one error type (errors), one PGM/YAML map reader
+(pgm), the robot's link (link), host_sim runs and their statistics (runs), the scorer
+(mapscore), UMBmark's calibration (umbmark) and the generated rooms (roomgen, furnish,
+roomfile). The scripts in tools/ are thin command lines over it; tools/README.md says
+how to write one."""
