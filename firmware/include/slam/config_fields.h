@@ -26,7 +26,7 @@
  * text configuration go through them in this order (config.c asserts it, with the types).
  * A new field is a member with its doc in config.h and a row here; tests/config_view.c
  * and tests/test_config_tables.py prove that C, the text configuration and the Python
- * tools (tools/slamlink.py reads this file) agree on every row.
+ * tools (tools/slamtools/link.py reads this file) agree on every row.
  */
 #ifndef SLAM_CONFIG_FIELDS_H
 #define SLAM_CONFIG_FIELDS_H

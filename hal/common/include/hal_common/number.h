@@ -4,7 +4,7 @@
  * The one rule for numbers written as text, for every reader of the programs that run on
  * an operating system: room files and ROS maps, configurations (--config, --calibration,
  * robot.conf), readings.csv, --commands files, the command lines of host_sim and
- * sonarslam-linux. tools/slamlink.py's parse_int() and parse_real() are the same rule in
+ * sonarslam-linux. tools/slamtools/link.py's parse_int() and parse_real() are the same rule in
  * Python, and tests/test_number.c holds both to one table of cases.
  *
  * Numbers are decimal, and a number is the whole of its text:
