@@ -79,7 +79,10 @@ static void test_full_pty_drops_instead_of_blocking(void **state)
     assert_true(last < sizeof chunk);
     assert_true(s.dropped > 0u);
     assert_int_equal(s.sent + s.dropped, offered);
-    assert_int_equal(serial_write(&s, chunk, 1), 0); /* still full, still not blocking */
+    /* Still not blocking. The kernel may have moved a few bytes on toward the reader's
+     * side since the short write, so this byte may go; either way it is counted. */
+    (void)serial_write(&s, chunk, 1);
+    assert_int_equal(s.sent + s.dropped, offered + 1u);
     serial_close(&s);
 }
 
