@@ -41,8 +41,9 @@ int bag_check(const char *file)
     char *argv[] = {BAG_PYTHON, BAG_TOOL, "--check", NULL};
     int rc = bag_tool(argv);
     if (rc != 0) {
-        fprintf(stderr, "host_sim: --bag: %s cannot write bags here%s (tools/install-deps.sh "
-                        "ros installs python3-rosbag and the ROS message packages)\n",
+        fprintf(stderr,
+                "host_sim: --bag: %s cannot write bags here%s (tools/install-deps.sh "
+                "ros installs python3-rosbag and the ROS message packages)\n",
                 BAG_TOOL, rc < 0 ? ": " BAG_PYTHON " cannot run it" : "");
         return -1;
     }
@@ -55,8 +56,10 @@ int bag_write(const char *dir, const char *file, double cone_deg, double max_m, 
     char max[32];
     snprintf(cone, sizeof cone, "%.6g", cone_deg);
     snprintf(max, sizeof max, "%.6g", max_m);
-    char *argv[] = {BAG_PYTHON, BAG_TOOL, (char *)dir, (char *)file, "--fov", cone,
-                    "--max-range", max, quiet ? "--quiet" : NULL, NULL};
+    char *argv[] = {BAG_PYTHON,    BAG_TOOL, (char *)dir,
+                    (char *)file,  "--fov",  cone,
+                    "--max-range", max,      quiet ? "--quiet" : NULL,
+                    NULL};
     int rc = bag_tool(argv);
     if (rc != 0) {
         fprintf(stderr, "host_sim: --bag: %s failed%s; no bag\n", BAG_TOOL,

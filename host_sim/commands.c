@@ -29,8 +29,9 @@ static const struct {
     const char *word;
     uint8_t type;
 } words[] = {
-    {"start", TELEM_CMD_START}, {"stop", TELEM_CMD_STOP},         {"mode", TELEM_CMD_MODE},
-    {"get", TELEM_CMD_GET},     {"set", TELEM_CMD_SET},           {"save", TELEM_CMD_SAVE},
+    {"start", TELEM_CMD_START},  {"stop", TELEM_CMD_STOP},
+    {"mode", TELEM_CMD_MODE},    {"get", TELEM_CMD_GET},
+    {"set", TELEM_CMD_SET},      {"save", TELEM_CMD_SAVE},
     {"map", TELEM_CMD_SEND_MAP}, {"calibrate", TELEM_CMD_CALIBRATE},
 };
 
@@ -96,7 +97,8 @@ static int encode(char *args, uint8_t *out, size_t max, char *err, size_t errlen
         for (char *h = strtok(NULL, " \t"); h != NULL; h = strtok(NULL, " \t")) {
             for (; h[0] != '\0'; h += 2) {
                 if (!isxdigit((unsigned char)h[0]) || !isxdigit((unsigned char)h[1]) || n == max) {
-                    snprintf(err, errlen, "hex: expected pairs of hex digits, at most %zu bytes", max);
+                    snprintf(err, errlen, "hex: expected pairs of hex digits, at most %zu bytes",
+                             max);
                     return -1;
                 }
                 const char two[3] = {h[0], h[1], '\0'};
@@ -126,8 +128,10 @@ static int encode(char *args, uint8_t *out, size_t max, char *err, size_t errlen
     }
     int want = type == TELEM_CMD_SET ? 3 : type == TELEM_CMD_GET || type == TELEM_CMD_MODE ? 2 : 1;
     if (type < 0 || ntok != want) {
-        snprintf(err, errlen, "'%s': expected start, stop, mode MODE, get KEY, set KEY VALUE, "
-                              "save, map, calibrate, or hex BYTES", tok[0]);
+        snprintf(err, errlen,
+                 "'%s': expected start, stop, mode MODE, get KEY, set KEY VALUE, "
+                 "save, map, calibrate, or hex BYTES",
+                 tok[0]);
         return -1;
     }
     uint8_t payload[TELEM_CMD_PAYLOAD_MAX];

@@ -37,7 +37,7 @@ static const char *origin(const cfg_origin_t *w, const char *key, char *buf, siz
         return buf;
     }
     if (w->o->paper && (strcmp(key, "om_mode") == 0 || strncmp(key, "post_", 5) == 0 ||
-                       strncmp(key, "sweep_", 6) == 0)) {
+                        strncmp(key, "sweep_", 6) == 0)) {
         snprintf(buf, n, "--paper");
         return buf;
     }
@@ -228,8 +228,10 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
     double cell = cfg->cell_um * 1e-6;
     double cx = (room->min_x + room->max_x) / 2.0;
     double cy = (room->min_y + room->max_y) / 2.0;
-    long a0 = by_a != NULL ? (long)cfg->start_cell_a : (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
-    long b0 = by_b != NULL ? (long)cfg->start_cell_b : (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
+    long a0 =
+        by_a != NULL ? (long)cfg->start_cell_a : (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
+    long b0 =
+        by_b != NULL ? (long)cfg->start_cell_b : (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
     double ox = sx - (double)a0 * cell - cell / 2.0;
     double oy = sy - (double)b0 * cell - cell / 2.0;
     bool fits_x = a0 >= 0 && a0 < (long)SLAM_GRID_A && ox <= room->min_x &&
@@ -242,8 +244,8 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
                 "host_sim: %s: with the start in cell %ld along %s, the grid spans %s = %.3f .. "
                 "%.3f m and the room %.3f .. %.3f m: the room does not fit\n",
                 x ? by_a : by_b, x ? a0 : b0, x ? "x" : "y", x ? "x" : "y", x ? ox : oy,
-                (x ? ox + SLAM_GRID_A * cell : oy + SLAM_GRID_B * cell), x ? room->min_x : room->min_y,
-                x ? room->max_x : room->max_y);
+                (x ? ox + SLAM_GRID_A * cell : oy + SLAM_GRID_B * cell),
+                x ? room->min_x : room->min_y, x ? room->max_x : room->max_y);
         return -1;
     }
     if (!fits_x || !fits_y) {

@@ -35,8 +35,8 @@ int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m,
         uint32_t c = queue[head++];
         uint32_t x = c % g->a;
         uint32_t y = c / g->a;
-        uint32_t nb[4] = {x > 0u ? c - 1u : c, x + 1u < g->a ? c + 1u : c,
-                          y > 0u ? c - g->a : c, y + 1u < g->b ? c + g->a : c};
+        uint32_t nb[4] = {x > 0u ? c - 1u : c, x + 1u < g->a ? c + 1u : c, y > 0u ? c - g->a : c,
+                          y + 1u < g->b ? c + g->a : c};
         for (int k = 0; k < 4; k++) {
             if (!open[nb[k]] && !r->truth[nb[k]]) {
                 open[nb[k]] = 1u;
@@ -151,10 +151,12 @@ void walls_ping(run_t *r, double sx, double sy, double bearing, double t)
             double dx = g->origin_x + ((double)x + 0.5) * g->cell_m - sx;
             double dy = g->origin_y + ((double)y + 0.5) * g->cell_m - sy;
             double d = hypot(dx, dy);
-            if (d >= r->rc_m || (d > 0.0 && (dx * cos(bearing) + dy * sin(bearing)) < d * cos_half)) {
+            if (d >= r->rc_m ||
+                (d > 0.0 && (dx * cos(bearing) + dy * sin(bearing)) < d * cos_half)) {
                 continue;
             }
-            if (d > g->cell_m && room_ray(r->room, sx, sy, atan2(dy, dx), d, NULL) < d - g->cell_m) {
+            if (d > g->cell_m &&
+                room_ray(r->room, sx, sy, atan2(dy, dx), d, NULL) < d - g->cell_m) {
                 continue;
             }
             r->wall_seen[i] = 1u;
@@ -203,8 +205,8 @@ void clearance_tick(run_t *r, double x, double y)
  * The first touch, and where the obstacle lay: the nearest obstacle along 360 rays from the
  * body's centre, a degree apart (what is touched lies within the body's radius). Once a run.
  */
-void touch_tick(run_t *r, bool contact, double x, double y, double th, double t,
-                double pos_err, double th_err)
+void touch_tick(run_t *r, bool contact, double x, double y, double th, double t, double pos_err,
+                double th_err)
 {
     if (!contact || r->touch_t >= 0.0) {
         return;

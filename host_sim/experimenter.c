@@ -47,7 +47,8 @@ static FILE *csv(experimenter_t *x)
                     "# UMBmark return errors measured by host_sim's experimenter with a tape of\n"
                     "# +-%.0f mm: the true final position minus odometry's, in the start pose's\n"
                     "# frame (x ahead along the start heading, y to its left), mm.\n"
-                    "direction,x_mm,y_mm\n", TAPE_MM);
+                    "direction,x_mm,y_mm\n",
+                    TAPE_MM);
         }
     }
     return x->csv;
@@ -61,8 +62,9 @@ int experimenter_tick(experimenter_t *x, sim_t *sim, const robot_t *rb)
     }
     sim_truth_t tr = sim_truth(sim);
     if (tr.collisions != 0u) {
-        fprintf(stderr, "host_sim: UMBmark run %u ran into something: the square of %.2f m "
-                        "does not fit here (a smaller square_side_um, or another --start)\n",
+        fprintf(stderr,
+                "host_sim: UMBmark run %u ran into something: the square of %.2f m "
+                "does not fit here (a smaller square_side_um, or another --start)\n",
                 (unsigned)u->run, u->side_um * 1e-6);
         return -1;
     }

@@ -20,16 +20,16 @@
 
 #define HOST_SIM_PI 3.14159265358979323846
 #define TICK_S (HAL_TICK_PERIOD_US * 1e-6) /* the control period, s */
-#define EXIT_USAGE 2                        /* bad options or input */
+#define EXIT_USAGE 2                       /* bad options or input */
 /* The calibration `make calibrate` made for the default simulated robot. */
 #define HOST_SIM_CALIBRATION "/host_sim/calibration/default_robot.conf"
 
 /** The geometry shared by every map of a run. */
 typedef struct {
-    uint32_t a;       /**< cells along x */
-    uint32_t b;       /**< cells along y */
-    double cell_m;    /**< cell side */
-    double origin_x;  /**< world x of the lower-left corner of cell (0, 0), m */
+    uint32_t a;      /**< cells along x */
+    uint32_t b;      /**< cells along y */
+    double cell_m;   /**< cell side */
+    double origin_x; /**< world x of the lower-left corner of cell (0, 0), m */
     double origin_y;
     uint32_t cell_um; /**< the same geometry as the firmware holds it */
     int32_t origin_x_um;
@@ -39,17 +39,17 @@ typedef struct {
 /** The geometry of a firmware grid. */
 static inline map_geom_t map_geom_of(const grid_t *g)
 {
-    return (map_geom_t){SLAM_GRID_A,       SLAM_GRID_B,       g->cell_um * 1e-6,
+    return (map_geom_t){SLAM_GRID_A,           SLAM_GRID_B,           g->cell_um * 1e-6,
                         g->origin_x_um * 1e-6, g->origin_y_um * 1e-6, g->cell_um,
-                        g->origin_x_um,    g->origin_y_um};
+                        g->origin_x_um,        g->origin_y_um};
 }
 
 /** How a map is scored (DESIGN.md §5). */
 typedef struct {
-    uint32_t mapped;      /**< occupied cells in the map */
-    uint32_t true_pos;    /**< of which within one cell of a truth-occupied cell */
-    uint32_t observable;  /**< truth-occupied cells within rc of a sonar position */
-    uint32_t matched;     /**< of which within one cell of a mapped cell */
+    uint32_t mapped;     /**< occupied cells in the map */
+    uint32_t true_pos;   /**< of which within one cell of a truth-occupied cell */
+    uint32_t observable; /**< truth-occupied cells within rc of a sonar position */
+    uint32_t matched;    /**< of which within one cell of a mapped cell */
     double precision;
     double recall;
     double f1;
@@ -173,14 +173,14 @@ typedef struct {
     int explore;
     bool has_seed, has_cell, has_explore, has_duration; /* given on the command line */
     const char *out;
-    bool has_out;  /* --out given: a replay's default is beside its log, not out/sim */
+    bool has_out; /* --out given: a replay's default is beside its log, not out/sim */
     bool ideal;
     bool paper;
-    int sonar;      /* --sonar: the sonar's realism level (sim_sonar_level_t) */
-    bool has_sonar; /* given on the command line */
-    bool has_sonar1;              /* --sonar1: a second, fixed sonar (HAL instance 1) */
+    int sonar;       /* --sonar: the sonar's realism level (sim_sonar_level_t) */
+    bool has_sonar;  /* given on the command line */
+    bool has_sonar1; /* --sonar1: a second, fixed sonar (HAL instance 1) */
     double sonar1_x, sonar1_y, sonar1_deg; /* its mount: m ahead, m left, deg from the heading */
-    bool bumpers;                 /* --bumpers: the front bump switches */
+    bool bumpers;                          /* --bumpers: the front bump switches */
     const char *errors[HOST_SIM_MAX_SETS];
     size_t nerrors;
     const char *config;
@@ -305,15 +305,15 @@ typedef struct {
     uint8_t *seen;
     uint32_t reachable_cells;
     uint32_t visited_cells;
-    double time_to[3];        /* to 50, 80, 90 % of the reachable cells; < 0: not reached */
-    double series[4096][3];   /* (t, coverage, wall coverage) */
+    double time_to[3];      /* to 50, 80, 90 % of the reachable cells; < 0: not reached */
+    double series[4096][3]; /* (t, coverage, wall coverage) */
     size_t nseries;
     /* Wall coverage (coverage.c). */
     const room_t *room;
-    uint8_t *wall;            /* the wall cells the robot could map (1) */
-    uint8_t *wall_seen;       /* of which inside the confidence sector of a ping so far */
+    uint8_t *wall;      /* the wall cells the robot could map (1) */
+    uint8_t *wall_seen; /* of which inside the confidence sector of a ping so far */
     uint32_t wall_cells, walls_covered;
-    double wall_time_to[3];   /* to 50, 80, 90 % of the wall cells; < 0: not reached */
+    double wall_time_to[3]; /* to 50, 80, 90 % of the wall cells; < 0: not reached */
     double rc_m, half_cone, body_m;
     /* The smallest gap between the body and an obstacle, and where it was last asked. */
     double min_clearance, clear_x, clear_y, clear_at;
@@ -322,7 +322,7 @@ typedef struct {
      * from the heading (rad, left positive) and the pose estimate's errors (m, rad). */
     double touch_t, touch_x, touch_y, touch_th, touch_bearing, touch_pos_err, touch_th_err;
     double last_x, last_y;
-    double marked_x, marked_y;  /* the sonar position last marked observable around */
+    double marked_x, marked_y; /* the sonar position last marked observable around */
     /* Progress (observe.c): where the robot last came PROGRESS_M from the place before and
      * when, not counting a deliberate stand; the longest time without, and when it began. */
     double prog_x, prog_y, prog_t, stuck_s, stuck_from_s;
@@ -330,14 +330,14 @@ typedef struct {
      * from once the body is out of contact and MOVED_ON_M from where it began. */
     bool touching;
     double touch_from_t, touch_from_x, touch_from_y;
-    uint32_t touches;          /* begun */
-    double touch_recovery_max_s; /* the longest recovery so far */
+    uint32_t touches;                        /* begun */
+    double touch_recovery_max_s;             /* the longest recovery so far */
     double touch_recovery_s[TOUCHES_LISTED]; /* of the first ones, < 0: not recovered */
-    double explored_at_s;      /* when the firmware said it was done; < 0: never */
+    double explored_at_s;                    /* when the firmware said it was done; < 0: never */
     /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
      * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
     uint32_t walls_lowered[2];
-    FILE *estimates;            /* --scoring: the estimated pose of every reading's ping */
+    FILE *estimates; /* --scoring: the estimated pose of every reading's ping */
 } run_t;
 
 /** Clearance is looked for this far beyond the body, m. */
@@ -359,8 +359,8 @@ void clearance_tick(run_t *r, double x, double y);
 
 /** Note the run's first touch, when the world reports contact at (x, y, th) at time t with
  *  the pose estimate off by pos_err m and th_err rad: where the obstacle lay. */
-void touch_tick(run_t *r, bool contact, double x, double y, double th, double t,
-                double pos_err, double th_err);
+void touch_tick(run_t *r, bool contact, double x, double y, double th, double t, double pos_err,
+                double th_err);
 
 typedef struct {
     score_t raw, threshold, templ, insert;
@@ -385,10 +385,9 @@ void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uin
 
 /** Write metrics.json (DESIGN.md §5, and the scenario that produced it); post_sweep only
  *  when @p ps is not NULL (--sweep). */
-int write_metrics(const options_t *o, const room_t *room, const run_t *r,
-                  const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
-                  const robot_t *robot, const chain_scores_t *odo,
-                  const chain_scores_t *ideal, const post_sweep_t *ps);
+int write_metrics(const options_t *o, const room_t *room, const run_t *r, const slam_config_t *cfg,
+                  const sim_errors_t *e, const sim_t *sim, const robot_t *robot,
+                  const chain_scores_t *odo, const chain_scores_t *ideal, const post_sweep_t *ps);
 
 /** The summary table on stdout; the best TH and K only when @p ps is not NULL. */
 void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo,
@@ -404,8 +403,8 @@ int replay(const options_t *o);
 /* ---- commands to the robot (commands.c) -------------------------------------------------- */
 
 typedef struct {
-    uint64_t tick;   /* the tick after which the bytes arrive */
-    size_t offset;   /* into bytes */
+    uint64_t tick; /* the tick after which the bytes arrive */
+    size_t offset; /* into bytes */
     size_t len;
 } command_line_t;
 
@@ -415,9 +414,9 @@ typedef struct {
     size_t n, lines_cap;
     uint8_t *bytes;
     size_t nbytes, bytes_cap;
-    size_t grows;     /* reallocations made while reading (tests bound them) */
-    size_t next;      /* the next line to feed */
-    size_t dropped;   /* bytes the UART had no room for */
+    size_t grows;   /* reallocations made while reading (tests bound them) */
+    size_t next;    /* the next line to feed */
+    size_t dropped; /* bytes the UART had no room for */
 } commands_t;
 
 /**
@@ -434,11 +433,11 @@ void commands_free(commands_t *c);
 
 /** One row of a readings.csv, as the replay maps it. */
 typedef struct {
-    double servo_deg;       /**< -360..360 */
-    bool echo;              /**< an echo (status ok, far or near); else a timeout */
-    double range_m;         /**< 0..1000 with an echo; 0 */
-    double x_m, y_m;        /**< odometry pose of the ping, within 1 km */
-    double th_rad;          /**< within ±1000 rad */
+    double servo_deg; /**< -360..360 */
+    bool echo;        /**< an echo (status ok, far or near); else a timeout */
+    double range_m;   /**< 0..1000 with an echo; 0 */
+    double x_m, y_m;  /**< odometry pose of the ping, within 1 km */
+    double th_rad;    /**< within ±1000 rad */
 } replay_row_t;
 
 typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
@@ -453,8 +452,7 @@ typedef void (*replay_row_fn)(void *ctx, const replay_row_t *row);
  *         no row, a NUL byte, a line of 512 characters or more, a last line without its
  *         newline (a file cut short), a wrong header, a malformed row)
  */
-int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
-                size_t errlen);
+int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err, size_t errlen);
 
 /** A row as the robot's tick posted its reading: micrometres, binary angles. */
 readq_reading_t replay_reading(const replay_row_t *row);
@@ -463,13 +461,13 @@ readq_reading_t replay_reading(const replay_row_t *row);
 
 /** What a run is: the input, each part checked, and the world built from it. */
 typedef struct {
-    room_t room;           /* the room, its start pose set to the one chosen */
-    double sx, sy, sth;    /* the start pose, m and rad */
-    sim_errors_t errors;   /* the robot's error levels */
-    slam_config_t cfg;     /* the firmware's configuration */
-    commands_t commands;   /* --commands, if given */
-    sim_params_t params;   /* the robot as built (from cfg) */
-    sim_t *sim;            /* the world */
+    room_t room;         /* the room, its start pose set to the one chosen */
+    double sx, sy, sth;  /* the start pose, m and rad */
+    sim_errors_t errors; /* the robot's error levels */
+    slam_config_t cfg;   /* the firmware's configuration */
+    commands_t commands; /* --commands, if given */
+    sim_params_t params; /* the robot as built (from cfg) */
+    sim_t *sim;          /* the world */
 } scenario_t;
 
 /**
@@ -488,8 +486,8 @@ void scenario_free(scenario_t *sc);
 
 /** The firmware of a run, and its twin fed the same readings at the true poses. */
 typedef struct {
-    robot_t robot;          /* the firmware's state, as a robot program owns it */
-    grid_t ideal_grid;      /* the same readings mapped from the true poses */
+    robot_t robot;     /* the firmware's state, as a robot program owns it */
+    grid_t ideal_grid; /* the same readings mapped from the true poses */
     mapper_t ideal_mapper;
 } firmware_t;
 
@@ -524,12 +522,12 @@ void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t 
 
 /** A person with a tape measure beside the UMBmark test (firmware/include/slam/umbmark.h). */
 typedef struct {
-    const char *dir;    /* the output folder */
-    FILE *csv;          /* EXPERIMENTER_CSV, open from the first measurement */
-    bool failed;        /* it could not be written */
-    uint64_t rng;       /* the tape's noise */
+    const char *dir;                   /* the output folder */
+    FILE *csv;                         /* EXPERIMENTER_CSV, open from the first measurement */
+    bool failed;                       /* it could not be written */
+    uint64_t rng;                      /* the tape's noise */
     double start_x, start_y, start_th; /* the start pose in the world, m and rad */
-    unsigned measured;  /* runs measured */
+    unsigned measured;                 /* runs measured */
     bool quiet;
 } experimenter_t;
 

@@ -27,8 +27,10 @@ int link_check(const char *path)
 {
     struct stat st;
     if (lstat(path, &st) == 0 && !S_ISLNK(st.st_mode)) {
-        fprintf(stderr, "host_sim: --link %s: it exists and is not a symbolic link; give a "
-                        "new path (host_sim makes the link and removes it at the end)\n", path);
+        fprintf(stderr,
+                "host_sim: --link %s: it exists and is not a symbolic link; give a "
+                "new path (host_sim makes the link and removes it at the end)\n",
+                path);
         return -1;
     }
     char dir[4096];
@@ -111,9 +113,10 @@ int link_open(link_t *l, const char *path, bool quiet)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     if (!quiet) {
-        fprintf(stderr, "host_sim: the robot's UART is %s (linked from %s): watch it with "
-                        "tools/telemetry.py serve %s; Ctrl-C ends the run\n", l->device, path,
-                path);
+        fprintf(stderr,
+                "host_sim: the robot's UART is %s (linked from %s): watch it with "
+                "tools/telemetry.py serve %s; Ctrl-C ends the run\n",
+                l->device, path, path);
     }
     return 0;
 }
@@ -154,8 +157,10 @@ void link_close(link_t *l)
         fclose(l->sink);
         l->sink = NULL;
         if (l->lost != 0u) {
-            fprintf(stderr, "host_sim: --link: %llu command bytes found the UART full and "
-                            "were lost\n", (unsigned long long)l->lost);
+            fprintf(stderr,
+                    "host_sim: --link: %llu command bytes found the UART full and "
+                    "were lost\n",
+                    (unsigned long long)l->lost);
         }
     }
     if (l->peer >= 0) {

@@ -53,8 +53,9 @@ static void watch_signals(void)
 static bool stopped(void)
 {
     if (stop_signal != 0) {
-        fprintf(stderr, "\nhost_sim: stopped by signal %d: nothing written, the earlier outputs "
-                        "stay as they were\n",
+        fprintf(stderr,
+                "\nhost_sim: stopped by signal %d: nothing written, the earlier outputs "
+                "stay as they were\n",
                 (int)stop_signal);
         return true;
     }
@@ -88,7 +89,7 @@ typedef struct {
 typedef struct {
     scenario_t sc;
     run_logs_t logs;
-    run_t *r;            /* with its maps, each allocated */
+    run_t *r; /* with its maps, each allocated */
     end_bufs_t end;
     experimenter_t tape;
     uint32_t start_cell; /* the grid index of the start cell */
@@ -97,9 +98,9 @@ typedef struct {
 
 /* What the loop did. */
 typedef struct {
-    uint64_t ticks;      /* ticks run */
-    double wall_s;       /* wall-clock time they took */
-    int tape_rc;         /* the experimenter's last answer */
+    uint64_t ticks; /* ticks run */
+    double wall_s;  /* wall-clock time they took */
+    int tape_rc;    /* the experimenter's last answer */
 } outcome_t;
 
 /* Every buffer of the run, each its own zeroed allocation: 0, or 1 with a message. */
@@ -426,10 +427,10 @@ static int write_timing(const options_t *o, const outcome_t *out)
         return 1;
     }
     double wall_s = out->wall_s;
-    fprintf(tf, "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
-                "\"real_time_factor\": %.0f}\n",
-            wall_s, (unsigned long long)out->ticks,
-            wall_s > 0 ? (double)out->ticks / wall_s : 0.0,
+    fprintf(tf,
+            "{\"wall_s\": %.3f, \"ticks\": %llu, \"ticks_per_s\": %.0f, "
+            "\"real_time_factor\": %.0f}\n",
+            wall_s, (unsigned long long)out->ticks, wall_s > 0 ? (double)out->ticks / wall_s : 0.0,
             wall_s > 0 ? (double)out->ticks * TICK_S / wall_s : 0.0);
     return close_out(tf, o->out, "timing.json");
 }
@@ -460,8 +461,8 @@ __attribute__((noinline)) static int finish(const options_t *o, held_t *h, const
     if (!export_maps(o, h, &bad)) {
         return 1;
     }
-    bad |= write_metrics(o, &sc->room, r, &sc->cfg, &sc->errors, sc->sim, &fw.robot, &odo,
-                         &ideal, ps);
+    bad |=
+        write_metrics(o, &sc->room, r, &sc->cfg, &sc->errors, sc->sim, &fw.robot, &odo, &ideal, ps);
     if (o->storage != NULL) {
         bad |= write_storage(o->storage);
     }
@@ -569,8 +570,9 @@ static int run(options_t *o, held_t *h)
                 "the run first (",
                 h->tape.measured, runs, o->duration_s);
         if (each > 0.0) {
-            fprintf(stderr, "a run takes about %.0f s; give --duration %.0f or more, or leave it "
-                            "out to run until the last run)\n",
+            fprintf(stderr,
+                    "a run takes about %.0f s; give --duration %.0f or more, or leave it "
+                    "out to run until the last run)\n",
                     each, each * runs * 1.1);
         } else {
             fprintf(stderr, "leave --duration out to run until the last run)\n");

@@ -8,8 +8,8 @@
 #include "host_sim.h"
 #include "slam/error.h"
 
-#define TRAJECTORY_EVERY 10u     /* trajectory.csv: one row per 0.1 s */
-#define COVERAGE_EVERY 1000u     /* the coverage series: one point per 10 s */
+#define TRAJECTORY_EVERY 10u /* trajectory.csv: one row per 0.1 s */
+#define COVERAGE_EVERY 1000u /* the coverage series: one point per 10 s */
 
 static const double coverage_marks[3] = {0.5, 0.8, 0.9};
 
@@ -60,8 +60,8 @@ int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t 
 {
     const room_t *room = &sc->room;
     r->geom = map_geom_of(&robot->grid);
-    room_rasterize(room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a,
-                   r->geom.b, r->truth);
+    room_rasterize(room, r->geom.origin_x, r->geom.origin_y, r->geom.cell_m, r->geom.a, r->geom.b,
+                   r->truth);
     grid_cell_t start;
     (void)grid_cell_of(&robot->grid, sc->cfg.start_x_um, sc->cfg.start_y_um, &start);
     *start_cell = grid_index(start);
@@ -151,7 +151,8 @@ static void touches_tick(run_t *r, bool contact, double x, double y, double t)
             if (r->touches <= TOUCHES_LISTED) {
                 r->touch_recovery_s[r->touches - 1u] = took;
             }
-            r->touch_recovery_max_s = took > r->touch_recovery_max_s ? took : r->touch_recovery_max_s;
+            r->touch_recovery_max_s =
+                took > r->touch_recovery_max_s ? took : r->touch_recovery_max_s;
         }
         return;
     }

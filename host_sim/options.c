@@ -33,7 +33,8 @@ static uint32_t mix32(uint32_t x)
 
 static void usage(FILE *f)
 {
-    fprintf(f,
+    fprintf(
+        f,
         "usage: host_sim [options]\n"
         "       host_sim --replay DIR/readings.csv [--config FILE] [--out OUT]\n"
         "\n"
@@ -263,7 +264,8 @@ int parse_options(int argc, char **argv, options_t *o)
             }
             num_t r = parse_u64(argv[i], &o->seed);
             if (r == NUM_RANGE) {
-                return fail_usage("--seed: '%.40s' is out of range 0..18446744073709551615", argv[i]);
+                return fail_usage("--seed: '%.40s' is out of range 0..18446744073709551615",
+                                  argv[i]);
             }
             if (r != NUM_OK) {
                 return fail_usage("--seed: '%.40s' is not a whole number >= 0", argv[i]);
@@ -310,7 +312,8 @@ int parse_options(int argc, char **argv, options_t *o)
             o->sonar = sim_sonar_level_of(argv[i]);
             if (o->sonar < 0) {
                 return fail_usage("--sonar: unknown level '%.40s' (optimistic, typical, "
-                                  "pessimistic)", argv[i]);
+                                  "pessimistic)",
+                                  argv[i]);
             }
             o->has_sonar = true;
         } else if (strcmp(a, "--sonar1") == 0) {
@@ -467,8 +470,8 @@ int apply_error(sim_errors_t *e, const char *nv)
             return 0;
         }
     }
-    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (", (int)(len > 40u ? 40u : len),
-            nv);
+    fprintf(stderr, "host_sim: --error: unknown error source '%.*s' (",
+            (int)(len > 40u ? 40u : len), nv);
     for (size_t i = 0; i < sizeof error_names / sizeof error_names[0]; i++) {
         fprintf(stderr, "%s%s", i ? ", " : "", error_names[i].name);
     }

@@ -48,8 +48,9 @@ static void put_digits_u64(char *end, uint64_t v, int n)
 char *fmt_fixed(char *out, double v, int decimals, char sep)
 {
     static const double scale[11] = {1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10};
-    static const uint64_t unit[11] = {1u, 10u, 100u, 1000u, 10000u, 100000u, 1000000u,
-                                      10000000u, 100000000u, 1000000000u, 10000000000u};
+    static const uint64_t unit[11] = {1u,         10u,         100u,        1000u,
+                                      10000u,     100000u,     1000000u,    10000000u,
+                                      100000000u, 1000000000u, 10000000000u};
     double s = v * scale[decimals];
     long long n = (long long)(s < 0 ? s - 0.5 : s + 0.5);
     if (n < 0) {
@@ -110,7 +111,7 @@ int make_dirs(const char *path)
         return -1;
     }
     strcpy(buf, path);
-    for (char *p = buf + 1; ; p++) {
+    for (char *p = buf + 1;; p++) {
         if (*p == '/' || *p == '\0') {
             char c = *p;
             *p = '\0';
@@ -253,10 +254,25 @@ int check_out_file(const char *what, const char *path)
 
 /* The files a run writes into --out. */
 static const char *const out_names[] = {
-    "config.txt", "readings.csv", "trajectory.csv", "metrics.json", "timing.json",
-    "om.pgm", "om.yaml", "om_post.pgm", "om_post.yaml", "om_ideal.pgm", "om_ideal.yaml",
-    "tm.pgm", "truth.pgm", "truth.yaml", "figure.png",
-    "scoring_truth.pgm", "scoring_observable.pgm", "scoring_estimate.csv", EXPERIMENTER_CSV,
+    "config.txt",
+    "readings.csv",
+    "trajectory.csv",
+    "metrics.json",
+    "timing.json",
+    "om.pgm",
+    "om.yaml",
+    "om_post.pgm",
+    "om_post.yaml",
+    "om_ideal.pgm",
+    "om_ideal.yaml",
+    "tm.pgm",
+    "truth.pgm",
+    "truth.yaml",
+    "figure.png",
+    "scoring_truth.pgm",
+    "scoring_observable.pgm",
+    "scoring_estimate.csv",
+    EXPERIMENTER_CSV,
     NULL,
 };
 
@@ -349,7 +365,8 @@ int check_outputs(const options_t *o)
 static long temp_pid(const char *entry, const char *name)
 {
     size_t n = strlen(name);
-    if (entry[0] != '.' || strncmp(entry + 1, name, n) != 0 || strncmp(entry + 1 + n, ".tmp", 4) != 0) {
+    if (entry[0] != '.' || strncmp(entry + 1, name, n) != 0 ||
+        strncmp(entry + 1 + n, ".tmp", 4) != 0) {
         return 0;
     }
     const char *digits = entry + 1 + n + 4;
@@ -457,8 +474,10 @@ FILE *open_stream(const char *path)
     int fd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_NONBLOCK | O_CLOEXEC, 0666);
     if (fd < 0) {
         if (errno == ENXIO) {
-            fprintf(stderr, "host_sim: cannot write %s: a FIFO that no program is reading: start "
-                            "its reader first\n", path);
+            fprintf(stderr,
+                    "host_sim: cannot write %s: a FIFO that no program is reading: start "
+                    "its reader first\n",
+                    path);
         } else {
             fprintf(stderr, "host_sim: cannot write %s: %s\n", path, strerror(errno));
         }
@@ -514,8 +533,7 @@ void outputs_discard(void)
     }
 }
 
-int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img,
-              bool yaml)
+int write_map(const char *dir, const char *name, const map_geom_t *g, const uint8_t *img, bool yaml)
 {
     char file[256];
     snprintf(file, sizeof file, "%s.pgm", name);

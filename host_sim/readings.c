@@ -100,8 +100,7 @@ static const char *parse_row(char *line, const int col[CSV_NEEDED], replay_row_t
     return NULL;
 }
 
-int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err,
-                size_t errlen)
+int replay_read(FILE *in, const char *name, replay_row_fn fn, void *ctx, char *err, size_t errlen)
 {
     char *line = NULL;
     size_t cap = 0;

@@ -39,8 +39,8 @@ int replay(const options_t *o)
     } else {
         snprintf(cfgpath, sizeof cfgpath, "%s", o->replay);
         char *slash = strrchr(cfgpath, '/');
-        snprintf(slash ? slash + 1 : cfgpath, sizeof cfgpath - (size_t)(slash ? slash + 1 - cfgpath : 0),
-                 "config.txt");
+        snprintf(slash ? slash + 1 : cfgpath,
+                 sizeof cfgpath - (size_t)(slash ? slash + 1 - cfgpath : 0), "config.txt");
     }
     slam_config_t cfg;
     slam_config_default(&cfg);
@@ -57,8 +57,8 @@ int replay(const options_t *o)
         snprintf(outdir, sizeof outdir, "%s", o->out);
     } else {
         const char *slash = strrchr(o->replay, '/');
-        snprintf(outdir, sizeof outdir, "%.*sreplay", slash != NULL ? (int)(slash + 1 - o->replay) : 0,
-                 o->replay);
+        snprintf(outdir, sizeof outdir, "%.*sreplay",
+                 slash != NULL ? (int)(slash + 1 - o->replay) : 0, o->replay);
     }
     char metrics[4200];
     snprintf(metrics, sizeof metrics, "%s/metrics.json", outdir);
@@ -104,8 +104,8 @@ int replay(const options_t *o)
         return 1;
     }
     if (!o->quiet) {
-        printf("host_sim: replayed %u readings (%u OM hits) into %s/om.pgm\n", rows,
-               mapper.hits, outdir);
+        printf("host_sim: replayed %u readings (%u OM hits) into %s/om.pgm\n", rows, mapper.hits,
+               outdir);
     }
     return 0;
 }

@@ -53,8 +53,8 @@ static void json_score(FILE *f, const char *name, const score_t *s, bool comma)
     fprintf(f,
             "      \"%s\": {\"precision\": %.4f, \"recall\": %.4f, \"f1\": %.4f, "
             "\"mapped\": %u, \"true_positive\": %u, \"observable\": %u, \"matched\": %u}%s\n",
-            name, s->precision, s->recall, s->f1, s->mapped, s->true_pos, s->observable,
-            s->matched, comma ? "," : "");
+            name, s->precision, s->recall, s->f1, s->mapped, s->true_pos, s->observable, s->matched,
+            comma ? "," : "");
 }
 
 static void json_chain(FILE *f, const char *name, const chain_scores_t *c, bool comma)
@@ -76,7 +76,6 @@ static void json_time(FILE *f, const char *name, double t, bool comma)
     }
 }
 
-
 void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uint8_t *out,
                 uint8_t *scratch, post_sweep_t *ps)
 {
@@ -87,7 +86,9 @@ void sweep_post(const run_t *r, const uint8_t *om, const slam_config_t *cfg, uin
     for (uint8_t th = 0; th < ps->th_count; th++) {
         for (uint8_t k = 0; k < SWEEP_K; k++) {
             post_params_t pp = {.threshold = grid_threshold_byte(cfg->om_mode, th),
-                                .om_max = cfg->om_max, .k = k, .insert = cfg->post_insert};
+                                .om_max = cfg->om_max,
+                                .k = k,
+                                .insert = cfg->post_insert};
             (void)post_run(om, out, r->geom.a, r->geom.b, &pp, scratch);
             score_map(&r->geom, out, r->truth, r->observable, &ps->s[th][k]);
             if (ps->s[th][k].f1 > best) {
@@ -121,8 +122,9 @@ static void json_sweep(FILE *f, const post_sweep_t *ps)
         fprintf(f, "],\n");
     }
     const score_t *b = &ps->s[ps->best_th][ps->best_k];
-    fprintf(f, "    \"best\": {\"threshold\": %u, \"k\": %u, \"precision\": %.4f, "
-               "\"recall\": %.4f, \"f1\": %.4f}\n  },\n",
+    fprintf(f,
+            "    \"best\": {\"threshold\": %u, \"k\": %u, \"precision\": %.4f, "
+            "\"recall\": %.4f, \"f1\": %.4f}\n  },\n",
             ps->best_th, ps->best_k, b->precision, b->recall, b->f1);
 }
 
@@ -145,18 +147,18 @@ static void json_grazing(FILE *f, const sim_errors_t *e)
 static void json_pings(FILE *f, const sim_t *sim, const run_t *r)
 {
     static const char *const kinds[SIM_PING_KINDS] = {
-        [SIM_PING_ECHO] = "echo", [SIM_PING_MULTIPATH] = "multipath",
-        [SIM_PING_GHOST] = "ghost", [SIM_PING_LATE] = "late", [SIM_PING_DROPOUT] = "dropout",
-        [SIM_PING_GRAZING] = "grazing", [SIM_PING_NOTHING] = "nothing",
-        [SIM_PING_STUCK] = "stuck"};
+        [SIM_PING_ECHO] = "echo",       [SIM_PING_MULTIPATH] = "multipath",
+        [SIM_PING_GHOST] = "ghost",     [SIM_PING_LATE] = "late",
+        [SIM_PING_DROPOUT] = "dropout", [SIM_PING_GRAZING] = "grazing",
+        [SIM_PING_NOTHING] = "nothing", [SIM_PING_STUCK] = "stuck"};
     uint32_t counts[SIM_PING_KINDS];
     sim_ping_counts(sim, counts);
     fprintf(f, "  \"pings\": {");
     for (int k = 1; k < (int)SIM_PING_KINDS; k++) {
         fprintf(f, "\"%s\": %u, ", kinds[k], counts[k]);
     }
-    fprintf(f, "\"walls_lowered\": {\"multipath\": %u, \"other\": %u}},\n",
-            r->walls_lowered[0], r->walls_lowered[1]);
+    fprintf(f, "\"walls_lowered\": {\"multipath\": %u, \"other\": %u}},\n", r->walls_lowered[0],
+            r->walls_lowered[1]);
 }
 
 /* Grid cells an MCU would need to hold this room, plus a cell of margin each side. In
@@ -167,10 +169,9 @@ static uint32_t cells_needed(double span_m, uint32_t cell_um)
     return (uint32_t)((span_um + cell_um - 1u) / cell_um) + 2u;
 }
 
-int write_metrics(const options_t *o, const room_t *room, const run_t *r,
-                  const slam_config_t *cfg, const sim_errors_t *e, const sim_t *sim,
-                  const robot_t *robot, const chain_scores_t *odo,
-                  const chain_scores_t *ideal, const post_sweep_t *ps)
+int write_metrics(const options_t *o, const room_t *room, const run_t *r, const slam_config_t *cfg,
+                  const sim_errors_t *e, const sim_t *sim, const robot_t *robot,
+                  const chain_scores_t *odo, const chain_scores_t *ideal, const post_sweep_t *ps)
 {
     FILE *f = open_out(o->out, "metrics.json");
     if (f == NULL) {
@@ -180,7 +181,8 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "{\n  \"scenario\": {\n");
     fprintf(f, "    \"room\": \"%s\",\n", o->room);
     if (o->has_crop) {
-        fprintf(f, "    \"crop\": [%.3f, %.3f, %.3f, %.3f],\n", o->crop.x, o->crop.y, o->crop.w, o->crop.h);
+        fprintf(f, "    \"crop\": [%.3f, %.3f, %.3f, %.3f],\n", o->crop.x, o->crop.y, o->crop.w,
+                o->crop.h);
     } else {
         fprintf(f, "    \"crop\": null,\n");
     }
@@ -195,8 +197,7 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     if (o->ideal) {
         fprintf(f, "    \"sonar\": null,\n");
     } else {
-        fprintf(f, "    \"sonar\": \"%s\",\n",
-                sim_sonar_level_name((sim_sonar_level_t)o->sonar));
+        fprintf(f, "    \"sonar\": \"%s\",\n", sim_sonar_level_name((sim_sonar_level_t)o->sonar));
     }
     fprintf(f, "    \"accel_mm_s2\": %u,\n", cfg->accel_mm_s2);
     if (o->calibration != NULL) {
@@ -213,15 +214,16 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     fprintf(f, "    \"post\": {\"threshold\": %u, \"k\": %u, \"insert\": %s, \"om_max\": %u},\n",
             cfg->post_threshold, cfg->post_template_k, cfg->post_insert ? "true" : "false",
             cfg->om_max);
-    fprintf(f, "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
-               "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
-               "\"grazing\": ",
-            e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->slip_free_mps2, e->wheel_noise,
-            e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost);
+    fprintf(f,
+            "    \"errors\": {\"ed\": %.6g, \"eb\": %.6g, \"slip\": %.6g, \"slip_free\": %.6g, "
+            "\"noise\": %.6g, \"sonar_noise\": %.6g, \"dropout\": %.6g, \"ghost\": %.6g, "
+            "\"grazing\": ",
+            e->wheel_ratio_ed, e->wheel_base_eb, e->slip_per_mps2, e->slip_free_mps2,
+            e->wheel_noise, e->sonar_noise_m, e->sonar_dropout, e->sonar_ghost);
     json_grazing(f, e);
     fprintf(f, ", \"multipath\": %u},\n", e->multipath);
-    fprintf(f, "    \"grid\": {\"a\": %u, \"b\": %u, \"origin\": [%.6f, %.6f]}\n  },\n",
-            r->geom.a, r->geom.b, r->geom.origin_x, r->geom.origin_y);
+    fprintf(f, "    \"grid\": {\"a\": %u, \"b\": %u, \"origin\": [%.6f, %.6f]}\n  },\n", r->geom.a,
+            r->geom.b, r->geom.origin_x, r->geom.origin_y);
 
     fprintf(f, "  \"maps\": {\n");
     json_chain(f, "odometry", odo, true);
@@ -231,14 +233,17 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
         json_sweep(f, ps);
     }
 
-    fprintf(f, "  \"odometry\": {\n    \"final_position_m\": %.4f,\n    \"max_position_m\": %.4f,\n"
-               "    \"final_heading_deg\": %.3f,\n    \"max_heading_deg\": %.3f,\n"
-               "    \"path_m\": %.3f\n  },\n",
+    fprintf(f,
+            "  \"odometry\": {\n    \"final_position_m\": %.4f,\n    \"max_position_m\": %.4f,\n"
+            "    \"final_heading_deg\": %.3f,\n    \"max_heading_deg\": %.3f,\n"
+            "    \"path_m\": %.3f\n  },\n",
             r->final_pos_err, r->max_pos_err, r->final_th_err * 180.0 / PI,
             r->max_th_err * 180.0 / PI, r->path_m);
 
-    fprintf(f, "  \"exploration\": {\n    \"reachable_cells\": %u,\n    \"visited_cells\": %u,\n"
-               "    \"coverage\": %.4f,\n", r->reachable_cells, r->visited_cells,
+    fprintf(f,
+            "  \"exploration\": {\n    \"reachable_cells\": %u,\n    \"visited_cells\": %u,\n"
+            "    \"coverage\": %.4f,\n",
+            r->reachable_cells, r->visited_cells,
             r->reachable_cells ? (double)r->visited_cells / r->reachable_cells : 0.0);
     json_time(f, "time_to_50_s", r->time_to[0], true);
     json_time(f, "time_to_80_s", r->time_to[1], true);
@@ -247,8 +252,10 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     for (size_t i = 0; i < r->nseries; i++) {
         fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][1]);
     }
-    fprintf(f, "],\n    \"wall_cells\": %u,\n    \"walls_covered\": %u,\n"
-               "    \"wall_coverage\": %.4f,\n", r->wall_cells, r->walls_covered,
+    fprintf(f,
+            "],\n    \"wall_cells\": %u,\n    \"walls_covered\": %u,\n"
+            "    \"wall_coverage\": %.4f,\n",
+            r->wall_cells, r->walls_covered,
             r->wall_cells ? (double)r->walls_covered / r->wall_cells : 0.0);
     json_time(f, "wall_time_to_50_s", r->wall_time_to[0], true);
     json_time(f, "wall_time_to_80_s", r->wall_time_to[1], true);
@@ -258,7 +265,8 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
         fprintf(f, "%s[%.1f, %.4f]", i ? ", " : "", r->series[i][0], r->series[i][2]);
     }
     fprintf(f, "],\n    \"min_clearance_m\": %.4f,\n", r->min_clearance);
-    fprintf(f, "    \"longest_without_progress_s\": %.2f,\n    \"without_progress_from_s\": %.2f,\n",
+    fprintf(f,
+            "    \"longest_without_progress_s\": %.2f,\n    \"without_progress_from_s\": %.2f,\n",
             r->stuck_s, r->stuck_from_s);
     json_time(f, "explored_at_s", r->explored_at_s, true);
     double longest = r->touch_recovery_max_s;
@@ -278,29 +286,31 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     if (r->touch_t < 0.0) {
         fprintf(f, "    \"first_touch\": null\n  },\n");
     } else {
-        fprintf(f, "    \"first_touch\": {\"t_s\": %.2f, \"x_m\": %.4f, \"y_m\": %.4f, "
-                   "\"heading_deg\": %.2f, \"bearing_deg\": %.0f, \"position_error_m\": %.4f, "
-                   "\"heading_error_deg\": %.2f}\n  },\n",
+        fprintf(f,
+                "    \"first_touch\": {\"t_s\": %.2f, \"x_m\": %.4f, \"y_m\": %.4f, "
+                "\"heading_deg\": %.2f, \"bearing_deg\": %.0f, \"position_error_m\": %.4f, "
+                "\"heading_error_deg\": %.2f}\n  },\n",
                 r->touch_t, r->touch_x, r->touch_y, r->touch_th * 180.0 / PI,
                 r->touch_bearing * 180.0 / PI, r->touch_pos_err, r->touch_th_err * 180.0 / PI);
     }
 
     const sweep_t *sw = &robot->sweep;
     const mapper_t *m = &robot->mapper;
-    fprintf(f, "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
-               "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
-               "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
-               "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u, "
-               "\"escapes\": %u},\n",
-            robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near,
-            m->outside, tr.collisions, robot->explore.count.turns,
-            robot->explore.count.avoidances, robot->explore.count.stalls,
-            robot->explore.count.leaves, robot->explore.count.doors, robot->explore.count.seeks,
-            robot->explore.count.escapes);
+    fprintf(f,
+            "  \"robot\": {\"ticks\": %u, \"pings\": %u, \"echoes\": %u, \"timeouts\": %u, "
+            "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
+            "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
+            "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u, "
+            "\"escapes\": %u},\n",
+            robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near, m->outside,
+            tr.collisions, robot->explore.count.turns, robot->explore.count.avoidances,
+            robot->explore.count.stalls, robot->explore.count.leaves, robot->explore.count.doors,
+            robot->explore.count.seeks, robot->explore.count.escapes);
     json_pings(f, sim, r);
     const loc_t *lo = &robot->loc;
-    fprintf(f, "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
-               "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
+    fprintf(f,
+            "  \"localization\": {\"on\": %s, \"tried\": %u, \"applied\": %u, "
+            "\"refused\": %u, \"dropped\": %u, \"late\": %u},\n",
             lo->on ? "true" : "false", lo->match.tried, lo->match.applied, lo->match.refused,
             robot->readq.dropped, robot->readq.late);
 
@@ -309,8 +319,9 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r,
     uint32_t na = cells_needed(span_x, cfg->cell_um);
     uint32_t nb = cells_needed(span_y, cfg->cell_um);
     size_t state = sizeof(robot_t) - 2u * (size_t)SLAM_GRID_CELLS;
-    fprintf(f, "  \"ram\": {\"grid_a\": %u, \"grid_b\": %u, \"maps_bytes\": %lu, "
-               "\"state_bytes\": %zu, \"total_bytes\": %lu}\n}\n",
+    fprintf(f,
+            "  \"ram\": {\"grid_a\": %u, \"grid_b\": %u, \"maps_bytes\": %lu, "
+            "\"state_bytes\": %zu, \"total_bytes\": %lu}\n}\n",
             na, nb, 2ul * na * nb, state, 2ul * na * nb + state);
     return close_out(f, o->out, "metrics.json");
 }
@@ -365,8 +376,8 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
            r->final_pos_err, r->final_th_err * 180.0 / PI, r->max_pos_err,
            r->max_th_err * 180.0 / PI, r->path_m);
     if (lo->on) {
-        printf("  pose correction %u of %u matches applied against the map\n",
-               lo->match.applied, lo->match.tried);
+        printf("  pose correction %u of %u matches applied against the map\n", lo->match.applied,
+               lo->match.tried);
     } else {
         printf("  pose correction off: the pose is odometry alone\n");
     }

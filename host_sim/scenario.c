@@ -23,8 +23,8 @@ static int check_enclosed(const options_t *o, const room_t *room, double sx, dou
     } else {
         snprintf(who, sizeof who, "%s: start pose (%g, %g)", o->room, sx, sy);
     }
-    fprintf(stderr, "host_sim: %s is outside the room: a ray toward %.0f deg meets no wall\n",
-            who, dir_deg);
+    fprintf(stderr, "host_sim: %s is outside the room: a ray toward %.0f deg meets no wall\n", who,
+            dir_deg);
     return -1;
 }
 
@@ -105,8 +105,10 @@ static int check_closed(const options_t *o, const scenario_t *sc)
     const double cell = cfg->cell_um * 1e-6;
     /* The grid's origin as grid_init() puts it: the start at the centre of its cell. */
     const int64_t half = (int64_t)cfg->cell_um / 2;
-    const double ox = (double)(cfg->start_x_um - (int64_t)cfg->start_cell_a * cfg->cell_um - half) * 1e-6;
-    const double oy = (double)(cfg->start_y_um - (int64_t)cfg->start_cell_b * cfg->cell_um - half) * 1e-6;
+    const double ox =
+        (double)(cfg->start_x_um - (int64_t)cfg->start_cell_a * cfg->cell_um - half) * 1e-6;
+    const double oy =
+        (double)(cfg->start_y_um - (int64_t)cfg->start_cell_b * cfg->cell_um - half) * 1e-6;
     sim_params_t params;
     sim_params_default(&params);
     uint8_t *wall = calloc(n, 1u);

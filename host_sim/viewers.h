@@ -24,15 +24,15 @@
  * as a UART with no cable drops them.
  */
 typedef struct {
-    const char *path;  /* the symbolic link to it; NULL: no link (a zeroed link_t) */
-    int fd;            /* the pseudo-terminal's master end, or -1 */
-    int peer;          /* our own hold on its other end: a viewer may come and go */
-    char device[128];  /* the other end, /dev/pts/N */
-    FILE *sink;        /* the UART sink: the terminal, and tee when set */
-    FILE *tee;         /* --telemetry, or NULL */
-    uint64_t sent;     /* bytes written to the terminal */
-    uint64_t dropped;  /* bytes it had no room for */
-    uint64_t lost;     /* command bytes the robot's UART had no room for */
+    const char *path; /* the symbolic link to it; NULL: no link (a zeroed link_t) */
+    int fd;           /* the pseudo-terminal's master end, or -1 */
+    int peer;         /* our own hold on its other end: a viewer may come and go */
+    char device[128]; /* the other end, /dev/pts/N */
+    FILE *sink;       /* the UART sink: the terminal, and tee when set */
+    FILE *tee;        /* --telemetry, or NULL */
+    uint64_t sent;    /* bytes written to the terminal */
+    uint64_t dropped; /* bytes it had no room for */
+    uint64_t lost;    /* command bytes the robot's UART had no room for */
 } link_t;
 
 /** Check, changing nothing, that PATH can be made a link: 0, or -1 with a message. */

@@ -25,7 +25,7 @@ static const struct {
     const char *name;
     long long lo, hi;
 } ranges[] = {
-#define RANGE(name, type, dflt, lo, hi, rule, id, live, words)                                  \
+#define RANGE(name, type, dflt, lo, hi, rule, id, live, words)                                     \
     {#name, (long long)(lo), (long long)(hi)},
     SLAM_CONFIG_FIELDS(RANGE)
 #undef RANGE

@@ -26,18 +26,18 @@ static void test_defaults_are_the_papers(void **state)
     assert_int_equal(c.post_template_k, 0);
     assert_int_equal(c.post_insert, 0);
     slam_config_paper(&c);
-    assert_int_equal(c.om_mode, OM_MODE_COUNT);          /* Eq. 6 */
-    assert_int_equal(c.om_max, 9);                       /* OMmax, Eq. 6 */
-    assert_int_equal(c.tm_max, 30);                      /* TMmax, Eq. 7 */
-    assert_int_equal(c.confidence_radius_um, 1000000u);  /* rc = 1 m */
-    assert_int_equal(c.post_threshold, 3);               /* TH */
+    assert_int_equal(c.om_mode, OM_MODE_COUNT);         /* Eq. 6 */
+    assert_int_equal(c.om_max, 9);                      /* OMmax, Eq. 6 */
+    assert_int_equal(c.tm_max, 30);                     /* TMmax, Eq. 7 */
+    assert_int_equal(c.confidence_radius_um, 1000000u); /* rc = 1 m */
+    assert_int_equal(c.post_threshold, 3);              /* TH */
     assert_int_equal(c.post_insert, 1);
-    assert_int_equal(c.sweep_first_mdeg, 65000);         /* 65° ... */
-    assert_int_equal(c.sweep_last_mdeg, 155000);         /* ... 155° */
-    assert_int_equal(c.sweep_stops, 6);                  /* six stops, 18° apart */
+    assert_int_equal(c.sweep_first_mdeg, 65000); /* 65° ... */
+    assert_int_equal(c.sweep_last_mdeg, 155000); /* ... 155° */
+    assert_int_equal(c.sweep_stops, 6);          /* six stops, 18° apart */
     assert_int_equal((c.sweep_last_mdeg - c.sweep_first_mdeg) / (c.sweep_stops - 1), 18000);
-    assert_int_equal(SLAM_TICK_US, 10000u);              /* 10 ms control period */
-    assert_int_equal(c.start_cell_a, SLAM_GRID_A / 2u);  /* start at the centre */
+    assert_int_equal(SLAM_TICK_US, 10000u);             /* 10 ms control period */
+    assert_int_equal(c.start_cell_a, SLAM_GRID_A / 2u); /* start at the centre */
     assert_int_equal(c.start_cell_b, SLAM_GRID_B / 2u);
     /* A stop lasts about 60 ms: 30 ms settling, then up to 38 ms for the echo, and pings
      * at least 60 ms apart (the HC-SR04 datasheet). */
@@ -55,8 +55,11 @@ typedef struct {
     void (*mutate)(slam_config_t *c);
 } bad_case_t;
 
-#define BAD(name, body) \
-    static void bad_##name(slam_config_t *c) { body; }
+#define BAD(name, body)                                                                            \
+    static void bad_##name(slam_config_t *c)                                                       \
+    {                                                                                              \
+        body;                                                                                      \
+    }
 BAD(diam_l_small, c->wheel_diameter_left_um = 9999u)
 BAD(diam_r_big, c->wheel_diameter_right_um = 300001u)
 BAD(base_zero, c->wheel_base_um = 0u)
@@ -107,28 +110,49 @@ static void test_every_bad_field_is_named(void **state)
 {
     (void)state;
     static const bad_case_t cases[] = {
-        {"wheel_diameter_left_um", bad_diam_l_small}, {"wheel_diameter_right_um", bad_diam_r_big},
-        {"wheel_base_um", bad_base_zero},             {"encoder_counts_per_rev", bad_counts_few},
-        {"encoder_counts_per_rev", bad_counts_many},  {"cal_left", bad_cal_l},
-        {"cal_right", bad_cal_r},                     {"cal_base", bad_cal_b},
-        {"start_x_um", bad_start_x},                  {"start_y_um", bad_start_y},
-        {"start_heading_mdeg", bad_start_h},          {"cell_um", bad_cell_zero},
-        {"cell_um", bad_cell_huge},                   {"cell_um", bad_cell_small},
-        {"clearance_um", bad_corridor},               {"start_cell_a", bad_start_a},
-        {"start_cell_b", bad_start_b},                {"om_max", bad_om_max},
-        {"tm_max", bad_tm_max},                       {"confidence_radius_um", bad_rc_small},
-        {"confidence_radius_um", bad_rc_zero},        {"range_min_um", bad_range_min},
-        {"sound_speed_mm_per_s", bad_sound},          {"mount_x_um", bad_mount_x},
-        {"mount_y_um", bad_mount_y},                  {"mount_yaw_mdeg", bad_mount_yaw},
-        {"sweep_first_mdeg", bad_first},              {"sweep_last_mdeg", bad_last},
-        {"sweep_stops", bad_stops_zero},              {"sweep_stops", bad_stops_many},
-        {"sweep_stops", bad_stops_one},               {"settle_ticks", bad_settle},
-        {"echo_timeout_ticks", bad_echo_to},          {"ping_interval_ticks", bad_ping_interval},
+        {"wheel_diameter_left_um", bad_diam_l_small},
+        {"wheel_diameter_right_um", bad_diam_r_big},
+        {"wheel_base_um", bad_base_zero},
+        {"encoder_counts_per_rev", bad_counts_few},
+        {"encoder_counts_per_rev", bad_counts_many},
+        {"cal_left", bad_cal_l},
+        {"cal_right", bad_cal_r},
+        {"cal_base", bad_cal_b},
+        {"start_x_um", bad_start_x},
+        {"start_y_um", bad_start_y},
+        {"start_heading_mdeg", bad_start_h},
+        {"cell_um", bad_cell_zero},
+        {"cell_um", bad_cell_huge},
+        {"cell_um", bad_cell_small},
+        {"clearance_um", bad_corridor},
+        {"start_cell_a", bad_start_a},
+        {"start_cell_b", bad_start_b},
+        {"om_max", bad_om_max},
+        {"tm_max", bad_tm_max},
+        {"confidence_radius_um", bad_rc_small},
+        {"confidence_radius_um", bad_rc_zero},
+        {"range_min_um", bad_range_min},
+        {"sound_speed_mm_per_s", bad_sound},
+        {"mount_x_um", bad_mount_x},
+        {"mount_y_um", bad_mount_y},
+        {"mount_yaw_mdeg", bad_mount_yaw},
+        {"sweep_first_mdeg", bad_first},
+        {"sweep_last_mdeg", bad_last},
+        {"sweep_stops", bad_stops_zero},
+        {"sweep_stops", bad_stops_many},
+        {"sweep_stops", bad_stops_one},
+        {"settle_ticks", bad_settle},
+        {"echo_timeout_ticks", bad_echo_to},
+        {"ping_interval_ticks", bad_ping_interval},
         {"servo_pulse_0deg_us", bad_pulse0},
-        {"servo_pulse_180deg_us", bad_pulse180},      {"servo_pulse_180deg_us", bad_pulse_same},
-        {"post_threshold", bad_threshold},            {"post_template_k", bad_template_k},
-        {"post_threshold", bad_threshold_count},      {"post_insert", bad_insert},
-        {"om_mode", bad_om_mode},                     {"om_hit", bad_om_hit},
+        {"servo_pulse_180deg_us", bad_pulse180},
+        {"servo_pulse_180deg_us", bad_pulse_same},
+        {"post_threshold", bad_threshold},
+        {"post_template_k", bad_template_k},
+        {"post_threshold", bad_threshold_count},
+        {"post_insert", bad_insert},
+        {"om_mode", bad_om_mode},
+        {"om_hit", bad_om_hit},
         {"om_miss", bad_om_miss},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -186,8 +210,8 @@ typedef struct {
 #define ROW_I32 's'
 #define ROW_Q30 's'
 static const row_t rows[] = {
-#define ROW(name, type, dflt, lo, hi, rule, id, live, words)                                    \
-    {#name, offsetof(slam_config_t, name), ROW_##type, (int64_t)(lo), (int64_t)(hi),          \
+#define ROW(name, type, dflt, lo, hi, rule, id, live, words)                                       \
+    {#name,          offsetof(slam_config_t, name), ROW_##type, (int64_t)(lo), (int64_t)(hi),      \
      #rule[0] != 'N'},
     SLAM_CONFIG_FIELDS(ROW)
 #undef ROW
@@ -198,8 +222,10 @@ static bool row_store(slam_config_t *c, const row_t *r, int64_t v)
 {
     uint8_t *p = (uint8_t *)c + r->offset;
     int64_t tmin = r->type == 's' ? INT32_MIN : 0;
-    int64_t tmax = r->type == 'b' ? UINT8_MAX : r->type == 'h' ? UINT16_MAX
-                 : r->type == 'w' ? (int64_t)UINT32_MAX : INT32_MAX;
+    int64_t tmax = r->type == 'b'   ? UINT8_MAX
+                   : r->type == 'h' ? UINT16_MAX
+                   : r->type == 'w' ? (int64_t)UINT32_MAX
+                                    : INT32_MAX;
     if (v < tmin || v > tmax) {
         return false;
     }

@@ -106,10 +106,17 @@ static void test_set_values_and_errors(void **state)
     assert_int_equal(c.start_x_um, -42);
     c = keep;
     static const char *const bad[][2] = {
-        {"om_max", "256"},           {"om_max", "-1"},        {"om_max", "9x"},
-        {"om_max", ""},              {"wheel_base_um", "4294967296"},
-        {"start_x_um", "2147483648"}, {"cal_left", "abc"},     {"cal_left", "2.5"},
-        {"cal_left", "nan"},         {"cal_left", "1.0 2"},   {"settle_ticks", "3.5"},
+        {"om_max", "256"},
+        {"om_max", "-1"},
+        {"om_max", "9x"},
+        {"om_max", ""},
+        {"wheel_base_um", "4294967296"},
+        {"start_x_um", "2147483648"},
+        {"cal_left", "abc"},
+        {"cal_left", "2.5"},
+        {"cal_left", "nan"},
+        {"cal_left", "1.0 2"},
+        {"settle_ticks", "3.5"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         err[0] = '\0';
@@ -158,7 +165,8 @@ static void test_file_errors_name_file_and_line(void **state)
         /* A bad value the file did not set is blamed on the line of the field its rule
          * compares it with, and both values are given. */
         {"om_mode = 0\nom_max = 2\npost_threshold = 3\n",
-         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0, "
+         ":3: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is "
+         "0, "
          "below 127 when it is 1 (om_max = 2, om_mode = 0)"},
         {"top_speed_mm_s = 150\n", ":1: cruise_mm_s = 200 is out of its valid range: 1..5000, at "
                                    "most top_speed_mm_s (top_speed_mm_s = 150)"},
@@ -166,8 +174,9 @@ static void test_file_errors_name_file_and_line(void **state)
         {"wheel_base_um = 140000\n# again:\nwheel_base_um = 150000\n",
          ":3: wheel_base_um is given twice (first on line 1)"},
         /* Numbers beyond the type say so, not "not a number". */
-        {"wheel_base_um = 99999999999999999999999\n", ":1: wheel_base_um = '99999999999999999999999': "
-                                                   "out of its valid range: 50000..1000000"},
+        {"wheel_base_um = 99999999999999999999999\n",
+         ":1: wheel_base_um = '99999999999999999999999': "
+         "out of its valid range: 50000..1000000"},
         {"cal_left = 1e999\n", ":1: cal_left = '1e999': must lie between -2 and 2"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -180,7 +189,8 @@ static void test_file_errors_name_file_and_line(void **state)
         }
         assert_memory_equal(&c, &keep, sizeof c); /* nothing changed */
     }
-    assert_int_equal(cfgtext_load("/nonexistent/robot.conf", &c, NULL, NULL, NULL, err, sizeof err), -1);
+    assert_int_equal(cfgtext_load("/nonexistent/robot.conf", &c, NULL, NULL, NULL, err, sizeof err),
+                     -1);
     assert_non_null(strstr(err, "/nonexistent/robot.conf: cannot open"));
     /* Comments, blanks, spaces, and a backend's own key. */
     write_file("  # robot\n\n wheel_base_um=135000   # measured\ngpio_chip = gpiochip0\n");
@@ -203,21 +213,19 @@ static void test_not_text(void **state)
     slam_config_t keep = c;
     char err[256] = "";
     static const char nul[] = "om_max = 9\nwheel_base_um = 14\0000000\n";
-    assert_int_equal(cfgtext_parse("mem.conf", nul, sizeof nul - 1u, &c, NULL, NULL, NULL, err,
-                                   sizeof err),
-                     -1);
+    assert_int_equal(
+        cfgtext_parse("mem.conf", nul, sizeof nul - 1u, &c, NULL, NULL, NULL, err, sizeof err), -1);
     assert_non_null(strstr(err, "mem.conf:2: a NUL byte"));
     static char longline[2000];
     memset(longline, ' ', sizeof longline);
     memcpy(longline, "om_max = 9", 10);
-    assert_int_equal(cfgtext_parse("mem.conf", longline, sizeof longline, &c, NULL, NULL, NULL,
-                                   err, sizeof err),
-                     -1);
+    assert_int_equal(
+        cfgtext_parse("mem.conf", longline, sizeof longline, &c, NULL, NULL, NULL, err, sizeof err),
+        -1);
     assert_non_null(strstr(err, "mem.conf:1: line longer than 511 characters"));
     /* No newline at the end is fine. */
-    assert_int_equal(cfgtext_parse("mem.conf", "om_max = 8", 10u, &c, NULL, NULL, NULL, err,
-                                   sizeof err),
-                     0);
+    assert_int_equal(
+        cfgtext_parse("mem.conf", "om_max = 8", 10u, &c, NULL, NULL, NULL, err, sizeof err), 0);
     assert_int_equal(c.om_max, 8u);
     c = keep;
     /* An input is a regular file: /dev/zero (it never ends) and a FIFO (no writer: opening
@@ -339,9 +347,8 @@ static void test_rule_messages_name_both_fields(void **state)
     slam_config_default(&c);
     char err[300] = "";
     static const char text[] = "# sonar\nrange_min_um = 1000000\n";
-    assert_int_equal(cfgtext_parse("s.conf", text, sizeof text - 1u, &c, NULL, NULL, NULL, err,
-                                   sizeof err),
-                     -1);
+    assert_int_equal(
+        cfgtext_parse("s.conf", text, sizeof text - 1u, &c, NULL, NULL, NULL, err, sizeof err), -1);
     assert_string_equal(err, "s.conf:2: confidence_radius_um = 1000000 is out of its valid range: "
                              "1..10000000, above range_min_um (range_min_um = 1000000)");
     assert_string_equal(cfgtext_partners("sweep_stops"), "sweep_first_mdeg sweep_last_mdeg");
@@ -361,7 +368,9 @@ static void test_messages_escape_control_bytes(void **state)
         {"cell_um = \033]0;PWNED\007\n", "x.conf:1: cell_um = '\\x1b]0;PWNED\\x07': expected"},
         {"\033[2J = 5\n", "x.conf:1: unknown key '\\x1b[2J'"},
         {"no equals \r here\n", "x.conf:1: expected 'key = value', got 'no equals \\x0d here'"},
-        {"cal_left = \xc2\x9b" "1m\n", "cal_left = '\\xc2\\x9b1m'"}, /* C1 CSI in UTF-8 */
+        {"cal_left = \xc2\x9b"
+         "1m\n",
+         "cal_left = '\\xc2\\x9b1m'"}, /* C1 CSI in UTF-8 */
         {"cal_left = \xff\n", "cal_left = '\\xff'"},
         {"cal_left = caf\xc3\xa9\n", "cal_left = 'caf\xc3\xa9'"}, /* printable UTF-8 stays */
     };

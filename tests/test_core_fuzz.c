@@ -61,8 +61,8 @@ static void random_config(uint64_t *s, slam_config_t *c)
         return; /* the defaults too, with random inputs */
     }
     c->wheel_diameter_left_um = (uint32_t)pick(s, 10000, 300000);
-    c->wheel_diameter_right_um = (next(s) & 1u) != 0u ? c->wheel_diameter_left_um
-                                                       : (uint32_t)pick(s, 10000, 300000);
+    c->wheel_diameter_right_um =
+        (next(s) & 1u) != 0u ? c->wheel_diameter_left_um : (uint32_t)pick(s, 10000, 300000);
     c->wheel_base_um = (uint32_t)pick(s, 50000, 1000000);
     c->encoder_counts_per_rev = (uint32_t)pick(s, 16, 65535);
     c->cal_left = (q1_30_t)pick(s, FIX_Q30_ONE / 2, FIX_Q30_ONE + FIX_Q30_ONE / 2);
@@ -72,7 +72,8 @@ static void random_config(uint64_t *s, slam_config_t *c)
     c->start_y_um = (int32_t)pick(s, -1000000000, 1000000000);
     c->start_heading_mdeg = (int32_t)pick(s, -360000, 360000);
     uint32_t side = SLAM_GRID_A > SLAM_GRID_B ? SLAM_GRID_A : SLAM_GRID_B;
-    c->cell_um = (uint32_t)pick(s, 20000, 1000000000 / side < 1000000 ? 1000000000 / side : 1000000);
+    c->cell_um =
+        (uint32_t)pick(s, 20000, 1000000000 / side < 1000000 ? 1000000000 / side : 1000000);
     c->start_cell_a = (uint16_t)pick(s, 0, SLAM_GRID_A - 1);
     c->start_cell_b = (uint16_t)pick(s, 0, SLAM_GRID_B - 1);
     c->om_max = (uint8_t)pick(s, 1, 255);
@@ -112,8 +113,8 @@ static void random_config(uint64_t *s, slam_config_t *c)
     uint32_t columns = SLAM_CORRIDOR_CELLS_MAX / slam_corridor_rows(c->cell_um);
     uint32_t widest = (columns - 1u) * c->cell_um / 2u + c->cell_um / 2u - 1u;
     c->clearance_um = (uint32_t)pick(s, 10000, widest < 1999999u ? widest : 1999999);
-    c->follow_um = (uint32_t)pick(s, c->clearance_um < 50000u ? 50000 : c->clearance_um + 1u,
-                                  2000000);
+    c->follow_um =
+        (uint32_t)pick(s, c->clearance_um < 50000u ? 50000 : c->clearance_um + 1u, 2000000);
     c->square_side_um = (uint32_t)pick(s, 100000, 100000000);
     c->square_laps = (uint8_t)pick(s, 0, 255);
     c->explore_seed = (uint32_t)pick(s, 1, UINT32_MAX);
@@ -189,8 +190,8 @@ static void fuzz_one(uint64_t seed)
     random_config(&s, &cfg);
     const char *bad = NULL;
     if (slam_config_check(&cfg, &bad) != SLAM_OK) {
-        fail_msg("seed %llu: the fuzz drew an invalid configuration (%s)",
-                 (unsigned long long)seed, bad);
+        fail_msg("seed %llu: the fuzz drew an invalid configuration (%s)", (unsigned long long)seed,
+                 bad);
     }
     fake_hal_reset();
     fake_hal.encoder[0] = (uint16_t)next(&s);

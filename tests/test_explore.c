@@ -223,8 +223,8 @@ static void test_corridor_and_memory(void **state)
 static void om_at(double x_m, double y_m, uint8_t om)
 {
     grid_cell_t c;
-    assert_int_equal(grid_cell_of(&grid, (int32_t)lround(x_m * 1e6), (int32_t)lround(y_m * 1e6), &c),
-                     SLAM_OK);
+    assert_int_equal(
+        grid_cell_of(&grid, (int32_t)lround(x_m * 1e6), (int32_t)lround(y_m * 1e6), &c), SLAM_OK);
     grid.om[grid_index(c)] = om;
 }
 
@@ -247,7 +247,7 @@ static void test_map_corridor(void **state)
         {0.15, 0.0, 0.15, 0.05, 1, true},  /* two cells across the way */
         {0.10, 0.1, 0.15, 0.1, 1, true},   /* two along its left edge */
         {0.15, 0.0, 0.15, 0.0, 1, false},  /* one cell */
-        {0.15, 0.0, 0.15, 0.0, 2, true},  /* one cell, but seen twice */
+        {0.15, 0.0, 0.15, 0.0, 2, true},   /* one cell, but seen twice */
         {0.60, 0.0, 0.60, 0.05, 2, false}, /* beyond 0.25 m */
         {0.15, 0.2, 0.15, 0.25, 2, false}, /* beside the corridor */
         {0.15, 0.0, 0.15, 0.0, 0, true},   /* held back: the robot keeps clear of it */

@@ -62,8 +62,8 @@ static void test_follows_a_wall_on_the_right(void **state)
 
 static bool heading_north(void)
 {
-    return ex.machine.state == EXPLORE_FOLLOW && fabs(remainder(pth - EW_PI / 2.0, 2.0 * EW_PI)) < 0.1 &&
-           py > 0.0;
+    return ex.machine.state == EXPLORE_FOLLOW &&
+           fabs(remainder(pth - EW_PI / 2.0, 2.0 * EW_PI)) < 0.1 && py > 0.0;
 }
 
 /* A concave corner: the wall ahead makes the robot turn left and follow it too. */
@@ -129,7 +129,8 @@ static void test_opening_is_passed_at_its_middle(void **state)
     assert_true(ex.count.doors >= 1u);
     run_until(following, 1000u, &closest);
     run_until(NULL, 1000u, &closest);
-    printf("then at (%.0f, %.0f) mm heading %.0f°\n", px / 1000.0, py / 1000.0, pth * 180.0 / EW_PI);
+    printf("then at (%.0f, %.0f) mm heading %.0f°\n", px / 1000.0, py / 1000.0,
+           pth * 180.0 / EW_PI);
     assert_int_equal(ex.machine.state, EXPLORE_FOLLOW);
     assert_true(py < -0.25e6 && px < 1.5e6); /* west, along the far side */
     assert_true(closest > 40000.0);
@@ -245,7 +246,8 @@ static void test_free_cells_explore_their_block(void **state)
     assert_int_equal(grid_state(&grid, grid_index(c)), GRID_FREE);
     uint32_t k = (c.b >> EXPLORE_BLOCK_SHIFT) * EXPLORE_BLOCKS_A + (c.a >> EXPLORE_BLOCK_SHIFT);
     assert_true((ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u);
-    for (unsigned t = 0; t < 20u * SLAM_GRID_CELLS / 8u && (ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u;
+    for (unsigned t = 0;
+         t < 20u * SLAM_GRID_CELLS / 8u && (ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u;
          t++) {
         quiet_tick();
         px = py = pth = 0.0;

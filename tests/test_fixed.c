@@ -114,7 +114,7 @@ static void test_saturation_at_limits(void **state)
     assert_int_equal(fix_sat_i32(-5), -5);
     /* Q1.30 products: identity, rounding, saturation at both ends. */
     assert_int_equal(fix_mul_q30(123456789, FIX_Q30_ONE), 123456789);
-    assert_int_equal(fix_mul_q30(3, FIX_Q30_ONE / 2), 2); /* 1.5 rounds up */
+    assert_int_equal(fix_mul_q30(3, FIX_Q30_ONE / 2), 2);   /* 1.5 rounds up */
     assert_int_equal(fix_mul_q30(-3, FIX_Q30_ONE / 2), -1); /* -1.5 rounds up */
     assert_int_equal(fix_mul_q30(INT32_MAX, INT32_MAX), INT32_MAX);
     assert_int_equal(fix_mul_q30(INT32_MIN, INT32_MAX), INT32_MIN);
@@ -133,7 +133,8 @@ static void test_mul_q30_i64_matches_wide_product(void **state)
         assert_true(fabsl(got - exact) <= 1.0L);
     }
     assert_int_equal(fix_mul_q30_i64(((int64_t)1 << 47) - 1, FIX_Q30_ONE), ((int64_t)1 << 47) - 1);
-    assert_int_equal(fix_mul_q30_i64(-((int64_t)1 << 47) + 1, -FIX_Q30_ONE), ((int64_t)1 << 47) - 1);
+    assert_int_equal(fix_mul_q30_i64(-((int64_t)1 << 47) + 1, -FIX_Q30_ONE),
+                     ((int64_t)1 << 47) - 1);
 }
 
 static void test_muldiv_u64(void **state)

@@ -124,10 +124,9 @@ static void test_saturation_table(void **state)
 {
     (void)state;
     static const sat_case_t cases[] = {
-        {0, 9, 0, 0},    {0, 9, 1, 1},    {0, 9, 8, 8},     {0, 9, 9, 9},
-        {0, 9, 10, 9},   {0, 9, 1000, 9}, {1, 30, 1, 1},    {1, 30, 29, 29},
-        {1, 30, 30, 30}, {1, 30, 31, 30}, {1, 30, 5000, 30}, {0, 255, 256, 255},
-        {1, 255, 300, 255}, {0, 1, 3, 1},
+        {0, 9, 0, 0},      {0, 9, 1, 1},       {0, 9, 8, 8},       {0, 9, 9, 9},    {0, 9, 10, 9},
+        {0, 9, 1000, 9},   {1, 30, 1, 1},      {1, 30, 29, 29},    {1, 30, 30, 30}, {1, 30, 31, 30},
+        {1, 30, 5000, 30}, {0, 255, 256, 255}, {1, 255, 300, 255}, {0, 1, 3, 1},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const sat_case_t *k = &cases[i];
@@ -217,7 +216,8 @@ static void test_random_point_soak(void **state)
             break;
         case 1: /* within a few µm of a border */
             x = test_rng_range(&rng, ox - 2 * L, xe + 2 * L);
-            y = ((i >> 2) & 1) ? oy + test_rng_range(&rng, -3, 3) : ye + test_rng_range(&rng, -3, 3);
+            y = ((i >> 2) & 1) ? oy + test_rng_range(&rng, -3, 3)
+                               : ye + test_rng_range(&rng, -3, 3);
             if ((i >> 3) & 1) {
                 int32_t t = x - ox + oy;
                 x = ((i >> 4) & 1) ? ox + (y - oy) : xe + (y - ye);
@@ -254,9 +254,9 @@ static void test_state_reads_om_then_tm(void **state)
     (void)state;
     grid_t *g = &gg.g;
     const int32_t l = (int32_t)L;
-    assert_int_equal(grid_tm_visit(g, 0, 0), SLAM_OK);           /* the start cell */
-    assert_int_equal(grid_om_hit(g, 3 * l, 0), SLAM_OK);          /* three cells east */
-    assert_int_equal(grid_tm_visit(g, 3 * l, 0), SLAM_OK);        /* driven through too */
+    assert_int_equal(grid_tm_visit(g, 0, 0), SLAM_OK);     /* the start cell */
+    assert_int_equal(grid_om_hit(g, 3 * l, 0), SLAM_OK);   /* three cells east */
+    assert_int_equal(grid_tm_visit(g, 3 * l, 0), SLAM_OK); /* driven through too */
     grid_cell_t start, east, north;
     assert_int_equal(grid_cell_of(g, 0, 0, &start), SLAM_OK);
     assert_int_equal(grid_cell_of(g, 3 * l, 0, &east), SLAM_OK);
@@ -274,8 +274,8 @@ static void test_occupied_above_is_the_state_rule(void **state)
         uint8_t top = grid_occupied_above((uint8_t)mode);
         for (unsigned om = 0; om < 256u; om++) {
             for (unsigned tm = 0; tm < 256u; tm++) {
-                bool occupied = grid_state_of((uint8_t)mode, (uint8_t)om, (uint8_t)tm) ==
-                                GRID_OCCUPIED;
+                bool occupied =
+                    grid_state_of((uint8_t)mode, (uint8_t)om, (uint8_t)tm) == GRID_OCCUPIED;
                 assert_int_equal(occupied, om > top);
             }
         }
@@ -308,17 +308,18 @@ static void test_evidence_steps_and_saturation(void **state)
     assert_int_equal(om_at(0, 0), 132);
     assert_int_equal(grid_om_free(&gg.g, 0, 0), SLAM_OK);
     assert_int_equal(om_at(0, 0), 131);
-    assert_int_equal(grid_om_free(&gg.g, l, 0), SLAM_OK);   /* untouched: 128, then -1 */
+    assert_int_equal(grid_om_free(&gg.g, l, 0), SLAM_OK); /* untouched: 128, then -1 */
     assert_int_equal(om_at(l, 0), 127);
-    assert_int_equal(grid_state(&gg.g, grid_index((grid_cell_t){SLAM_GRID_A / 2u, SLAM_GRID_B / 2u})),
-                     GRID_OCCUPIED);
+    assert_int_equal(
+        grid_state(&gg.g, grid_index((grid_cell_t){SLAM_GRID_A / 2u, SLAM_GRID_B / 2u})),
+        GRID_OCCUPIED);
     for (int i = 0; i < 1000; i++) {
         (void)grid_om_hit(&gg.g, 0, 0);
         (void)grid_om_free(&gg.g, l, 0);
     }
     assert_int_equal(om_at(0, 0), 255); /* L = +127 */
     assert_int_equal(om_at(l, 0), 1);   /* L = -127 */
-    for (int i = 0; i < 4; i++) {      /* a cell hit once is balanced by four passes */
+    for (int i = 0; i < 4; i++) {       /* a cell hit once is balanced by four passes */
         (void)grid_om_free(&gg.g, 2 * l, 0);
     }
     (void)grid_om_hit(&gg.g, 2 * l, 0);
@@ -349,7 +350,7 @@ static void test_part_of_a_hit_and_back(void **state)
         grid_om_part(&gg.g, l, 0, 2u, false);
         grid_om_part(&gg.g, 2 * l, 0, 2u, true);
     }
-    assert_int_equal(om_at(l, 0), 255); /* L = +127 */
+    assert_int_equal(om_at(l, 0), 255);   /* L = +127 */
     assert_int_equal(om_at(2 * l, 0), 1); /* L = -127 */
     grid_om_part(&gg.g, INT32_MAX, 0, 2u, false);
     grid_om_part(&gg.g, 0, INT32_MIN, 2u, true);

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of the pose correction's fixed-point filter (src/localize/loc_filter.c) against a double-precision
- * one. */
+/* Tests of the pose correction's fixed-point filter (src/localize/loc_filter.c) against a
+ * double-precision one. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <math.h>
@@ -52,8 +52,8 @@ static void random_cov(test_rng_t *rng, lkf_cov_t *c, double m[LKF_N][LKF_N])
 }
 
 /* One scalar update in double precision: the Kalman filter's textbook form. */
-static void ref_update(double d[LKF_N], double p[LKF_N][LKF_N], const double lin[LKF_N],
-                       double h, const double j[3], double r)
+static void ref_update(double d[LKF_N], double p[LKF_N][LKF_N], const double lin[LKF_N], double h,
+                       const double j[3], double r)
 {
     double pj[LKF_N];
     for (int i = 0; i < LKF_N; i++) {
@@ -122,15 +122,16 @@ static void test_update_against_double(void **state)
     double worst_p = 0.0;
     /* κ's variance is compared at (100 nrad/mm)² and (100 ppm)² (0.006° a metre, 0.01 % of
      * a turn): below that, the gains' Q20 rounds its updates by a few units. */
-    static const double floor_var[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN,
-                                            1e10, 1e10};
+    static const double floor_var[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN, 1e10,
+                                            1e10};
     for (int trial = 0; trial < 2000; trial++) {
         lkf_cov_t c;
         double pd[LKF_N][LKF_N];
         random_cov(&rng, &c, pd);
         lkf_state_t d = {{0}};
-        lkf_state_t lin = {{test_rng_range(&rng, -20000, 20000), test_rng_range(&rng, -20000, 20000),
-                            test_rng_range(&rng, -5000, 5000), 0, 0}};
+        lkf_state_t lin = {{test_rng_range(&rng, -20000, 20000),
+                            test_rng_range(&rng, -20000, 20000), test_rng_range(&rng, -5000, 5000),
+                            0, 0}};
         double dd[LKF_N] = {0};
         double lind[LKF_N];
         for (int i = 0; i < LKF_N; i++) {
@@ -139,7 +140,8 @@ static void test_update_against_double(void **state)
         for (int n = 0; n < 100; n++) {
             double ang = 2.0 * PI * (double)test_rng_range(&rng, 0, 3600) / 3600.0;
             double lever = (double)test_rng_range(&rng, -1200, 1200) / 1000.0; /* m */
-            int32_t j[3] = {(int32_t)lround(cos(ang) * LKF_J_ONE), (int32_t)lround(sin(ang) * LKF_J_ONE),
+            int32_t j[3] = {(int32_t)lround(cos(ang) * LKF_J_ONE),
+                            (int32_t)lround(sin(ang) * LKF_J_ONE),
                             (int32_t)lround(lever * LKF_J_ONE)};
             int64_t h = test_rng_range(&rng, -100000, 100000);
             int64_t r = 900000000LL * (1 + test_rng_range(&rng, 0, 30));
@@ -175,9 +177,9 @@ static void test_update_skips_an_overflowing_gain(void **state)
 {
     (void)state;
     lkf_cov_t c = {{{0}}};
-    c.p[LKF_X][LKF_X] = LKF_VAR_XY_MAX;           /* (0.5 m)², root 500 000 */
+    c.p[LKF_X][LKF_X] = LKF_VAR_XY_MAX; /* (0.5 m)², root 500 000 */
     c.p[LKF_Y][LKF_Y] = LKF_VAR_XY_MIN;
-    c.p[LKF_T][LKF_T] = 100000000LL;              /* (10 mrad)², root 10 000 */
+    c.p[LKF_T][LKF_T] = 100000000LL; /* (10 mrad)², root 10 000 */
     c.p[LKF_KD][LKF_KD] = LKF_VAR_K_MAX;
     c.p[LKF_KT][LKF_KT] = LKF_VAR_K_MIN;
     const int64_t root_kd = lkf_isqrt((uint64_t)LKF_VAR_K_MAX);

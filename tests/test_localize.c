@@ -114,7 +114,7 @@ static double ray(const seg_t *w, size_t n, double ox, double oy, double th)
 }
 
 typedef struct {
-    double x, y, th; /* true pose */
+    double x, y, th;    /* true pose */
     double ox, oy, oth; /* odometry's */
 } drive_t;
 
@@ -122,8 +122,8 @@ typedef struct {
  * with odometry whose heading drifts by `drift` rad per metre; every 12 mm (a reading's
  * spacing at 0.2 m/s) a reading at the sweep's next stop, mapped through the queue. The
  * robot turns round at each end of a 1.2 m leg. Returns the final poses. */
-static drive_t drive(const seg_t *w, size_t nw, double x, double y, double heading,
-                     double metres, double drift, unsigned idle_every)
+static drive_t drive(const seg_t *w, size_t nw, double x, double y, double heading, double metres,
+                     double drift, unsigned idle_every)
 {
     drive_t d = {x, y, heading, x, y, heading};
     const double step = 0.012;
@@ -170,7 +170,8 @@ static void pose_error(const drive_t *d, double *pos_m, double *th_deg)
     odom_pose_t o = {(int32_t)lround(d->ox * 1e6), (int32_t)lround(d->oy * 1e6),
                      (bam32_t)(int64_t)llround(d->oth / (2.0 * PI) * 4294967296.0)};
     odom_pose_t m = loc_apply(&loc.filter.corr, &o);
-    double th = (double)(int32_t)(m.heading - (bam32_t)(int64_t)llround(d->th / (2.0 * PI) * 4294967296.0)) /
+    double th = (double)(int32_t)(m.heading -
+                                  (bam32_t)(int64_t)llround(d->th / (2.0 * PI) * 4294967296.0)) /
                 4294967296.0 * 360.0;
     *pos_m = hypot(m.x_um * 1e-6 - d->x, m.y_um * 1e-6 - d->y);
     *th_deg = th;
@@ -190,8 +191,9 @@ static void test_corner_holds_the_heading(void **state)
     double th;
     pose_error(&d, &pos, &th);
     print_message("corner: %u matches applied of %u, final error %.3f m, %.2f deg (odometry alone "
-                  "%.2f deg), drift learned %d nrad/mm (true 3491)\n", loc.match.applied, loc.match.tried, pos,
-                  th, 12.0 * 0.2, (int)(loc.filter.kappa_prad_per_mm / 1000));
+                  "%.2f deg), drift learned %d nrad/mm (true 3491)\n",
+                  loc.match.applied, loc.match.tried, pos, th, 12.0 * 0.2,
+                  (int)(loc.filter.kappa_prad_per_mm / 1000));
     assert_true(loc.match.applied > 60u);
     assert_true(fabs(th) < 0.3);
     assert_true(pos < 0.02);
@@ -303,9 +305,11 @@ static void test_a_jump_of_odometry_is_not_matched(void **state)
             loc.filter.cov.p[LKF_T][LKF_T] = LKF_VAR_TH_MAX;
         }
         /* Facing +x, the beam turned to the left (+y) onto the wall. */
-        readq_reading_t rd = {.ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 10000000 : 0),
-                                     0, 0u},
-                            .range_um = 700000u, .servo = 0u, .echo = true};
+        readq_reading_t rd = {
+            .ping = {(int32_t)(i % 20u) * 50000 - 500000 + (jumped ? 10000000 : 0), 0, 0u},
+            .range_um = 700000u,
+            .servo = 0u,
+            .echo = true};
         assert_true(post(&rd));
         idle();
     }
@@ -370,7 +374,9 @@ static void test_half_a_hit_enters_early(void **state)
     for (unsigned i = 0; i < LOC_HOLD + 1u; i++) {
         /* The first at x = 0, the others 1 m further along, in cells of their own. */
         readq_reading_t rd = {.ping = {i == 0u ? 0 : 1000000 + (int32_t)(i % 8u) * 100000, 0, 0u},
-                            .range_um = 700000u, .servo = 0u, .echo = true};
+                              .range_um = 700000u,
+                              .servo = 0u,
+                              .echo = true};
         assert_true(post(&rd));
         idle();
         uint8_t want = i < LOC_WINDOW ? GRID_EVIDENCE_ZERO
@@ -393,8 +399,10 @@ static void test_a_match_does_not_see_the_halves(void **state)
     hit_of_the_origin(&hx, &hy);
     for (unsigned i = 0; i < 200u; i++) {
         /* Along 1 m of the wall, 20 mm a reading, then back to its start. */
-        readq_reading_t rd = {.ping = {(int32_t)(i % 50u) * 20000, 0, 0u}, .range_um = 700000u,
-                            .servo = 0u, .echo = true};
+        readq_reading_t rd = {.ping = {(int32_t)(i % 50u) * 20000, 0, 0u},
+                              .range_um = 700000u,
+                              .servo = 0u,
+                              .echo = true};
         assert_true(post(&rd));
         idle();
     }
@@ -427,7 +435,8 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
         if (passes > 0) {
             for (double y = -1.5; y <= 1.5; y += 0.025) {
                 grid_cell_t c;
-                assert_int_equal(grid_cell_of(&grid, 1075000, (int32_t)lround(y * 1e6), &c), SLAM_OK);
+                assert_int_equal(grid_cell_of(&grid, 1075000, (int32_t)lround(y * 1e6), &c),
+                                 SLAM_OK);
                 /* Beams passed through: one, or many (known free). */
                 grid.om[grid_index(c)] = seen ? 1u : GRID_EVIDENCE_ZERO - cfg.om_miss;
             }
@@ -435,8 +444,10 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
         /* Facing west from x = 1.8 m, the beam starts 50 mm ahead: 648 mm ends at 1.102 m. */
         for (unsigned i = 0; i < LOC_WINDOW + 4u; i++) {
             int32_t y = -500000 + (int32_t)i * 15000;
-            readq_reading_t rd = {.ping = {1800000, y, FIX_BAM_HALF}, .range_um = 648000u,
-                                .servo = fix_bam_from_mdeg(90000), .echo = true};
+            readq_reading_t rd = {.ping = {1800000, y, FIX_BAM_HALF},
+                                  .range_um = 648000u,
+                                  .servo = fix_bam_from_mdeg(90000),
+                                  .echo = true};
             assert_true(post(&rd));
             idle();
         }
@@ -444,7 +455,8 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
         if (seen) {
             assert_true(loc.match.last_points >= LOC_MIN_POINTS);
             assert_true(loc.match.applied >= 1u);
-            print_message("seen: %u matches applied, correction x %d um\n", loc.match.applied, loc.filter.corr.tx_um);
+            print_message("seen: %u matches applied, correction x %d um\n", loc.match.applied,
+                          loc.filter.corr.tx_um);
             assert_true(loc.filter.corr.tx_um < 0); /* pulled west, toward the mapped face */
         } else {
             assert_int_equal(loc.match.last_points, 0u);
@@ -458,8 +470,8 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
 static void test_far_hits_are_not_held(void **state)
 {
     (void)state;
-    readq_reading_t rd = {.ping = {1000000000, 0, 0u}, .range_um = 700000u, .servo = 0u,
-                        .echo = true};
+    readq_reading_t rd = {
+        .ping = {1000000000, 0, 0u}, .range_um = 700000u, .servo = 0u, .echo = true};
     assert_true(post(&rd));
     idle();
     assert_int_equal(loc.hold.count, 0u);
@@ -487,8 +499,10 @@ static void test_shadowed_hit_is_not_mapped(void **state)
         grid.om[face] = 200u; /* a wall 350 mm ahead of the robot's cell centre */
         /* From (0, 0) facing +x the beam starts 50 mm ahead: 300 mm ends on the face (cell
          * 87), 350 mm just behind it (cell 88). */
-        readq_reading_t on_face = {.ping = {0, 0, 0u}, .range_um = 300000u,
-                                 .servo = fix_bam_from_mdeg(90000), .echo = true};
+        readq_reading_t on_face = {.ping = {0, 0, 0u},
+                                   .range_um = 300000u,
+                                   .servo = fix_bam_from_mdeg(90000),
+                                   .echo = true};
         readq_reading_t behind = on_face;
         behind.range_um = 350000u;
         assert_true(post(&behind));
@@ -517,8 +531,9 @@ static int32_t ahead_of_two(int32_t y2_mm, uint32_t range2_mm, uint8_t om2)
     }
     for (int i = 0; i < 2; i++) {
         readq_reading_t rd = {.ping = {0, i == 0 ? 0 : y2_mm * 1000, 0u},
-                            .range_um = i == 0 ? 200000u : range2_mm * 1000u,
-                            .servo = fix_bam_from_mdeg(90000), .echo = true};
+                              .range_um = i == 0 ? 200000u : range2_mm * 1000u,
+                              .servo = fix_bam_from_mdeg(90000),
+                              .echo = true};
         assert_true(post(&rd));
         idle();
         if (i == 0) {
@@ -543,8 +558,8 @@ static void test_the_obstacle_ahead_among_held_hits(void **state)
     assert_true(post(&next));
     assert_int_equal(loc.tick.ahead[0], loc.tick.pub_ahead[0]);
     assert_int_equal(loc.tick.ahead[1], loc.tick.pub_ahead[1]);
-    assert_int_equal(ahead_of_two(10, 210, 0u), LOC_AHEAD_NONE);  /* the first hit's cell */
-    assert_int_equal(ahead_of_two(60, 230, 1u), LOC_AHEAD_NONE);  /* known free */
+    assert_int_equal(ahead_of_two(10, 210, 0u), LOC_AHEAD_NONE); /* the first hit's cell */
+    assert_int_equal(ahead_of_two(60, 230, 1u), LOC_AHEAD_NONE); /* known free */
     assert_in_range(ahead_of_two(60, 230, GRID_EVIDENCE_ZERO - 1u), 279000, 281000); /* a pass */
     assert_int_equal(ahead_of_two(60, 320, 0u), LOC_AHEAD_NONE);  /* 370 mm ahead */
     assert_int_equal(ahead_of_two(300, 230, 0u), LOC_AHEAD_NONE); /* the first 300 mm aside */

@@ -49,7 +49,8 @@ static void play(const script_tick_t *s, size_t n)
         odom_pose_t pose = {s[i].x_um, s[i].y_um, fix_bam_from_mdeg(s[i].heading_deg * 1000)};
         sweep_out_t out = {0};
         out.trigger = s[i].event == PING || s[i].event == ECHO_AND_PING;
-        out.reading_ready = s[i].event == ECHO || s[i].event == TIMEOUT || s[i].event == ECHO_AND_PING;
+        out.reading_ready =
+            s[i].event == ECHO || s[i].event == TIMEOUT || s[i].event == ECHO_AND_PING;
         out.reading.echo = s[i].event != TIMEOUT;
         out.reading.servo_mdeg = s[i].servo_deg * 1000;
         out.reading.servo = fix_bam_from_mdeg(s[i].servo_deg * 1000);
@@ -184,8 +185,8 @@ static void test_evidence_reading_clears_its_beam(void **state)
     };
     play(script, sizeof script / sizeof script[0]);
     static const cell_value_t om[] = {
-        {80, 80, 127}, {81, 80, 127}, {82, 80, 127}, {83, 80, 127}, {84, 80, 127},
-        {85, 80, 127}, {86, 80, 127}, {87, 80, 132},
+        {80, 80, 127}, {81, 80, 127}, {82, 80, 127}, {83, 80, 127},
+        {84, 80, 127}, {85, 80, 127}, {86, 80, 127}, {87, 80, 132},
     };
     expect_exactly(grid.om, om, sizeof om / sizeof om[0]);
     assert_int_equal(mapper.cleared, 7u);
@@ -269,7 +270,8 @@ static void test_evidence_far_and_timeout(void **state)
     mapper_timeout(&mapper, &grid, &p);
     assert_int_equal(mapper.timeouts, 1u);
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
-        assert_int_equal(grid.om[i], i == grid_index((grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
+        assert_int_equal(grid.om[i],
+                         i == grid_index((grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
     }
 
     uint32_t bound = 500000u / cfg.cell_um + 3u;

@@ -105,11 +105,11 @@ static void test_torn_save_keeps_the_last_good_map(void **state)
     (void)state;
     mapstore_init(&store);
     odom_pose_t pose = {1, 2, 3u};
-    save(&pose, 1u);               /* slot 0, seq 1: the good map */
+    save(&pose, 1u); /* slot 0, seq 1: the good map */
     uint8_t good_om0 = grid.om[0];
-    grid.om[0] = 7u;               /* the map moves on */
+    grid.om[0] = 7u; /* the map moves on */
     fake_hal.storage_fail_at = (int)fake_hal.calls_storage_write + 50;
-    save(&pose, 2u);               /* into slot 1, dies on its 50th write */
+    save(&pose, 2u); /* into slot 1, dies on its 50th write */
     assert_int_equal(store.failures, 1u);
     assert_int_equal(store.saves, 1u);
     assert_int_equal(mapstore_load(&loaded, NULL), SLAM_OK);
@@ -205,7 +205,7 @@ static void test_save_waits_for_the_robot_to_stop(void **state)
         robot_idle(&robot);
         moving_ticks += fake_hal.motor[0] != 0;
     }
-    assert_true(moving_ticks > 400u);               /* it drove, and drove on after */
+    assert_true(moving_ticks > 400u);                /* it drove, and drove on after */
     assert_true(fake_hal.calls_storage_begin >= 2u); /* saves every 2 s */
     assert_int_equal(fake_hal.storage_begin_moving, 0u);
     assert_true(robot.store.saves >= 1u);

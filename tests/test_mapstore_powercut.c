@@ -20,7 +20,7 @@
 
 #define DATA_BYTES (2u * SLAM_GRID_CELLS)
 #define WRITES ((DATA_BYTES + MAPSTORE_CHUNK - 1u) / MAPSTORE_CHUNK + 1u) /* chunks, header */
-#define HEADER_AT ((long)DATA_BYTES)   /* bytes a save programs before its header */
+#define HEADER_AT ((long)DATA_BYTES) /* bytes a save programs before its header */
 
 static grid_t grid;
 static grid_t loaded;
@@ -179,8 +179,8 @@ static void test_two_cuts_in_a_row(void **state)
             reboot();
             int got = version_loaded();
             if (got != want) {
-                fail_msg("cuts after %ld then %ld bytes: loaded %d, want %d", first[f], cuts[i], got,
-                         want);
+                fail_msg("cuts after %ld then %ld bytes: loaded %d, want %d", first[f], cuts[i],
+                         got, want);
             }
             cases++;
         }
@@ -193,7 +193,15 @@ static void test_two_cuts_in_a_row(void **state)
 static void test_erase_cut(void **state)
 {
     (void)state;
-    const uint32_t done[] = {0u, 1u, 24u, 47u, 48u, 49u, 4096u, DATA_BYTES / 2u, DATA_BYTES + 47u,
+    const uint32_t done[] = {0u,
+                             1u,
+                             24u,
+                             47u,
+                             48u,
+                             49u,
+                             4096u,
+                             DATA_BYTES / 2u,
+                             DATA_BYTES + 47u,
                              FAKE_HAL_STORAGE_SIZE};
     for (int noise = 0; noise < 2; noise++) {
         for (size_t i = 0; i < sizeof done / sizeof done[0]; i++) {

@@ -213,8 +213,8 @@ static void test_a_stalled_wheel_gets_feed_forward_only(void **state)
     int16_t duty[2];
     bool one = false;
     for (int t = 0; t < 200; t++) {
-        odom.step_um[0] = 0;                   /* its count has stopped */
-        odom.step_um[1] = m.set_um_tick[1];    /* the other turns as asked */
+        odom.step_um[0] = 0;                /* its count has stopped */
+        odom.step_um[1] = m.set_um_tick[1]; /* the other turns as asked */
         motion_step(&m, &odom, 1u, duty);
         if (m.slow_ticks[0] >= MOTION_DEAD_TICKS) {
             assert_int_equal(duty[0], m.set_um_tick[0] * 1000 / m.top_um_tick);

@@ -56,7 +56,7 @@ static void test_every_case_of_the_table(void **state)
         unescape(text);
         num_status_t expect = strcmp(want, "bad") == 0     ? NUM_BAD
                               : strcmp(want, "range") == 0 ? NUM_RANGE
-                                                            : NUM_OK;
+                                                           : NUM_OK;
         if (strcmp(kind, "int") == 0) {
             long long v = 12345;
             num_status_t r = num_int(text, INT64_MIN, INT64_MAX, &v);

@@ -24,16 +24,18 @@ static const double BAM_RAD = 6.283185307179586476925 / 4294967296.0;
 typedef struct {
     double x_um;
     double y_um;
-    double th;             /* rad */
-    double path_um;        /* distance travelled by the axle centre */
+    double th;      /* rad */
+    double path_um; /* distance travelled by the axle centre */
     double um_per_count[2];
     double base_um;
 } ref_odom_t;
 
 static void ref_init(ref_odom_t *r, const slam_config_t *c)
 {
-    r->um_per_count[0] = PI * c->wheel_diameter_left_um * (c->cal_left / Q30) / c->encoder_counts_per_rev;
-    r->um_per_count[1] = PI * c->wheel_diameter_right_um * (c->cal_right / Q30) / c->encoder_counts_per_rev;
+    r->um_per_count[0] =
+        PI * c->wheel_diameter_left_um * (c->cal_left / Q30) / c->encoder_counts_per_rev;
+    r->um_per_count[1] =
+        PI * c->wheel_diameter_right_um * (c->cal_right / Q30) / c->encoder_counts_per_rev;
     r->base_um = c->wheel_base_um * (c->cal_base / Q30);
     r->x_um = c->start_x_um;
     r->y_um = c->start_y_um;
@@ -48,9 +50,9 @@ static void ref_step(ref_odom_t *r, int dl, int dr)
     double dth = (ur - ul) / r->base_um; /* Eq. 8 */
     double du = (ur + ul) / 2.0;         /* Eq. 9 */
     double mid = r->th + dth / 2.0;
-    r->x_um += du * cos(mid);            /* Eq. 10 */
-    r->y_um += du * sin(mid);            /* Eq. 11 */
-    r->th += dth;                        /* Eq. 12 */
+    r->x_um += du * cos(mid); /* Eq. 10 */
+    r->y_um += du * sin(mid); /* Eq. 11 */
+    r->th += dth;             /* Eq. 12 */
     r->path_um += fabs(du);
 }
 
@@ -161,7 +163,8 @@ static void random_config(slam_config_t *c, test_rng_t *rng, int vary)
     slam_config_default(c);
     if (vary) {
         c->wheel_diameter_left_um = (uint32_t)test_rng_range(rng, 30000, 120000);
-        c->wheel_diameter_right_um = c->wheel_diameter_left_um + (uint32_t)test_rng_range(rng, 0, 500);
+        c->wheel_diameter_right_um =
+            c->wheel_diameter_left_um + (uint32_t)test_rng_range(rng, 0, 500);
         c->wheel_base_um = (uint32_t)test_rng_range(rng, 80000, 400000);
         c->encoder_counts_per_rev = (uint32_t)test_rng_range(rng, 100, 4000);
         c->cal_left = FIX_Q30_ONE + test_rng_range(rng, -2000000, 2000000);
@@ -255,7 +258,8 @@ static void test_full_turn_in_place_returns_to_start(void **state)
         moved += n;
         if (moved == 700) {
             odom_pose_t half = odom_pose(&g.o);
-            assert_true(llabs((long long)fix_bam_diff(half.heading, start.heading + FIX_BAM_HALF)) <= 1);
+            assert_true(
+                llabs((long long)fix_bam_diff(half.heading, start.heading + FIX_BAM_HALF)) <= 1);
         }
     }
     odom_pose_t end = odom_pose(&g.o);

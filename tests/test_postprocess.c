@@ -62,7 +62,9 @@ static void assert_map(const map_t *got, const char *const *rows, size_t h)
     }
 }
 
-#define ROWS(...) ((const char *const[]){__VA_ARGS__}), (sizeof((const char *const[]){__VA_ARGS__}) / sizeof(const char *))
+#define ROWS(...)                                                                                  \
+    ((const char *const[]){__VA_ARGS__}),                                                          \
+        (sizeof((const char *const[]){__VA_ARGS__}) / sizeof(const char *))
 
 static uint8_t scratch[2 * MAXW];
 
@@ -81,32 +83,14 @@ static void test_threshold(void **state)
 static void test_template_removes_isolated_cells(void **state)
 {
     (void)state;
-    map_t m = draw(ROWS(
-        "#.......",
-        "........",
-        "...#....",
-        "........",
-        "......##",
-        "#######."));
+    map_t m = draw(ROWS("#.......", "........", "...#....", "........", "......##", "#######."));
     /* K = 1: cells without any occupied neighbour go; pairs and lines stay. */
     post_template(m.c, m.w, m.h, 1u, scratch);
-    assert_map(&m, ROWS(
-        "........",
-        "........",
-        "........",
-        "........",
-        "......##",
-        "#######."));
+    assert_map(&m, ROWS("........", "........", "........", "........", "......##", "#######."));
     /* K = 2: the ends of the line (one neighbour) go too; each cell is judged on the map
      * before the step, so the line shrinks by one cell at each end, not more. */
     post_template(m.c, m.w, m.h, 2u, scratch);
-    assert_map(&m, ROWS(
-        "........",
-        "........",
-        "........",
-        "........",
-        "......##",
-        ".######."));
+    assert_map(&m, ROWS("........", "........", "........", "........", "......##", ".######."));
     /* K = 0 removes nothing. */
     map_t before = m;
     post_template(m.c, m.w, m.h, 0u, scratch);
@@ -132,23 +116,13 @@ static void test_insert_fills_gaps_in_four_orientations(void **state)
 {
     (void)state;
     /* W-E at the top left, S-N at the top right, and the two diagonals below. */
-    map_t m = draw(ROWS(
-        "#.#.........#...",
-        "................",
-        "............#...",
-        "................",
-        "#.......#.......",
-        "................",
-        "..#...#........."));
+    map_t m =
+        draw(ROWS("#.#.........#...", "................", "............#...", "................",
+                  "#.......#.......", "................", "..#...#........."));
     post_insert(m.c, m.w, m.h, 9u, scratch);
-    assert_map(&m, ROWS(
-        "###.........#...",
-        "............#...",
-        "............#...",
-        "................",
-        "#.......#.......",
-        ".#.....#........",
-        "..#...#........."));
+    assert_map(&m,
+               ROWS("###.........#...", "............#...", "............#...", "................",
+                    "#.......#.......", ".#.....#........", "..#...#........."));
 }
 
 static void test_insert_decides_on_the_map_before_the_step(void **state)
@@ -190,15 +164,8 @@ static void test_borders(void **state)
 static void test_full_chain_on_a_copy(void **state)
 {
     (void)state;
-    map_t om = draw(ROWS(
-        "..........",
-        ".5697.8964",
-        ".1........",
-        "......2...",
-        "...4......",
-        "..........",
-        ".......9..",
-        "......89.."));
+    map_t om = draw(ROWS("..........", ".5697.8964", ".1........", "......2...", "...4......",
+                         "..........", ".......9..", "......89.."));
     map_t keep = om;
     map_t out = {.w = om.w, .h = om.h};
     post_params_t p = {.threshold = 3u, .om_max = 9u, .k = 1u, .insert = 1u};
@@ -206,15 +173,8 @@ static void test_full_chain_on_a_copy(void **state)
     assert_memory_equal(om.c, keep.c, om.w * om.h); /* the live map is untouched */
     /* threshold drops 1, 2 and 3; template drops the lone 4; insert closes the wall's gap
      * and leaves the small block as it is (no cell of it lies between two others). */
-    assert_map(&out, ROWS(
-        "..........",
-        ".#########",
-        "..........",
-        "..........",
-        "..........",
-        "..........",
-        ".......#..",
-        "......##.."));
+    assert_map(&out, ROWS("..........", ".#########", "..........", "..........", "..........",
+                          "..........", ".......#..", "......##.."));
 }
 
 static void test_bad_parameters_change_nothing(void **state)
@@ -245,8 +205,10 @@ static void test_evidence_threshold_and_steps_off(void **state)
     const uint8_t row[4] = {0u, 100u, 131u, 140u}; /* unknown, free, L = 3, L = 12 */
     memcpy(om.c, row, sizeof row);
     map_t out = {.w = 4u, .h = 1u};
-    post_params_t p = {.threshold = grid_threshold_byte(OM_MODE_EVIDENCE, 4u), .om_max = 9u,
-                       .k = 0u, .insert = 0u};
+    post_params_t p = {.threshold = grid_threshold_byte(OM_MODE_EVIDENCE, 4u),
+                       .om_max = 9u,
+                       .k = 0u,
+                       .insert = 0u};
     assert_int_equal(post_run(om.c, out.c, om.w, om.h, &p, scratch), SLAM_OK);
     const uint8_t want[4] = {0u, 0u, 0u, 9u};
     assert_memory_equal(out.c, want, sizeof want);

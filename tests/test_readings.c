@@ -25,8 +25,7 @@ static int setup(void **state)
 
 static readq_reading_t reading(int32_t x_um)
 {
-    return (readq_reading_t){.ping = {x_um, 0, 0u}, .range_um = 500000u, .servo = 0u,
-                             .echo = true};
+    return (readq_reading_t){.ping = {x_um, 0, 0u}, .range_um = 500000u, .servo = 0u, .echo = true};
 }
 
 /* A queue that is never drained fills, and every reading beyond it is counted lost. */

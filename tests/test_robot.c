@@ -35,7 +35,7 @@ static void test_bad_config_changes_nothing(void **state)
     fake_hal.motor[0] = 123;
     assert_int_equal(robot_init(&robot, &cfg), SLAM_EINVAL);
     assert_memory_equal(&robot, &before, sizeof robot);
-    assert_int_equal(fake_hal.calls_motor, 0u);   /* hardware untouched too */
+    assert_int_equal(fake_hal.calls_motor, 0u); /* hardware untouched too */
     assert_int_equal(fake_hal.calls_encoder, 0u);
     assert_int_equal(fake_hal.motor[0], 123);
 }
@@ -77,7 +77,8 @@ static void test_ticks_drive_sweep_and_map(void **state)
         unsigned polls = fake_hal.calls_poll;
         robot_tick(&robot);
         grid_cell_t here;
-        assert_int_equal(grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &here), SLAM_OK);
+        assert_int_equal(grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &here),
+                         SLAM_OK);
         ticks_in[grid_index(here)]++;
         if (fake_hal.calls_trigger != triggers) {
             pings++;
@@ -170,7 +171,8 @@ static void test_held_means_the_ramp_is_at_rest(void **state)
             for (unsigned w = 0; w < 2u; w++) {
                 /* First-order lag toward duty/100 counts a tick, with noise. */
                 rng = rng * 1103515245u + 12345u;
-                speed[w] += (fake_hal.motor[w] * 16 / 100 - speed[w]) / 8 + (int32_t)((rng >> 16) % 5u) - 2;
+                speed[w] +=
+                    (fake_hal.motor[w] * 16 / 100 - speed[w]) / 8 + (int32_t)((rng >> 16) % 5u) - 2;
                 fake_hal.encoder[w] = (uint16_t)(fake_hal.encoder[w] + (uint16_t)(speed[w] / 16));
             }
             robot.hold = t >= hold_at;

@@ -113,8 +113,8 @@ static void test_stop_and_start(void **state)
     uint32_t pings = robot.sweep.pings;
     run(300);
     assert_true(standing());
-    assert_int_equal(robot.pose.x_um, at.x_um);        /* it stays where it stopped */
-    assert_true(robot.sweep.pings > pings + 10u);      /* while the sweep goes on */
+    assert_int_equal(robot.pose.x_um, at.x_um);   /* it stays where it stopped */
+    assert_true(robot.sweep.pings > pings + 10u); /* while the sweep goes on */
     send(TELEM_CMD_START, NULL, 0u);
     run(100);
     assert_int_equal(replies().acks, 1u);
@@ -251,8 +251,8 @@ static void test_save_on_command(void **state)
     assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
     /* Five hits the pose correction holds back: the save asked for puts them in OM first. */
     for (int i = 0; i < 5; i++) {
-        readq_reading_t rd = {.ping = {i * 100000, 0, 0u}, .range_um = 700000u, .servo = 0u,
-                              .echo = true};
+        readq_reading_t rd = {
+            .ping = {i * 100000, 0, 0u}, .range_um = 700000u, .servo = 0u, .echo = true};
         assert_true(readq_post(&robot.readq, &rd) != READQ_DROPPED);
     }
     robot_idle(&robot); /* which drains the queue */
@@ -290,9 +290,9 @@ static void test_refused_commands_change_nothing(void **state)
         uint8_t code;
         uint8_t key;
     } want[] = {
-        {TELEM_ERR_CRC, 0u},     {TELEM_ERR_LENGTH, 0u},   {TELEM_ERR_LENGTH, 0u},
-        {TELEM_ERR_COMMAND, 0u}, {TELEM_ERR_KEY, 99u},     {TELEM_ERR_KEY, 0u},
-        {TELEM_ERR_RANGE, 40u},  {TELEM_ERR_RANGE, 45u},   {TELEM_ERR_FIXED, 11u},
+        {TELEM_ERR_CRC, 0u},     {TELEM_ERR_LENGTH, 0u}, {TELEM_ERR_LENGTH, 0u},
+        {TELEM_ERR_COMMAND, 0u}, {TELEM_ERR_KEY, 99u},   {TELEM_ERR_KEY, 0u},
+        {TELEM_ERR_RANGE, 40u},  {TELEM_ERR_RANGE, 45u}, {TELEM_ERR_FIXED, 11u},
         {TELEM_ERR_RANGE, 0u},   {TELEM_ERR_LENGTH, 0u},
     };
     for (unsigned i = 0; i < sizeof want / sizeof want[0]; i++) {

@@ -42,7 +42,8 @@ static void test_bearing_of_the_six_stops(void **state)
         assert_int_equal(fix_bam_to_mdeg(sonar_bearing(&sonar, 0u, servo)), bearing_deg[i] * 1000);
         /* Facing 90° (+y) and 350° (across the wrap). */
         bam32_t h90 = fix_bam_from_mdeg(90000);
-        assert_int_equal(fix_bam_to_mdeg(sonar_bearing(&sonar, h90, servo)), 90000 + bearing_deg[i] * 1000);
+        assert_int_equal(fix_bam_to_mdeg(sonar_bearing(&sonar, h90, servo)),
+                         90000 + bearing_deg[i] * 1000);
         bam32_t h350 = fix_bam_from_mdeg(350000);
         int32_t expect = -10000 + bearing_deg[i] * 1000;
         assert_true(abs(fix_bam_to_mdeg(sonar_bearing(&sonar, h350, servo)) - expect) <= 1);
@@ -90,7 +91,8 @@ static void test_obstacle_point_against_double(void **state)
         ref_obstacle(&cfg, p.x_um, p.y_um, th, servo_mdeg / 1000.0, d, &rx, &ry);
         double err = hypot(xo - rx, yo - ry);
         /* Table error 5e-6 on every rotated length, plus rounding. */
-        double bound = 2.0 + 1e-5 * (d + fabs((double)cfg.mount_x_um) + fabs((double)cfg.mount_y_um));
+        double bound =
+            2.0 + 1e-5 * (d + fabs((double)cfg.mount_x_um) + fabs((double)cfg.mount_y_um));
         assert_true(err <= bound);
         worst = err > worst ? err : worst;
     }
@@ -159,7 +161,9 @@ static void test_far_readings_never_touch_om(void **state)
         odom_pose_t p = {0, 0, fix_bam_from_mdeg(h * 1000)};
         for (int s = 65; s <= 155; s += 18) {
             for (size_t r = 0; r < sizeof ranges / sizeof ranges[0]; r++) {
-                assert_int_equal(mapper_reading(&m, &grid, &p, fix_bam_from_mdeg(s * 1000), ranges[r]), MAPPER_FAR);
+                assert_int_equal(
+                    mapper_reading(&m, &grid, &p, fix_bam_from_mdeg(s * 1000), ranges[r]),
+                    MAPPER_FAR);
                 n++;
             }
         }

@@ -152,11 +152,10 @@ static void test_pings_keep_their_interval(void **state)
         uint32_t echo_delay;
         uint32_t spacing; /* ticks from one trigger to the next */
     } cases[] = {
-        {6u, 1u, 6u}, /* a near echo: the interval sets the pace */
-        {6u, 3u, 6u}, /* the servo settles while the sound dies away */
-        {6u, 4u, 7u}, /* a late answer, then 3 ticks of settling: 70 ms */
-        {9u, 1u, 9u},
-        {1u, 1u, 4u}, /* no interval: 30 ms of settling and 10 ms of echo */
+        {6u, 1u, 6u},               /* a near echo: the interval sets the pace */
+        {6u, 3u, 6u},               /* the servo settles while the sound dies away */
+        {6u, 4u, 7u},               /* a late answer, then 3 ticks of settling: 70 ms */
+        {9u, 1u, 9u}, {1u, 1u, 4u}, /* no interval: 30 ms of settling and 10 ms of echo */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         memset(&lg, 0, sizeof lg);

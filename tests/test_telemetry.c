@@ -114,16 +114,17 @@ static void test_robot_stream_decodes(void **state)
             break;
         case TELEM_READING:
             assert_int_equal(f.len, 26u);
-            assert_true(f.payload[4] < cfg.sweep_stops);        /* stop */
-            assert_int_equal(f.payload[5], MAPPER_HIT);        /* all within rc */
-            assert_true(get32(f.payload + 10) > 400000u);      /* range about 0.5 m */
+            assert_true(f.payload[4] < cfg.sweep_stops);  /* stop */
+            assert_int_equal(f.payload[5], MAPPER_HIT);   /* all within rc */
+            assert_true(get32(f.payload + 10) > 400000u); /* range about 0.5 m */
             break;
         case TELEM_MAP_ROW: {
             uint16_t row = get16(f.payload + 1);
             uint16_t first = get16(f.payload + 3);
             uint8_t n = (uint8_t)(f.len - 5u);
             assert_true(row < SLAM_GRID_B && first + n <= SLAM_GRID_A);
-            memcpy((f.payload[0] == 0u ? om : tm) + (uint32_t)row * SLAM_GRID_A + first, f.payload + 5, n);
+            memcpy((f.payload[0] == 0u ? om : tm) + (uint32_t)row * SLAM_GRID_A + first,
+                   f.payload + 5, n);
             break;
         }
         default:
@@ -224,7 +225,6 @@ static void test_short_writes_are_counted_and_resynchronised(void **state)
     assert_true(found);
 }
 
-
 /* Every frame the firmware sends unpacks by its type (tests/support/telem_decode.c); a
  * frame with a good CRC and the wrong length for its type, or an unknown type, is refused
  * rather than read past its end. */
@@ -279,10 +279,17 @@ static void test_decoder_checks_lengths(void **state)
         uint8_t type, len;
         int rc;
     } cases[] = {
-        {TELEM_POSE, 15u, -2},   {TELEM_POSE, 17u, -2},   {TELEM_READING, 16u, -2},
-        {TELEM_HELLO, 19u, -2},  {TELEM_STATUS, 32u, -2}, {TELEM_MAP_ROW, 4u, -2},
-        {TELEM_MAP_ROW, 5u, -3}, {TELEM_ACK, 0u, -2},     {TELEM_CONFIG, 4u, -2},
-        {9u, 3u, -1},            {0u, 0u, -1},
+        {TELEM_POSE, 15u, -2},
+        {TELEM_POSE, 17u, -2},
+        {TELEM_READING, 16u, -2},
+        {TELEM_HELLO, 19u, -2},
+        {TELEM_STATUS, 32u, -2},
+        {TELEM_MAP_ROW, 4u, -2},
+        {TELEM_MAP_ROW, 5u, -3},
+        {TELEM_ACK, 0u, -2},
+        {TELEM_CONFIG, 4u, -2},
+        {9u, 3u, -1},
+        {0u, 0u, -1},
     };
     pl[0] = 2u; /* a MAP_ROW of map 2 */
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -343,10 +350,13 @@ static void test_every_command_parses(void **state)
         uint8_t type, len;
         uint8_t payload[5];
     } cmds[] = {
-        {TELEM_CMD_START, 0, {0}},     {TELEM_CMD_STOP, 0, {0}},
-        {TELEM_CMD_MODE, 1, {2}},      {TELEM_CMD_GET, 1, {36}},
+        {TELEM_CMD_START, 0, {0}},
+        {TELEM_CMD_STOP, 0, {0}},
+        {TELEM_CMD_MODE, 1, {2}},
+        {TELEM_CMD_GET, 1, {36}},
         {TELEM_CMD_SET, 5, {36, 0x96, 0, 0, 0}},
-        {TELEM_CMD_SAVE, 0, {0}},      {TELEM_CMD_SEND_MAP, 0, {0}},
+        {TELEM_CMD_SAVE, 0, {0}},
+        {TELEM_CMD_SEND_MAP, 0, {0}},
         {TELEM_CMD_CALIBRATE, 0, {0}},
     };
     for (size_t i = 0; i < sizeof cmds / sizeof cmds[0]; i++) {
@@ -410,8 +420,9 @@ static void test_malformed_commands_are_refused(void **state)
     uint8_t ec[8], codes[8];
     assert_int_equal(errors_sent(ec, codes, 8), 7u);
     static const uint8_t want_cmd[7] = {TELEM_CMD_SET, TELEM_CMD_SET, TELEM_CMD_START,
-                                        TELEM_CMD_SET, 0x42u, TELEM_HELLO, TELEM_CMD_GET};
-    static const uint8_t want_code[7] = {TELEM_ERR_CRC, TELEM_ERR_LENGTH, TELEM_ERR_LENGTH,
+                                        TELEM_CMD_SET, 0x42u,         TELEM_HELLO,
+                                        TELEM_CMD_GET};
+    static const uint8_t want_code[7] = {TELEM_ERR_CRC,    TELEM_ERR_LENGTH,  TELEM_ERR_LENGTH,
                                          TELEM_ERR_LENGTH, TELEM_ERR_COMMAND, TELEM_ERR_COMMAND,
                                          TELEM_ERR_LENGTH};
     assert_memory_equal(ec, want_cmd, 7u);
@@ -492,9 +503,9 @@ static void test_config_keys_get_and_set(void **state)
     assert_int_equal(telem_config_get(&c, TELEM_CONFIG_KEY_MAX + 1u, &v), -(int)TELEM_ERR_KEY);
     assert_int_equal(telem_config_set(&c, 11u, 100000u), -(int)TELEM_ERR_FIXED); /* cell_um */
     assert_int_equal(telem_config_set(&c, 39u, EXPLORE_MODES), -(int)TELEM_ERR_RANGE);
-    assert_int_equal(telem_config_set(&c, 45u, 256u), -(int)TELEM_ERR_RANGE); /* u8 */
+    assert_int_equal(telem_config_set(&c, 45u, 256u), -(int)TELEM_ERR_RANGE);   /* u8 */
     assert_int_equal(telem_config_set(&c, 40u, 65536u), -(int)TELEM_ERR_RANGE); /* u16 */
-    assert_int_equal(telem_config_set(&c, 40u, 5000u), -(int)TELEM_ERR_RANGE); /* > top speed */
+    assert_int_equal(telem_config_set(&c, 40u, 5000u), -(int)TELEM_ERR_RANGE);  /* > top speed */
     assert_int_equal(telem_config_set(&c, 3u, 0u), -(int)TELEM_ERR_RANGE);
     assert_int_equal(telem_config_set(&c, 5u, 0x7FFFFFFFu), -(int)TELEM_ERR_RANGE); /* cal */
     assert_memory_equal(&c, &before, sizeof c);
@@ -503,17 +514,59 @@ static void test_config_keys_get_and_set(void **state)
 /* The keys as released: a key in use keeps its id for ever (a host tool and a robot of
  * other versions must mean the same field by it). New keys need no line here. */
 static const char *const released_keys[] = {
-    NULL, "wheel_diameter_left_um", "wheel_diameter_right_um", "wheel_base_um",
-    "encoder_counts_per_rev", "cal_left", "cal_right", "cal_base", "start_x_um", "start_y_um",
-    "start_heading_mdeg", "cell_um", "start_cell_a", "start_cell_b", "om_max", "tm_max",
-    "om_mode", "om_hit", "om_miss", "confidence_radius_um", "range_min_um",
-    "sound_speed_mm_per_s", "mount_x_um", "mount_y_um", "mount_yaw_mdeg", "sweep_first_mdeg",
-    "sweep_last_mdeg", "sweep_stops", "settle_ticks", "echo_timeout_ticks",
-    "servo_pulse_0deg_us", "servo_pulse_180deg_us", "post_threshold", "post_template_k",
-    "post_insert", "top_speed_mm_s", "accel_mm_s2", "motion_kp_q8", "motion_ki_q8",
-    "explore_mode", "cruise_mm_s", "turn_mm_s", "avoid_um", "clearance_um", "square_side_um",
-    "square_laps", "explore_seed", "save_period_s", "localize", "ping_interval_ticks",
-    "follow_um", "umbmark_runs", "umbmark_pause_s",
+    NULL,
+    "wheel_diameter_left_um",
+    "wheel_diameter_right_um",
+    "wheel_base_um",
+    "encoder_counts_per_rev",
+    "cal_left",
+    "cal_right",
+    "cal_base",
+    "start_x_um",
+    "start_y_um",
+    "start_heading_mdeg",
+    "cell_um",
+    "start_cell_a",
+    "start_cell_b",
+    "om_max",
+    "tm_max",
+    "om_mode",
+    "om_hit",
+    "om_miss",
+    "confidence_radius_um",
+    "range_min_um",
+    "sound_speed_mm_per_s",
+    "mount_x_um",
+    "mount_y_um",
+    "mount_yaw_mdeg",
+    "sweep_first_mdeg",
+    "sweep_last_mdeg",
+    "sweep_stops",
+    "settle_ticks",
+    "echo_timeout_ticks",
+    "servo_pulse_0deg_us",
+    "servo_pulse_180deg_us",
+    "post_threshold",
+    "post_template_k",
+    "post_insert",
+    "top_speed_mm_s",
+    "accel_mm_s2",
+    "motion_kp_q8",
+    "motion_ki_q8",
+    "explore_mode",
+    "cruise_mm_s",
+    "turn_mm_s",
+    "avoid_um",
+    "clearance_um",
+    "square_side_um",
+    "square_laps",
+    "explore_seed",
+    "save_period_s",
+    "localize",
+    "ping_interval_ticks",
+    "follow_um",
+    "umbmark_runs",
+    "umbmark_pause_s",
 };
 
 /* Every row's key reads and writes its own field with the row's type and liveness, and
@@ -527,7 +580,7 @@ static void test_config_keys_are_the_rows(void **state)
         size_t offset, size;
         bool live;
     } rows[] = {
-#define ROW(name, type, dflt, lo, hi, rule, id, live, words) \
+#define ROW(name, type, dflt, lo, hi, rule, id, live, words)                                       \
     {#name, id, offsetof(slam_config_t, name), sizeof cfg.name, (#live)[0] == 'L'},
         TELEM_CONFIG_KEYS(ROW)
 #undef ROW

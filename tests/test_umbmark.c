@@ -51,7 +51,8 @@ static void bot_tick(bot_t *b)
         b->restarts++;
         odom_set_pose(&b->odom, &b->u.start);
     }
-    double counts_per_mm = b->cfg.encoder_counts_per_rev / (PI * b->cfg.wheel_diameter_left_um * 1e-3);
+    double counts_per_mm =
+        b->cfg.encoder_counts_per_rev / (PI * b->cfg.wheel_diameter_left_um * 1e-3);
     double dv = b->cfg.accel_mm_s2 * 0.01;
     for (int w = 0; w < 2; w++) {
         int32_t t = target[w] < 0 ? -target[w] : target[w];
@@ -60,7 +61,8 @@ static void bot_tick(bot_t *b)
         b->speed_mm_s[w] += d > dv ? dv : (d < -dv ? -dv : d);
         b->counts[w] += b->speed_mm_s[w] * 0.01 * counts_per_mm;
     }
-    odom_step(&b->odom, (uint16_t)(int64_t)floor(b->counts[0]), (uint16_t)(int64_t)floor(b->counts[1]));
+    odom_step(&b->odom, (uint16_t)(int64_t)floor(b->counts[0]),
+              (uint16_t)(int64_t)floor(b->counts[1]));
 }
 
 static double heading_deg(const odom_pose_t *p)

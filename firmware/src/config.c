@@ -41,12 +41,12 @@ enum { CFG_U8, CFG_U16, CFG_U32, CFG_I32, CFG_Q30 = CFG_I32 };
 /* What a field must hold besides its range: each names the fields it is compared with. */
 enum {
     RULE_NONE,
-    RULE_CELL,          /* cell_um · the longer grid side stays within 1 km */
-    RULE_ABOVE_MIN,     /* confidence_radius_um > range_min_um */
-    RULE_STOPS,         /* one stop only where sweep_first_mdeg == sweep_last_mdeg */
-    RULE_PULSES,        /* servo_pulse_180deg_us != servo_pulse_0deg_us */
-    RULE_THRESHOLD,     /* post_threshold below OMmax (counting) or the evidence limit */
-    RULE_TOP_SPEED,     /* no faster than top_speed_mm_s */
+    RULE_CELL,            /* cell_um · the longer grid side stays within 1 km */
+    RULE_ABOVE_MIN,       /* confidence_radius_um > range_min_um */
+    RULE_STOPS,           /* one stop only where sweep_first_mdeg == sweep_last_mdeg */
+    RULE_PULSES,          /* servo_pulse_180deg_us != servo_pulse_0deg_us */
+    RULE_THRESHOLD,       /* post_threshold below OMmax (counting) or the evidence limit */
+    RULE_TOP_SPEED,       /* no faster than top_speed_mm_s */
     RULE_ABOVE_CLEARANCE, /* follow_um > clearance_um */
     RULE_CORRIDOR         /* clearance_um · the corridor ahead fits SLAM_CORRIDOR_CELLS_MAX */
 };
@@ -63,24 +63,27 @@ _Static_assert(RULE_CORRIDOR < 64, "a rule fits the six bits above a field's sto
 #define CFG_CTYPE_U32 uint32_t
 #define CFG_CTYPE_I32 int32_t
 #define CFG_CTYPE_Q30 q1_30_t
-#define CFG_MEMBER_TYPE(name)                                                                   \
-    _Generic(((const slam_config_t *)NULL)->name, uint8_t: CFG_U8, uint16_t: CFG_U16,          \
-             uint32_t: CFG_U32, int32_t: CFG_I32, default: -1)
+#define CFG_MEMBER_TYPE(name)                                                                      \
+    _Generic(((const slam_config_t *)NULL)->name, uint8_t                                          \
+             : CFG_U8, uint16_t                                                                    \
+             : CFG_U16, uint32_t                                                                   \
+             : CFG_U32, int32_t                                                                    \
+             : CFG_I32, default                                                                    \
+             : -1)
 #define CFG_SIGNED_I32 1
 #define CFG_SIGNED_Q30 1
 #define CFG_SIGNED_U8 0
 #define CFG_SIGNED_U16 0
 #define CFG_SIGNED_U32 0
-#define CFG_ROW_ASSERTS(name, type, dflt, lo, hi, rule, id, live, words)                     \
-    _Static_assert(CFG_MEMBER_TYPE(name) == CFG_##type,                                       \
-                   #name ": the row's type is not the member's");                            \
-    _Static_assert(offsetof(slam_config_t, name) == offsetof(struct cfg_rows, name),         \
-                   #name ": rows follow the order of slam_config_t's members");              \
-    _Static_assert((id) >= 1 && (id) <= 255, #name ": a telemetry key is 1..255");            \
-    _Static_assert(CFG_SIGNED_##type ? (int64_t)(lo) <= (int64_t)(dflt) &&                    \
-                                           (int64_t)(dflt) <= (int64_t)(hi)                   \
-                                     : (uint64_t)(lo) <= (uint64_t)(dflt) &&                  \
-                                           (uint64_t)(dflt) <= (uint64_t)(hi),                \
+#define CFG_ROW_ASSERTS(name, type, dflt, lo, hi, rule, id, live, words)                           \
+    _Static_assert(CFG_MEMBER_TYPE(name) == CFG_##type,                                            \
+                   #name ": the row's type is not the member's");                                  \
+    _Static_assert(offsetof(slam_config_t, name) == offsetof(struct cfg_rows, name),               \
+                   #name ": rows follow the order of slam_config_t's members");                    \
+    _Static_assert((id) >= 1 && (id) <= 255, #name ": a telemetry key is 1..255");                 \
+    _Static_assert(CFG_SIGNED_##type                                                               \
+                       ? (int64_t)(lo) <= (int64_t)(dflt) && (int64_t)(dflt) <= (int64_t)(hi)      \
+                       : (uint64_t)(lo) <= (uint64_t)(dflt) && (uint64_t)(dflt) <= (uint64_t)(hi), \
                    #name ": the default lies within lo..hi");
 #define CFG_ROW_MEMBER(name, type, dflt, lo, hi, rule, id, live, words) CFG_CTYPE_##type name;
 struct cfg_rows {
@@ -104,9 +107,9 @@ _Static_assert(sizeof(slam_config_t) <= 255u, "field offsets are bytes");
  * field's bounds are its int32_t values' bits. */
 #define CFG_LO(name, type, dflt, lo, hi, rule, id, live, words) (uint32_t)(lo),
 #define CFG_HI(name, type, dflt, lo, hi, rule, id, live, words) (uint32_t)(hi),
-#define CFG_OFFSET(name, type, dflt, lo, hi, rule, id, live, words) \
-    (uint8_t)offsetof(slam_config_t, name),
-#define CFG_KIND(name, type, dflt, lo, hi, rule, id, live, words) \
+#define CFG_OFFSET(name, type, dflt, lo, hi, rule, id, live, words)                                \
+    (uint8_t) offsetof(slam_config_t, name),
+#define CFG_KIND(name, type, dflt, lo, hi, rule, id, live, words)                                  \
     (uint8_t)(CFG_##type | RULE_##rule << 2),
 #define CFG_NAME(name, type, dflt, lo, hi, rule, id, live, words) #name "\0"
 static const uint32_t cfg_lo[] = {SLAM_CONFIG_FIELDS(CFG_LO)};

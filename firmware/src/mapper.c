@@ -50,8 +50,8 @@ mapper_outcome_t mapper_classify(const mapper_t *m, uint32_t range_um)
  *   (localize.c) matches such a hit, which pulls the pose back to the face, but does not
  *   map it.
  */
-static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t range_um,
-                  int32_t x_um, int32_t y_um)
+static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t range_um, int32_t x_um,
+                  int32_t y_um)
 {
     grid_cell_t hit;
     if (grid_cell_of(g, x_um, y_um, &hit) != SLAM_OK ||
@@ -97,8 +97,9 @@ mapper_outcome_t mapper_free(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
         /* Up to one cell short of the echo, or to rc for a far one, over the last
          * MAPPER_RAY_UM: the cells nearer the robot are crossed by readings from farther
          * away, and its own cell holds no obstacle: the body stands there. */
-        uint32_t reach = out == MAPPER_FAR ? m->sonar.confidence_um
-                         : range_um > m->cell_um ? range_um - m->cell_um : 0u;
+        uint32_t reach = out == MAPPER_FAR       ? m->sonar.confidence_um
+                         : range_um > m->cell_um ? range_um - m->cell_um
+                                                 : 0u;
         int32_t xe;
         int32_t ye;
         sonar_beam_point(&beam, reach, &xe, &ye);
@@ -118,8 +119,7 @@ mapper_outcome_t mapper_hit(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um)
     return mapper_hit_rest(m, g, x_um, y_um, 0u);
 }
 
-mapper_outcome_t mapper_hit_rest(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um,
-                                 uint8_t placed)
+mapper_outcome_t mapper_hit_rest(mapper_t *m, grid_t *g, int32_t x_um, int32_t y_um, uint8_t placed)
 {
     m->last_x_um = x_um;
     m->last_y_um = y_um;
@@ -133,8 +133,8 @@ mapper_outcome_t mapper_hit_rest(mapper_t *m, grid_t *g, int32_t x_um, int32_t y
     return m->last;
 }
 
-mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
-                                bam32_t servo, uint32_t range_um)
+mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                                uint32_t range_um)
 {
     int32_t x;
     int32_t y;

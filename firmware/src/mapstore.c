@@ -33,14 +33,16 @@ uint32_t mapstore_crc32(uint32_t crc, const uint8_t *data, uint32_t len)
 
 static uint32_t header_crc(const mapstore_header_t *h)
 {
-    return mapstore_crc32(0u, (const uint8_t *)h, (uint32_t)offsetof(mapstore_header_t, header_crc));
+    return mapstore_crc32(0u, (const uint8_t *)h,
+                          (uint32_t)offsetof(mapstore_header_t, header_crc));
 }
 
 int mapstore_read_header(uint8_t slot, mapstore_header_t *h)
 {
     mapstore_header_t t;
     if (hal_storage_read(slot, 0u, &t, sizeof t) != HAL_OK || t.magic != MAPSTORE_MAGIC ||
-        t.version != MAPSTORE_VERSION || t.header_bytes != sizeof t || t.header_crc != header_crc(&t)) {
+        t.version != MAPSTORE_VERSION || t.header_bytes != sizeof t ||
+        t.header_crc != header_crc(&t)) {
         return SLAM_EIO;
     }
     *h = t;
@@ -62,8 +64,8 @@ void mapstore_init(mapstore_t *s)
      * intact map. */
     for (uint8_t slot = 0; slot < HAL_STORAGE_SLOTS; slot++) {
         mapstore_header_t h;
-        if (mapstore_read_header(slot, &h) == SLAM_OK && (h.seq > s->last_seq || s->last_seq == 0u) &&
-            data_good(slot, &h)) {
+        if (mapstore_read_header(slot, &h) == SLAM_OK &&
+            (h.seq > s->last_seq || s->last_seq == 0u) && data_good(slot, &h)) {
             s->last_seq = h.seq;
             s->last_slot = slot;
         }
@@ -190,7 +192,8 @@ int mapstore_load(grid_t *g, odom_pose_t *pose)
             continue;
         }
         if (!data_good((uint8_t)best, b) ||
-            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t), g->om, SLAM_GRID_CELLS) != HAL_OK ||
+            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t), g->om, SLAM_GRID_CELLS) !=
+                HAL_OK ||
             hal_storage_read((uint8_t)best, sizeof(mapstore_header_t) + SLAM_GRID_CELLS, g->tm,
                              SLAM_GRID_CELLS) != HAL_OK) {
             continue;

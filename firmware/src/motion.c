@@ -7,7 +7,7 @@
 /* 1 mm/s is 10 µm per 10 ms tick. */
 #define MOTION_UM_TICK_PER_MM_S 10
 #define MOTION_ERR_MAX (1 << 17) /* 131 mm in a tick: far beyond any real wheel */
-#define MOTION_SPEED_SHIFT 2u /* log2(MOTION_SPEED_TICKS) */
+#define MOTION_SPEED_SHIFT 2u    /* log2(MOTION_SPEED_TICKS) */
 
 void motion_init(motion_t *m, const slam_config_t *cfg)
 {
@@ -32,7 +32,8 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
 {
     int32_t top_mm_s = m->top_um_tick / MOTION_UM_TICK_PER_MM_S;
     m->target_um_tick[ODOM_LEFT] = clamp(left_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
-    m->target_um_tick[ODOM_RIGHT] = clamp(right_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
+    m->target_um_tick[ODOM_RIGHT] =
+        clamp(right_mm_s, -top_mm_s, top_mm_s) * MOTION_UM_TICK_PER_MM_S;
 }
 
 void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2])
@@ -40,8 +41,8 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
     m->err_pos = (uint8_t)((m->err_pos + 1u) % MOTION_SPEED_TICKS);
     for (unsigned w = 0; w < 2u; w++) {
         /* The ramp: the acceleration limit of §III.B. */
-        int32_t step = clamp(m->target_um_tick[w] - m->set_um_tick[w], -m->accel_um_tick2,
-                             m->accel_um_tick2);
+        int32_t step =
+            clamp(m->target_um_tick[w] - m->set_um_tick[w], -m->accel_um_tick2, m->accel_um_tick2);
         int32_t set = m->set_um_tick[w] + step;
         m->set_um_tick[w] = set;
         /* The speed: the travel over the periods it took. After a lost tick the travel is
@@ -60,7 +61,8 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         int32_t set_abs = set < 0 ? -set : set;
         uint32_t got = rolled >= 0 ? (uint32_t)rolled : 0u - (uint32_t)rolled;
         if (set_abs >= MOTION_STALL_MIN_UM_TICK && got < (uint32_t)set_abs / 4u) {
-            m->slow_ticks[w] = (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
+            m->slow_ticks[w] =
+                (uint16_t)(m->slow_ticks[w] < UINT16_MAX ? m->slow_ticks[w] + 1u : UINT16_MAX);
         } else {
             m->slow_ticks[w] = 0u;
         }
@@ -85,12 +87,11 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
             continue;
         }
         /* |integral| <= 256 000 (integral_max_um) and |err| <= 2^17: the sum fits. */
-        m->integral_um[w] = clamp(m->integral_um[w] + err, -m->integral_max_um,
-                                  m->integral_max_um);
+        m->integral_um[w] = clamp(m->integral_um[w] + err, -m->integral_max_um, m->integral_max_um);
         /* (kp · Σe/N + ki · I) / 256, the division by N = 4 folded into the shift. With
          * |Σe| <= 2^19, kp <= 2^11 and |ki · I| <= 256 000, everything fits 32 bits. */
-        int32_t acc = m->kp_q8 * m->err_sum[w] +
-                      m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS;
+        int32_t acc =
+            m->kp_q8 * m->err_sum[w] + m->ki_q8 * m->integral_um[w] * (int32_t)MOTION_SPEED_TICKS;
         int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
         duty[w] = (int16_t)clamp(ff + pi, -MOTION_DUTY_MAX, MOTION_DUTY_MAX); /* both small */
     }

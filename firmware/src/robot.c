@@ -16,8 +16,7 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
     hal_motor_set(HAL_WHEEL_RIGHT, 0);
 
     r->cfg = *cfg;
-    odom_init(&r->odom, cfg, hal_encoder_count(HAL_WHEEL_LEFT),
-              hal_encoder_count(HAL_WHEEL_RIGHT));
+    odom_init(&r->odom, cfg, hal_encoder_count(HAL_WHEEL_LEFT), hal_encoder_count(HAL_WHEEL_RIGHT));
     sweep_init(&r->sweep, cfg);
     mapper_init(&r->mapper, cfg);
     readq_init(&r->readq, cfg);
@@ -123,8 +122,8 @@ void robot_tick(robot_t *r)
     if (r->last.reading_ready) {
         const sweep_reading_t *rd = &r->last.reading;
         uint32_t range = rd->echo ? sonar_range_um(&r->mapper.sonar, rd->echo_us) : 0u;
-        telem_post_reading(&r->telem, r->ticks, rd->stop, (uint8_t)r->mapper.last,
-                           rd->servo_mdeg, range, &r->mapper.ping_pose);
+        telem_post_reading(&r->telem, r->ticks, rd->stop, (uint8_t)r->mapper.last, rd->servo_mdeg,
+                           range, &r->mapper.ping_pose);
     }
 
     /* Where to go, and the wheel speeds that get us there. Under a hold the exploration

@@ -8,8 +8,7 @@ void sonar_init(sonar_t *s, const slam_config_t *cfg)
     s->mount_y_um = cfg->mount_y_um;
     s->mount_yaw = fix_bam_from_mdeg(cfg->mount_yaw_mdeg);
     /* c/2 in µm per µs is c[mm/s] / 2000; kept in Q16.16 (171.5 at 343 m/s is exact). */
-    s->um_per_echo_us_q16 =
-        (uint32_t)fix_muldiv_u64(cfg->sound_speed_mm_per_s, FIX_Q16_ONE, 2000u);
+    s->um_per_echo_us_q16 = (uint32_t)fix_muldiv_u64(cfg->sound_speed_mm_per_s, FIX_Q16_ONE, 2000u);
     s->range_min_um = cfg->range_min_um;
     s->confidence_um = cfg->confidence_radius_um;
 }
@@ -60,8 +59,8 @@ void sonar_beam_point(const sonar_beam_t *b, uint32_t range_um, int32_t *x_um, i
     *y_um = (int32_t)(b->y_um + fix_round_shift(d * b->s, 30u));
 }
 
-void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
-                    uint32_t range_um, int32_t *x_um, int32_t *y_um)
+void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo, uint32_t range_um,
+                    int32_t *x_um, int32_t *y_um)
 {
     sonar_beam_t b;
     sonar_beam(s, pose, servo, &b);

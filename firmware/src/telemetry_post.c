@@ -27,7 +27,12 @@ void telem_post_pose(telem_t *t, uint32_t ticks, const odom_pose_t *pose)
 void telem_post_reading(telem_t *t, uint32_t ticks, uint8_t stop, uint8_t outcome,
                         int32_t servo_mdeg, uint32_t range_um, const odom_pose_t *ping)
 {
-    telem_event_t e = {.type = TELEM_READING, .stop = stop, .outcome = outcome, .ticks = ticks,
-                       .pose = *ping, .servo_mdeg = servo_mdeg, .range_um = range_um};
+    telem_event_t e = {.type = TELEM_READING,
+                       .stop = stop,
+                       .outcome = outcome,
+                       .ticks = ticks,
+                       .pose = *ping,
+                       .servo_mdeg = servo_mdeg,
+                       .range_um = range_um};
     post(t, &e);
 }

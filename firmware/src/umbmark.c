@@ -24,8 +24,8 @@ void umbmark_init(umbmark_t *u, const slam_config_t *cfg)
     u->brake_q16 = brake > 0u ? brake : 1u;
     u->arc_um = cfg->wheel_base_um * 3217u >> 10; /* π·b, π within 3e-6: for speeds */
     u->stop_um = UMB_CRAWL_MM_S * UMB_CRAWL_MM_S * 500 / cfg->accel_mm_s2; /* v²/2a */
-    u->start = (odom_pose_t){cfg->start_x_um, cfg->start_y_um,
-                             fix_bam_from_mdeg(cfg->start_heading_mdeg)};
+    u->start =
+        (odom_pose_t){cfg->start_x_um, cfg->start_y_um, fix_bam_from_mdeg(cfg->start_heading_mdeg)};
 }
 
 static void enter(umbmark_t *u, umb_state_t s)
@@ -64,8 +64,8 @@ bool umbmark_step(umbmark_t *u, const odom_pose_t *p, int32_t target_mm_s[2])
 {
     target_mm_s[ODOM_LEFT] = target_mm_s[ODOM_RIGHT] = 0;
     u->ticks++;
-    bool moved = p->x_um != u->last.x_um || p->y_um != u->last.y_um ||
-                 p->heading != u->last.heading;
+    bool moved =
+        p->x_um != u->last.x_um || p->y_um != u->last.y_um || p->heading != u->last.heading;
     u->last = *p;
     int32_t dir = umbmark_run_cw(u, u->run) ? -1 : 1; /* counter-clockwise: turn left */
     /* How far each wheel would roll to turn the robot in place to the leg's heading. */

@@ -38,7 +38,7 @@ typedef struct {
  * whole range (tests/test_config_text.c holds these to slam_config_check(), so they cannot
  * drift from it unnoticed). */
 static const field_t fields[] = {
-#define F(name, type, dflt, lo, hi, rule, id, live, words) \
+#define F(name, type, dflt, lo, hi, rule, id, live, words)                                         \
     {#name, offsetof(slam_config_t, name), T_##type, words, PARTNERS_##rule},
     SLAM_CONFIG_FIELDS(F)
 #undef F
@@ -337,8 +337,8 @@ static int misplaced(const char *key, const char *section, int in_own, char *err
 }
 
 static int parse_in(const char *name, const char *text, size_t len, const char *section,
-                    slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
-                    cfgtext_where_t *where, char *err, size_t errlen)
+                    slam_config_t *cfg, cfgtext_other_fn other, void *ctx, cfgtext_where_t *where,
+                    char *err, size_t errlen)
 {
     /* -1 before the first section header, else the index of the section in force. */
     int in = -1;
@@ -378,8 +378,8 @@ static int parse_in(const char *name, const char *text, size_t len, const char *
         }
         if (section_header(s, &in)) {
             if (in < 0) {
-                snprintf(err, errlen, "%s:%u: unknown section [%.40s] (the sections: [%s])",
-                         name, lineno, s + 1, cfgtext_sections[0]);
+                snprintf(err, errlen, "%s:%u: unknown section [%.40s] (the sections: [%s])", name,
+                         lineno, s + 1, cfgtext_sections[0]);
                 return -1;
             }
             continue;
@@ -395,8 +395,8 @@ static int parse_in(const char *name, const char *text, size_t len, const char *
         char msg[256];
         int i = field_index(key);
         if (i >= 0 && seen.line[i] != 0u) {
-            snprintf(err, errlen, "%s:%u: %s is given twice (first on line %u)", name, lineno,
-                     key, seen.line[i]);
+            snprintf(err, errlen, "%s:%u: %s is given twice (first on line %u)", name, lineno, key,
+                     seen.line[i]);
             return -1;
         }
         int r;
@@ -448,8 +448,8 @@ static int parse_in(const char *name, const char *text, size_t len, const char *
 }
 
 int cfgtext_parse_in(const char *name, const char *text, size_t len, const char *section,
-                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
-                     cfgtext_where_t *where, char *err, size_t errlen)
+                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx, cfgtext_where_t *where,
+                     char *err, size_t errlen)
 {
     int rc = parse_in(name, text, len, section, cfg, other, ctx, where, err, errlen);
     if (rc != 0) {

@@ -16,8 +16,8 @@ void trace_write_header(FILE *f, const slam_config_t *cfg)
 
 void trace_write_tick(FILE *f, const trace_tick_t *t)
 {
-    fprintf(f, "tick %u %u %c %lu %c %d %d %u\n", (unsigned)t->enc[0], (unsigned)t->enc[1],
-            t->poll, (unsigned long)t->echo_us, t->trig, (int)t->duty[0], (int)t->duty[1],
+    fprintf(f, "tick %u %u %c %lu %c %d %d %u\n", (unsigned)t->enc[0], (unsigned)t->enc[1], t->poll,
+            (unsigned long)t->echo_us, t->trig, (int)t->duty[0], (int)t->duty[1],
             (unsigned)t->servo_us);
 }
 
@@ -55,8 +55,8 @@ static int parse_tick(const char *line, trace_tick_t *t)
     return 0;
 }
 
-int trace_read(const char *path, slam_config_t *cfg, trace_tick_t **ticks, size_t *n,
-               char *err, size_t errlen)
+int trace_read(const char *path, slam_config_t *cfg, trace_tick_t **ticks, size_t *n, char *err,
+               size_t errlen)
 {
     FILE *f = fopen(path, "r");
     if (f == NULL) {

@@ -21,15 +21,15 @@
 #include <stdint.h>
 
 /* System exceptions 2..15 that have a handler (the others are reserved). */
-#define CM_EXCEPTIONS(X)                                                                        \
-    X(NMI_Handler)                                                                              \
-    X(HardFault_Handler)                                                                        \
-    X(MemManage_Handler)                                                                        \
-    X(BusFault_Handler)                                                                         \
-    X(UsageFault_Handler)                                                                       \
-    X(SVC_Handler)                                                                              \
-    X(DebugMon_Handler)                                                                         \
-    X(PendSV_Handler)                                                                           \
+#define CM_EXCEPTIONS(X)                                                                           \
+    X(NMI_Handler)                                                                                 \
+    X(HardFault_Handler)                                                                           \
+    X(MemManage_Handler)                                                                           \
+    X(BusFault_Handler)                                                                            \
+    X(UsageFault_Handler)                                                                          \
+    X(SVC_Handler)                                                                                 \
+    X(DebugMon_Handler)                                                                            \
+    X(PendSV_Handler)                                                                              \
     X(SysTick_Handler)
 
 void Reset_Handler(void);

@@ -51,19 +51,19 @@ _Static_assert(offsetof(cm_nvic_t, IPR) == 0x300, "NVIC_IPR");
 /* ---- SCB (B3.2) -------------------------------------------------------------------- */
 
 typedef struct {
-    volatile uint32_t CPUID; /* 0xE000ED00 */
-    volatile uint32_t ICSR;  /* 0xE000ED04 */
-    volatile uint32_t VTOR;  /* 0xE000ED08 */
-    volatile uint32_t AIRCR; /* 0xE000ED0C */
-    volatile uint32_t SCR;   /* 0xE000ED10 */
-    volatile uint32_t CCR;   /* 0xE000ED14 */
+    volatile uint32_t CPUID;   /* 0xE000ED00 */
+    volatile uint32_t ICSR;    /* 0xE000ED04 */
+    volatile uint32_t VTOR;    /* 0xE000ED08 */
+    volatile uint32_t AIRCR;   /* 0xE000ED0C */
+    volatile uint32_t SCR;     /* 0xE000ED10 */
+    volatile uint32_t CCR;     /* 0xE000ED14 */
     volatile uint8_t SHPR[12]; /* 0xE000ED18: priorities of system handlers 4..15 */
-    volatile uint32_t SHCSR; /* 0xE000ED24 */
-    volatile uint32_t CFSR;  /* 0xE000ED28 */
-    volatile uint32_t HFSR;  /* 0xE000ED2C */
-    volatile uint32_t DFSR;  /* 0xE000ED30 */
-    volatile uint32_t MMFAR; /* 0xE000ED34 */
-    volatile uint32_t BFAR;  /* 0xE000ED38 */
+    volatile uint32_t SHCSR;   /* 0xE000ED24 */
+    volatile uint32_t CFSR;    /* 0xE000ED28 */
+    volatile uint32_t HFSR;    /* 0xE000ED2C */
+    volatile uint32_t DFSR;    /* 0xE000ED30 */
+    volatile uint32_t MMFAR;   /* 0xE000ED34 */
+    volatile uint32_t BFAR;    /* 0xE000ED38 */
 } cm_scb_t;
 _Static_assert(offsetof(cm_scb_t, SHPR) == 0x18, "SCB_SHPR1");
 _Static_assert(offsetof(cm_scb_t, CFSR) == 0x28, "SCB_CFSR");
@@ -157,9 +157,9 @@ static inline void cm_atomic_end(const uint32_t *saved)
  *         ... touch state shared with an interrupt ...
  *     }
  */
-#define CM_ATOMIC_BLOCK()                                                                       \
-    for (uint32_t cm_atomic_saved_ __attribute__((cleanup(cm_atomic_end))) = cm_atomic_begin(), \
-                  cm_atomic_once_ = 1u;                                                         \
+#define CM_ATOMIC_BLOCK()                                                                          \
+    for (uint32_t cm_atomic_saved_ __attribute__((cleanup(cm_atomic_end))) = cm_atomic_begin(),    \
+                                   cm_atomic_once_ = 1u;                                           \
          cm_atomic_once_ != 0u; cm_atomic_once_ = 0u)
 
 #endif /* CORTEX_M_H */

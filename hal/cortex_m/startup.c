@@ -24,7 +24,7 @@ void cm_default_handler(void);
 #define CM_WEAK_ALIAS_(name) void name(void) __attribute__((weak, alias("cm_default_handler")));
 CM_EXCEPTIONS(CM_WEAK_ALIAS_)
 #undef CM_WEAK_ALIAS_
-#define CM_WEAK_IRQ_(name)                                                                     \
+#define CM_WEAK_IRQ_(name)                                                                         \
     void name##_IRQHandler(void) __attribute__((weak, alias("cm_default_handler")));
 CM_CHIP_IRQS(CM_WEAK_IRQ_)
 #undef CM_WEAK_IRQ_
@@ -34,7 +34,8 @@ typedef void (*cm_vector_t)(void);
 /* The table the core reads at reset: initial stack pointer, then the handlers. */
 #define CM_IRQ_ONE_(name) +1
 #define CM_IRQ_VECTOR_(name) name##_IRQHandler,
-__attribute__((section(".isr_vector"), used)) static const cm_vector_t vector_table[16 CM_CHIP_IRQS(CM_IRQ_ONE_)] = {
+__attribute__((section(".isr_vector"),
+               used)) static const cm_vector_t vector_table[16 CM_CHIP_IRQS(CM_IRQ_ONE_)] = {
     (cm_vector_t)(uintptr_t)_estack,
     Reset_Handler,
     NMI_Handler,
@@ -51,8 +52,7 @@ __attribute__((section(".isr_vector"), used)) static const cm_vector_t vector_ta
     0,
     PendSV_Handler,
     SysTick_Handler,
-    CM_CHIP_IRQS(CM_IRQ_VECTOR_)
-};
+    CM_CHIP_IRQS(CM_IRQ_VECTOR_)};
 #undef CM_IRQ_VECTOR_
 #undef CM_IRQ_ONE_
 

@@ -84,8 +84,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_world: %s\n", err);
         return 2;
     }
-    if (!room.has_start && room_find_start(&room, 0.2, &room.start_x, &room.start_y,
-                                           &room.start_th) != 0) {
+    if (!room.has_start &&
+        room_find_start(&room, 0.2, &room.start_x, &room.start_y, &room.start_th) != 0) {
         fprintf(stderr, "bench_world: %s: no free start pose\n", path);
         return 2;
     }

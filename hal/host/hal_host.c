@@ -13,18 +13,18 @@
 
 static struct {
     sim_t *sim;
-    bool lossy;          /* the world may lose ticks (tick_miss) */
+    bool lossy; /* the world may lose ticks (tick_miss) */
     hal_tick_fn fn;
     void *ctx;
-    uint64_t t0_us;      /* world time at hal_init() */
+    uint64_t t0_us; /* world time at hal_init() */
     FILE *uart;
     uint8_t rx[HAL_HOST_UART_RX_BYTES]; /* received, not yet read: rx_head - rx_tail bytes */
     size_t rx_head, rx_tail;
     FILE *trace;
     uint64_t trace_ticks;
-    bool untraced_said;  /* the firmware was told the trace misses what it used */
-    bool recording;      /* a tick is under way and a trace records its HAL calls */
-    trace_tick_t rec;    /* what the firmware saw in the tick under way */
+    bool untraced_said; /* the firmware was told the trace misses what it used */
+    bool recording;     /* a tick is under way and a trace records its HAL calls */
+    trace_tick_t rec;   /* what the firmware saw in the tick under way */
     uint8_t storage[HAL_STORAGE_SLOTS][HAL_HOST_STORAGE_MAX];
     size_t storage_size; /* bytes of each slot in use; 0 until the first use */
     bool rewriting[HAL_STORAGE_SLOTS];

@@ -40,8 +40,8 @@ static double sobel_cos(const room_t *r, long ix, long iy, double dx, double dy,
     return fabs((double)gx * dx + (double)gy * dy) / n;
 }
 
-double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy,
-                       double max_m, double *cosi, double *normal)
+double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy, double max_m,
+                       double *cosi, double *normal)
 {
     const double res = r->occ_res;
     room_walk_t w;
@@ -331,7 +331,8 @@ static void mark_segment(const raster_out_t *g, const room_segment_t *s)
     double t0 = 0.0;
     double t1 = 1.0;
     /* Liang-Barsky against [0, a] x [0, b]. */
-    const double pq[4][2] = {{-du, u0}, {du, (double)g->a - u0}, {-dv, v0}, {dv, (double)g->b - v0}};
+    const double pq[4][2] = {
+        {-du, u0}, {du, (double)g->a - u0}, {-dv, v0}, {dv, (double)g->b - v0}};
     for (int k = 0; k < 4; k++) {
         double p = pq[k][0];
         double q = pq[k][1];
@@ -359,8 +360,10 @@ static void mark_segment(const raster_out_t *g, const room_segment_t *s)
     const long sb = dv > 0.0 ? 1 : -1;
     const double tda = du == 0.0 ? HOST_INF : 1.0 / fabs(du);
     const double tdb = dv == 0.0 ? HOST_INF : 1.0 / fabs(dv);
-    double tma = du == 0.0 ? HOST_INF : t0 + (du > 0.0 ? ((double)ia + 1.0 - pu) : (pu - (double)ia)) * tda;
-    double tmb = dv == 0.0 ? HOST_INF : t0 + (dv > 0.0 ? ((double)ib + 1.0 - pv) : (pv - (double)ib)) * tdb;
+    double tma =
+        du == 0.0 ? HOST_INF : t0 + (du > 0.0 ? ((double)ia + 1.0 - pu) : (pu - (double)ia)) * tda;
+    double tmb =
+        dv == 0.0 ? HOST_INF : t0 + (dv > 0.0 ? ((double)ib + 1.0 - pv) : (pv - (double)ib)) * tdb;
     mark(g, ia, ib);
     for (;;) {
         if (tma < tmb) {

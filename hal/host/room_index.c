@@ -121,8 +121,8 @@ static void pass(pass_t *ps, const room_t *r)
 
 /* ---- the tree for nearest-object queries --------------------------------------------------- */
 
-#define BVH_LEAF 4u        /* objects a leaf holds at most */
-#define BVH_MAX_DEPTH 64u  /* beyond, splits halve the count: the depth stays below 96 */
+#define BVH_LEAF 4u       /* objects a leaf holds at most */
+#define BVH_MAX_DEPTH 64u /* beyond, splits halve the count: the depth stays below 96 */
 #define BVH_STACK 128u
 
 /* A node: its box, and either its objects (count > 0: leaf_ids[first ..]) or its children
@@ -352,8 +352,8 @@ size_t room_index_entries(const room_t *r)
     return r->index != NULL ? r->index->nitems : 0u;
 }
 
-void room_index_cells(const room_t *r, double x0, double y0, double x1, double y1,
-                      uint32_t *a0, uint32_t *a1, uint32_t *b0, uint32_t *b1)
+void room_index_cells(const room_t *r, double x0, double y0, double x1, double y1, uint32_t *a0,
+                      uint32_t *a1, uint32_t *b0, uint32_t *b1)
 {
     const room_index_t *ix = r->index;
     span((x0 - ix->x0) * ix->inv, (x1 - ix->x0) * ix->inv, ix->nx, a0, a1);
@@ -500,8 +500,8 @@ int room_index_near(const room_t *r, double x, double y, double cap, double *cir
 
 /* The ray's walk through the index cells, testing the objects of each until a hit lies
  * within the cells walked. */
-double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy,
-                      double max_m, double *cosi, uint32_t *id)
+double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy, double max_m,
+                      double *cosi, uint32_t *id)
 {
     const room_index_t *ix = r->index;
     const size_t ns = r->nsegs;

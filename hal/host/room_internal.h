@@ -25,8 +25,8 @@
 /** A ray parallel to a segment within this (|sin| of the angle) never hits it. */
 #define ROOM_PARALLEL_EPS 1e-12
 
-static inline double room_hit_segment(const room_segment_t *sg, double ox, double oy,
-                                      double dx, double dy, double best, double *cosi)
+static inline double room_hit_segment(const room_segment_t *sg, double ox, double oy, double dx,
+                                      double dy, double best, double *cosi)
 {
     double ex = sg->x2 - sg->x1;
     double ey = sg->y2 - sg->y1;
@@ -211,8 +211,8 @@ static inline bool room_walk_next(room_walk_t *w)
  * @param normal  out (may be NULL): the surface's unit normal at the hit (either side), as
  *                *cosi takes it; two doubles
  */
-double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy,
-                       double max_m, double *cosi, double *normal);
+double room_hit_raster(const room_t *r, double ox, double oy, double dx, double dy, double max_m,
+                       double *cosi, double *normal);
 
 /* ---- the spatial index of a room's objects (room_index.c) ----------------------------- */
 
@@ -254,8 +254,8 @@ size_t room_index_entries(const room_t *r);
 uint64_t room_index_examined(void);
 
 /** The range of index cells that covers [x0, x1] × [y0, y1], clamped to the grid. */
-void room_index_cells(const room_t *r, double x0, double y0, double x1, double y1,
-                      uint32_t *a0, uint32_t *a1, uint32_t *b0, uint32_t *b1);
+void room_index_cells(const room_t *r, double x0, double y0, double x1, double y1, uint32_t *a0,
+                      uint32_t *a1, uint32_t *b0, uint32_t *b1);
 
 /** The objects of index cell (a, b): *n of them. */
 const uint32_t *room_index_cell(const room_t *r, uint32_t a, uint32_t b, size_t *n);
@@ -286,8 +286,7 @@ int room_index_near(const room_t *r, double x, double y, double cap, double *cir
  * @param id  out (may be NULL): the object hit, as the index numbers it (segment i as i,
  *            circle i as nsegs + i); set only with a hit
  */
-double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy,
-                      double max_m, double *cosi, uint32_t *id);
-
+double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy, double max_m,
+                      double *cosi, uint32_t *id);
 
 #endif /* HOST_ROOM_INTERNAL_H */

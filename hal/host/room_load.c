@@ -230,7 +230,7 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
         }
         if (rc == -3) {
             room_fail(err, errlen, path, lineno, "'%.40s' is out of range: values lie within +-%g",
-                 tok, ROOM_MAX_COORD_M);
+                      tok, ROOM_MAX_COORD_M);
             return -1;
         }
         if (vec_push(&b->vals, &v, sizeof v) != 0) {
@@ -272,8 +272,9 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
     } else if (strcmp(kw, "poly") == 0) {
         if (n < 6u || n % 2u != 0u) {
             room_fail(err, errlen, path, lineno,
-                 "poly needs an even number of values, at least 6 (x1 y1 x2 y2 x3 y3 ...), "
-                 "got %zu", n);
+                      "poly needs an even number of values, at least 6 (x1 y1 x2 y2 x3 y3 ...), "
+                      "got %zu",
+                      n);
             return -1;
         }
         size_t pts = n / 2u;
@@ -281,7 +282,7 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
             size_t j = (i + 1u) % pts;
             if (v[2u * i] == v[2u * j] && v[2u * i + 1u] == v[2u * j + 1u]) {
                 room_fail(err, errlen, path, lineno, "poly points %zu and %zu are the same", i + 1u,
-                     j + 1u);
+                          j + 1u);
                 return -1;
             }
         }
@@ -302,12 +303,13 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
         oom = vec_push(&b->circles, &c, sizeof c);
     } else if (strcmp(kw, "start") == 0) {
         if (n != 3u) {
-            room_fail(err, errlen, path, lineno, "start needs 3 values (x y theta_deg), got %zu", n);
+            room_fail(err, errlen, path, lineno, "start needs 3 values (x y theta_deg), got %zu",
+                      n);
             return -1;
         }
         if (r->has_start) {
             room_fail(err, errlen, path, lineno, "a second start (the first is on line %u)",
-                 *start_line);
+                      *start_line);
             return -1;
         }
         r->has_start = true;
@@ -317,7 +319,7 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
         *start_line = lineno;
     } else {
         room_fail(err, errlen, path, lineno,
-             "unknown keyword '%.40s' (expected wall, box, poly, circle or start)", kw);
+                  "unknown keyword '%.40s' (expected wall, box, poly, circle or start)", kw);
         return -1;
     }
     if (oom) {
@@ -369,10 +371,10 @@ int room_parse(room_t *out, const char *path, const char *text, size_t len, char
         double c = room_clearance(&r, r.start_x, r.start_y, ROOM_BODY_RADIUS_M);
         if (c < ROOM_BODY_RADIUS_M) {
             room_fail(err, errlen, path, start_line,
-                 "start pose (%g, %g) is %s an obstacle: the robot's body (radius %g m) "
-                 "must touch nothing",
-                 r.start_x, r.start_y, c <= 0.0 ? "inside" : "too close to",
-                 ROOM_BODY_RADIUS_M);
+                      "start pose (%g, %g) is %s an obstacle: the robot's body (radius %g m) "
+                      "must touch nothing",
+                      r.start_x, r.start_y, c <= 0.0 ? "inside" : "too close to",
+                      ROOM_BODY_RADIUS_M);
             room_index_free(&r);
             rc = -1;
         }
@@ -419,8 +421,9 @@ int room_load(room_t *r, const char *path, const room_crop_t *crop, char *err, s
         return room_load_ros(r, path, crop, err, errlen);
     }
     if (crop != NULL) {
-        room_fail(err, errlen, path, 0u, "a crop takes part of a ROS map (.yaml); a .room file "
-                                    "is taken whole");
+        room_fail(err, errlen, path, 0u,
+                  "a crop takes part of a ROS map (.yaml); a .room file "
+                  "is taken whole");
         return -1;
     }
     return load_room_text(r, path, err, errlen);

@@ -27,7 +27,7 @@ __attribute__((format(printf, 5, 6))) void room_fail(char *err, size_t errlen, c
 
 /** Text cut into lines, for the loaders. */
 typedef struct {
-    char *buf;       /**< a copy of the text, cut in place */
+    char *buf; /**< a copy of the text, cut in place */
     size_t len, pos;
     unsigned lineno; /**< the line room_lines_next() gave last, from 1 */
     const char *path;
@@ -58,7 +58,6 @@ int room_parse_number(const char *tok, double *v);
 void room_bounds(room_t *r);
 
 /** room_load() of a ROS map (room_ros.c). */
-int room_load_ros(room_t *out, const char *path, const room_crop_t *crop, char *err,
-                  size_t errlen);
+int room_load_ros(room_t *out, const char *path, const room_crop_t *crop, char *err, size_t errlen);
 
 #endif /* HOST_ROOM_PARSE_H */

@@ -87,32 +87,33 @@ static int parse_pgm(const char *path, const char *buf, size_t len, pgm_t *img, 
         if (p >= end || !isspace((unsigned char)*p) || (size_t)(end - p - 1) < n) {
             room_fail(err, errlen, path, 0u, "image data is truncated (expected %zu bytes)", n);
             free(px);
-                return -1;
+            return -1;
         }
         memcpy(px, p + 1, n);
     } else {
         for (size_t i = 0; i < n; i++) {
             unsigned long v;
             if ((p = pgm_token(p, end, &v)) == NULL) {
-                room_fail(err, errlen, path, 0u, "image data is truncated or not a number (pixel %zu)",
-                     i);
+                room_fail(err, errlen, path, 0u,
+                          "image data is truncated or not a number (pixel %zu)", i);
                 free(px);
-                        return -1;
+                return -1;
             }
             px[i] = (uint8_t)(v > 255u ? 255u : v);
             if (v > maxval) {
-                room_fail(err, errlen, path, 0u, "pixel %zu is %lu, above maxval %lu", i, v, maxval);
+                room_fail(err, errlen, path, 0u, "pixel %zu is %lu, above maxval %lu", i, v,
+                          maxval);
                 free(px);
-                        return -1;
+                return -1;
             }
         }
     }
     for (size_t i = 0; !ascii && i < n; i++) {
         if (px[i] > maxval) {
-            room_fail(err, errlen, path, 0u, "pixel %zu is %u, above maxval %lu", i, (unsigned)px[i],
-                 maxval);
+            room_fail(err, errlen, path, 0u, "pixel %zu is %u, above maxval %lu", i,
+                      (unsigned)px[i], maxval);
             free(px);
-                return -1;
+            return -1;
         }
     }
     img->w = (uint32_t)w;
@@ -145,11 +146,11 @@ static char *unquote(char *s)
     return s;
 }
 
-static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *path,
-                      unsigned lineno, char *err, size_t errlen)
+static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *path, unsigned lineno,
+                      char *err, size_t errlen)
 {
-    static const char *const keys[] = {"image",    "resolution",      "origin",
-                                       "negate",   "occupied_thresh", "free_thresh"};
+    static const char *const keys[] = {"image",  "resolution",      "origin",
+                                       "negate", "occupied_thresh", "free_thresh"};
     int k = -1;
     for (int i = 0; i < 6; i++) {
         if (strcmp(key, keys[i]) == 0) {
@@ -168,7 +169,8 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
         return 0; /* other keys of map_server's format are not needed here */
     }
     if (y->line[k] != 0u) {
-        room_fail(err, errlen, path, lineno, "'%s' given twice (first on line %u)", key, y->line[k]);
+        room_fail(err, errlen, path, lineno, "'%s' given twice (first on line %u)", key,
+                  y->line[k]);
         return -1;
     }
     y->line[k] = lineno;
@@ -211,14 +213,15 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
                 return -1;
             }
             if (r != 0) {
-                room_fail(err, errlen, path, lineno, "origin must be [x, y, yaw] with finite numbers");
+                room_fail(err, errlen, path, lineno,
+                          "origin must be [x, y, yaw] with finite numbers");
                 return -1;
             }
             p = comma != NULL ? comma + 1 : p;
         }
         if (fabs(y->origin[2]) > 1e-9) {
             room_fail(err, errlen, path, lineno, "an origin yaw of %g is not supported (only 0)",
-                 y->origin[2]);
+                      y->origin[2]);
             return -1;
         }
         return 0;
@@ -238,7 +241,8 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
         if (nr == NUM_RANGE) {
             v = val[0] == '-' ? -HUGE_VAL : HUGE_VAL; /* a number, far out of range */
         } else if (nr != NUM_OK) {
-            room_fail(err, errlen, path, lineno, "%s needs a decimal number, not '%.40s'", key, val);
+            room_fail(err, errlen, path, lineno, "%s needs a decimal number, not '%.40s'", key,
+                      val);
             return -1;
         }
         if (k == YK_RESOLUTION) {
@@ -265,8 +269,8 @@ static int yaml_value(ros_yaml_t *y, const char *key, char *val, const char *pat
 }
 
 /* A ROS map's YAML held in memory. */
-static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_yaml_t *y,
-                          char *err, size_t errlen)
+static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_yaml_t *y, char *err,
+                          size_t errlen)
 {
     room_lines_t lines;
     if (room_lines_open(&lines, path, yaml, len, err, errlen) != 0) {
@@ -303,8 +307,8 @@ static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_ya
     if (rc != 0) {
         return -1;
     }
-    static const char *const need[] = {"image", "resolution", "origin", NULL,
-                                       "occupied_thresh", "free_thresh"};
+    static const char *const need[] = {"image", "resolution",      "origin",
+                                       NULL,    "occupied_thresh", "free_thresh"};
     for (int k = 0; k < 6; k++) {
         if (need[k] != NULL && y->line[k] == 0u) {
             room_fail(err, errlen, path, 0u, "no '%s' key", need[k]);
@@ -313,7 +317,7 @@ static int parse_ros_yaml(const char *path, const char *yaml, size_t len, ros_ya
     }
     if (y->free_thresh > y->occupied_thresh) {
         room_fail(err, errlen, path, y->line[YK_FREE], "free_thresh %g is above occupied_thresh %g",
-             y->free_thresh, y->occupied_thresh);
+                  y->free_thresh, y->occupied_thresh);
         return -1;
     }
     return 0;
@@ -349,8 +353,8 @@ static int ros_build(room_t *out, const char *path, const ros_yaml_t *yp, const 
     double map_y1 = y.origin[1] + (double)img.h * y.resolution;
     if (fabs(map_x1) > ROOM_MAX_COORD_M || fabs(map_y1) > ROOM_MAX_COORD_M) {
         room_fail(err, errlen, path, y.line[YK_RESOLUTION],
-             "the map (%ux%u pixels of %g m from (%g, %g)) reaches beyond +-%g m", img.w, img.h,
-             y.resolution, y.origin[0], y.origin[1], ROOM_MAX_COORD_M);
+                  "the map (%ux%u pixels of %g m from (%g, %g)) reaches beyond +-%g m", img.w,
+                  img.h, y.resolution, y.origin[0], y.origin[1], ROOM_MAX_COORD_M);
         free(img.px);
         return -1;
     }
@@ -362,22 +366,23 @@ static int ros_build(room_t *out, const char *path, const ros_yaml_t *yp, const 
     if (crop != NULL) {
         if (!(isfinite(crop->x) && isfinite(crop->y) && crop->w > 0.0 && crop->h > 0.0 &&
               isfinite(crop->w) && isfinite(crop->h))) {
-            room_fail(err, errlen, path, 0u, "the crop needs a finite position and a positive size");
+            room_fail(err, errlen, path, 0u,
+                      "the crop needs a finite position and a positive size");
             free(img.px);
             return -1;
         }
         if (crop_range(crop->x, crop->w, y.origin[0], y.resolution, img.w, &c0, &c1) != 0 ||
             crop_range(crop->y, crop->h, y.origin[1], y.resolution, img.h, &r0, &r1) != 0) {
-            bool overlaps = crop->x < map_x1 && crop->x + crop->w > y.origin[0] && crop->y < map_y1 &&
-                            crop->y + crop->h > y.origin[1];
+            bool overlaps = crop->x < map_x1 && crop->x + crop->w > y.origin[0] &&
+                            crop->y < map_y1 && crop->y + crop->h > y.origin[1];
             if (overlaps) {
                 room_fail(err, errlen, path, 0u,
-                     "the crop (%g %g %g %g) holds no pixel centre (the pixels are %g m)",
-                     crop->x, crop->y, crop->w, crop->h, y.resolution);
+                          "the crop (%g %g %g %g) holds no pixel centre (the pixels are %g m)",
+                          crop->x, crop->y, crop->w, crop->h, y.resolution);
             } else {
                 room_fail(err, errlen, path, 0u,
-                     "the crop (%g %g %g %g) lies outside the map (%g %g .. %g %g)", crop->x,
-                     crop->y, crop->w, crop->h, y.origin[0], y.origin[1], map_x1, map_y1);
+                          "the crop (%g %g %g %g) lies outside the map (%g %g .. %g %g)", crop->x,
+                          crop->y, crop->w, crop->h, y.origin[0], y.origin[1], map_x1, map_y1);
             }
             free(img.px);
             return -1;
@@ -399,8 +404,8 @@ static int ros_build(room_t *out, const char *path, const ros_yaml_t *yp, const 
         uint32_t file_row = img.h - 1u - (r0 + row);
         for (uint32_t col = 0; col < w; col++) {
             double v = (double)img.px[(size_t)file_row * img.w + c0 + col];
-            double pr = y.negate ? v / (double)img.maxval
-                                 : ((double)img.maxval - v) / (double)img.maxval;
+            double pr =
+                y.negate ? v / (double)img.maxval : ((double)img.maxval - v) / (double)img.maxval;
             uint8_t o = pr > y.occupied_thresh ? 1u : 0u;
             /* A crop's edges are walls: the part taken out of the building keeps the
              * robot in, whatever doors it has. */
@@ -413,7 +418,8 @@ static int ros_build(room_t *out, const char *path, const ros_yaml_t *yp, const 
     }
     free(img.px);
     if (occupied == 0u) {
-        room_fail(err, errlen, path, 0u, "no occupied pixels%s", crop != NULL ? " in the crop" : "");
+        room_fail(err, errlen, path, 0u, "no occupied pixels%s",
+                  crop != NULL ? " in the crop" : "");
         free(occ);
         free(fre);
         return -1;
@@ -432,8 +438,8 @@ static int ros_build(room_t *out, const char *path, const ros_yaml_t *yp, const 
 }
 
 int room_parse_ros(room_t *out, const char *yaml_name, const char *yaml, size_t yaml_len,
-                   const char *pgm_name, const char *pgm, size_t pgm_len,
-                   const room_crop_t *crop, char *err, size_t errlen)
+                   const char *pgm_name, const char *pgm, size_t pgm_len, const room_crop_t *crop,
+                   char *err, size_t errlen)
 {
     ros_yaml_t y;
     if (parse_ros_yaml(yaml_name, yaml, yaml_len, &y, err, errlen) != 0) {
@@ -442,8 +448,7 @@ int room_parse_ros(room_t *out, const char *yaml_name, const char *yaml, size_t 
     return ros_build(out, yaml_name, &y, pgm_name, pgm, pgm_len, crop, err, errlen);
 }
 
-int room_load_ros(room_t *out, const char *path, const room_crop_t *crop, char *err,
-                  size_t errlen)
+int room_load_ros(room_t *out, const char *path, const room_crop_t *crop, char *err, size_t errlen)
 {
     size_t len;
     char *text = cfgtext_read_file(path, ROOM_YAML_MAX, &len, err, errlen);

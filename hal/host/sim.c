@@ -5,8 +5,7 @@
 
 #include "sim_internal.h"
 
-sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e,
-                  uint64_t seed)
+sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e, uint64_t seed)
 {
     if (room == NULL || sim_params_check(p, e, NULL) != 0 ||
         !room_disc_free(room, room->start_x, room->start_y, p->body_radius_m)) {

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The simulated faults: stuck echo, servo stall (of sonar and servo 0), stopped encoder, lost ticks. */
+/* The simulated faults: stuck echo, servo stall (of sonar and servo 0), stopped encoder, lost
+ * ticks. */
 #include "sim_internal.h"
 
 /* An episode lasts this long, uniform, s. */
@@ -12,8 +13,8 @@ void sim_faults_init(sim_t *s, uint64_t seed)
     for (int f = 0; f < SIM_FAULTS; f++) {
         sim_rng_seed(&s->faults.rng[f], seed, (uint64_t)(SIM_STREAM_FAULTS + f));
     }
-    s->faults.episodes = e->echo_stuck_per_s > 0.0 || e->servo_stall_per_s > 0.0 ||
-                         e->encoder_stop_per_s > 0.0;
+    s->faults.episodes =
+        e->echo_stuck_per_s > 0.0 || e->servo_stall_per_s > 0.0 || e->encoder_stop_per_s > 0.0;
 }
 
 /* Perhaps begin an episode of fault f, which comes at @p rate a second. */
@@ -24,8 +25,8 @@ static bool begin_episode(sim_t *s, int f, double rate)
         sim_rng_unit(&ft->rng[f]) >= rate * SIM_DT_S) {
         return false;
     }
-    double len = SIM_EPISODE_MIN_S +
-                 (SIM_EPISODE_MAX_S - SIM_EPISODE_MIN_S) * sim_rng_unit(&ft->rng[f]);
+    double len =
+        SIM_EPISODE_MIN_S + (SIM_EPISODE_MAX_S - SIM_EPISODE_MIN_S) * sim_rng_unit(&ft->rng[f]);
     ft->until_us[f] = s->time_us + (uint64_t)llround(len * 1e6);
     return true;
 }
@@ -61,8 +62,7 @@ uint64_t sim_ticks_missed(const sim_t *s)
 
 bool sim_tick_lost(sim_t *s)
 {
-    if (s->e.tick_miss <= 0.0 ||
-        sim_rng_unit(&s->faults.rng[SIM_FAULT_TICK]) >= s->e.tick_miss) {
+    if (s->e.tick_miss <= 0.0 || sim_rng_unit(&s->faults.rng[SIM_FAULT_TICK]) >= s->e.tick_miss) {
         return false;
     }
     s->faults.ticks_missed++;

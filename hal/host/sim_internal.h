@@ -43,25 +43,25 @@ enum { SIM_FAULT_ECHO, SIM_FAULT_SERVO, SIM_FAULT_ENCODER, SIM_FAULT_TICK, SIM_F
 /* The differential drive (sim_body.c): pose, wheels, encoders, collisions. */
 typedef struct {
     /* Derived once. */
-    double r_nom;            /* nominal wheel radius, m */
-    double r_act[2];         /* actual wheel radii (E_d), m */
-    double base_act;         /* actual wheel base (E_b), m */
-    double counts_per_rad;   /* encoder counts per radian of wheel */
-    double decay;            /* exp(-dt/tau): the motor's response over one tick */
-    double gain;             /* tau·(1 - decay): weight of the speed error in a tick's travel */
-    double omega_per_duty;   /* wheel rad/s per unit of duty */
-    sim_rng_t rng;           /* wheel noise */
+    double r_nom;          /* nominal wheel radius, m */
+    double r_act[2];       /* actual wheel radii (E_d), m */
+    double base_act;       /* actual wheel base (E_b), m */
+    double counts_per_rad; /* encoder counts per radian of wheel */
+    double decay;          /* exp(-dt/tau): the motor's response over one tick */
+    double gain;           /* tau·(1 - decay): weight of the speed error in a tick's travel */
+    double omega_per_duty; /* wheel rad/s per unit of duty */
+    sim_rng_t rng;         /* wheel noise */
 
     /* The pose of the axle centre. */
     double x, y, th;
-    double hc, hs;           /* cos th, sin th, carried along with th */
-    uint32_t moves;          /* since hc, hs were last computed from th */
+    double hc, hs;  /* cos th, sin th, carried along with th */
+    uint32_t moves; /* since hc, hs were last computed from th */
 
     /* Motors, wheels, encoders. */
-    double omega[2];         /* wheel angular speeds, rad/s */
-    double omega_cmd[2];     /* what the duty asks for, rad/s */
+    double omega[2];     /* wheel angular speeds, rad/s */
+    double omega_cmd[2]; /* what the duty asks for, rad/s */
     int16_t duty[2];
-    double enc[2];           /* wheel rotation the encoders counted, counts */
+    double enc[2]; /* wheel rotation the encoders counted, counts */
 
     /* Collisions: every point within `margin` of the anchor is known to be free. */
     double ax, ay, margin, margin2;
@@ -71,10 +71,10 @@ typedef struct {
 
 /* The hobby servo (sim_servo.c). */
 typedef struct {
-    double step_deg;         /* travel per tick (servo_lag taken off), deg */
-    uint16_t pulse;          /* the pulse in force, µs */
-    double deg;              /* where the horn is */
-    double cmd_deg;          /* where the pulse sends it */
+    double step_deg; /* travel per tick (servo_lag taken off), deg */
+    uint16_t pulse;  /* the pulse in force, µs */
+    double deg;      /* where the horn is */
+    double cmd_deg;  /* where the pulse sends it */
 } sim_servo_t;
 
 /*
@@ -85,37 +85,37 @@ typedef struct {
 typedef struct {
     /* The mount: sonar 0 on servo 0 at (sonar_x_m, sonar_y_m); the others a row of
        sim_params_t.extra_sonar. */
-    unsigned index;          /* the instance */
-    double mx, my;           /* the sensor (a servo's axis) ahead of and left of the axle, m */
-    int servo;               /* the servo it turns on, or -1: fixed */
-    double yaw_deg;          /* its beam from the heading with the servo at 90°, deg */
-    bool turned;             /* yaw_deg is not 0: the beam turns by yc, ys too */
-    double yc, ys;           /* cos, sin of yaw_deg */
+    unsigned index; /* the instance */
+    double mx, my;  /* the sensor (a servo's axis) ahead of and left of the axle, m */
+    int servo;      /* the servo it turns on, or -1: fixed */
+    double yaw_deg; /* its beam from the heading with the servo at 90°, deg */
+    bool turned;    /* yaw_deg is not 0: the beam turns by yc, ys too */
+    double yc, ys;  /* cos, sin of yaw_deg */
 
     /* Derived once from sim_params_t and sim_errors_t (sim_sonar_init()). */
     double cos_limit[SIM_LIMIT_BINS + 1u]; /* a surface answers when |cos incidence| is at
                                               least this, by the path (sim_sonar_limit()) */
-    double limit_per_m;      /* bins of cos_limit a metre */
-    bool limit_flat;         /* the same limit at every range: cos_limit[0] */
-    double cone_c, cone_s;   /* cos, sin of half the cone */
-    double ray_c, ray_s;     /* cos, sin of the angle between two rays */
-    double catch_tan;        /* a ray coming back passes the receiver within this share of its
-                                path (sim_multipath.c) */
-    sim_rng_t rng;           /* dropouts, ghosts, range noise */
+    double limit_per_m;                    /* bins of cos_limit a metre */
+    bool limit_flat;                       /* the same limit at every range: cos_limit[0] */
+    double cone_c, cone_s;                 /* cos, sin of half the cone */
+    double ray_c, ray_s;                   /* cos, sin of the angle between two rays */
+    double catch_tan; /* a ray coming back passes the receiver within this share of its
+                         path (sim_multipath.c) */
+    sim_rng_t rng;    /* dropouts, ghosts, range noise */
 
     /* cos, sin of (90° - servo angle) for the last few servo angles pinged at: the
        sweep revisits the same stops. */
     struct {
         double deg, c, s;
     } beam[SIM_BEAM_CACHE];
-    unsigned beam_next;      /* the entry to replace next */
+    unsigned beam_next; /* the entry to replace next */
 
     /* The ping under way. */
-    bool out;                /* a ping is out and not yet reported */
-    bool echo;               /* it will report an echo (else a timeout) */
-    uint64_t ready_us;       /* when its echo or timeout is due */
-    uint64_t ring_from_us;   /* the last ping's trigger time */
-    uint32_t ring_us;        /* its sound's round trip to the surface it echoed from; 0: none */
+    bool out;              /* a ping is out and not yet reported */
+    bool echo;             /* it will report an echo (else a timeout) */
+    uint64_t ready_us;     /* when its echo or timeout is due */
+    uint64_t ring_from_us; /* the last ping's trigger time */
+    uint32_t ring_us;      /* its sound's round trip to the surface it echoed from; 0: none */
     sim_ping_t ping;
     uint32_t counts[SIM_PING_KINDS]; /* pings by kind */
 
@@ -124,9 +124,9 @@ typedef struct {
     struct sim_line *lines;
 
     /* Scratch of the cone. */
-    uint32_t *cand;          /* cone candidates: segment indices, then circle indices */
-    uint32_t *near;          /* a large room's objects near the cone (room_t.index) */
-    uint32_t *stamp;         /* per object: the cone_objects() call that last took it */
+    uint32_t *cand;  /* cone candidates: segment indices, then circle indices */
+    uint32_t *near;  /* a large room's objects near the cone (room_t.index) */
+    uint32_t *stamp; /* per object: the cone_objects() call that last took it */
     uint32_t stamp_now;
 } sim_sonar_t;
 
@@ -177,11 +177,11 @@ void sim_sonar_free(sim_t *s);
 
 /* A ray's first surface (sim_multipath.c). */
 typedef struct {
-    double t;        /* its distance, m; infinity for none */
-    double cosi;     /* |cos| of the incidence */
-    uint32_t id;     /* the object, as the room's index numbers them (segment i as i, circle
-                        i as nsegs + i); UINT32_MAX for the raster's pixels */
-    double nx, ny;   /* a raster surface's unit normal (either side) */
+    double t;      /* its distance, m; infinity for none */
+    double cosi;   /* |cos| of the incidence */
+    uint32_t id;   /* the object, as the room's index numbers them (segment i as i, circle
+                      i as nsegs + i); UINT32_MAX for the raster's pixels */
+    double nx, ny; /* a raster surface's unit normal (either side) */
 } sim_surface_t;
 
 /* sim_multipath.c: a sonar's lines of a small room's segments when multipath is on; -1
@@ -193,9 +193,8 @@ int sim_multipath_init(const sim_t *s, sim_sonar_t *so);
  * (so->cand, nseg segments then ncirc circles) when @p cone, else among every object
  * (through the index of a large room); and the raster's pixels.
  */
-sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy,
-                          double dx, double dy, double max_m, bool cone, size_t nseg,
-                          size_t ncirc);
+sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy, double dx,
+                          double dy, double max_m, bool cone, size_t nseg, size_t ncirc);
 
 /*
  * The echo of a ray of sonar @p so's cone from the sensor (sx, sy) along (dx, dy) whose

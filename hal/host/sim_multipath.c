@@ -56,8 +56,8 @@ int sim_multipath_init(const sim_t *s, sim_sonar_t *so)
 
 /* The distance along a ray to line @p l when it meets it nearer than @p best (and |cos|
  * of the incidence into *cosi), else best. */
-static inline double line_hit(const struct sim_line *l, double ox, double oy, double dx,
-                              double dy, double best, double *cosi)
+static inline double line_hit(const struct sim_line *l, double ox, double oy, double dx, double dy,
+                              double best, double *cosi)
 {
     double dn = l->nx * dx + l->ny * dy;
     double t = (l->c - l->nx * ox - l->ny * oy) / dn; /* parallel: ±inf or NaN, refused */
@@ -72,9 +72,8 @@ static inline double line_hit(const struct sim_line *l, double ox, double oy, do
     return t;
 }
 
-sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy,
-                          double dx, double dy, double max_m, bool cone, size_t nseg,
-                          size_t ncirc)
+sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, double oy, double dx,
+                          double dy, double max_m, bool cone, size_t nseg, size_t ncirc)
 {
     const room_t *r = s->room;
     const uint32_t *cand = so->cand;
@@ -83,9 +82,9 @@ sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, doub
     double t = HOST_INF;
     if (cone) {
         for (size_t i = 0; i < nseg; i++) {
-            double u = lines != NULL ? line_hit(&lines[cand[i]], ox, oy, dx, dy, t, &h.cosi)
-                                     : room_hit_segment(&r->segs[cand[i]], ox, oy, dx, dy, t,
-                                                        &h.cosi);
+            double u = lines != NULL
+                           ? line_hit(&lines[cand[i]], ox, oy, dx, dy, t, &h.cosi)
+                           : room_hit_segment(&r->segs[cand[i]], ox, oy, dx, dy, t, &h.cosi);
             h.id = u < t ? cand[i] : h.id;
             t = u;
         }
@@ -123,8 +122,8 @@ sim_surface_t sim_surface(const sim_t *s, const sim_sonar_t *so, double ox, doub
 }
 
 /* The unit normal (either side) of the surface @p h met at (x, y). */
-static void surface_normal(const room_t *r, const struct sim_line *lines,
-                           const sim_surface_t *h, double x, double y, double *nx, double *ny)
+static void surface_normal(const room_t *r, const struct sim_line *lines, const sim_surface_t *h,
+                           double x, double y, double *nx, double *ny)
 {
     if (h->id == UINT32_MAX) {
         *nx = h->nx;
@@ -151,8 +150,8 @@ static void surface_normal(const room_t *r, const struct sim_line *lines,
  * comes back within the cone and passes the sensor (sx, sy) nearer than its own spread at
  * the path's length there; -1 when it does not. @p path: the path before the leg.
  */
-static double heard_at(const sim_sonar_t *so, double sx, double sy, double bx, double by,
-                       double ox, double oy, double dx, double dy, double path, double max)
+static double heard_at(const sim_sonar_t *so, double sx, double sy, double bx, double by, double ox,
+                       double oy, double dx, double dy, double path, double max)
 {
     double vx = sx - ox;
     double vy = sy - oy;

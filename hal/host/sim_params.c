@@ -52,12 +52,14 @@ static const struct {
     uint32_t multipath;
 } sonar_levels[SIM_SONAR_LEVELS] = {
     [SIM_SONAR_OPTIMISTIC] = {"optimistic", 45.0, {0u, {0.0}, {0.0}}, 0u},
-    [SIM_SONAR_TYPICAL] = {"typical", 0.0,
+    [SIM_SONAR_TYPICAL] = {"typical",
+                           0.0,
                            {8u,
                             {0.02, 0.04, 0.06, 0.10, 0.30, 0.61, 1.66, 3.00},
                             {20.5, 18.5, 7.5, 8.5, 17.5, 17.5, 12.5, 1.0}},
                            2u},
-    [SIM_SONAR_PESSIMISTIC] = {"pessimistic", 0.0,
+    [SIM_SONAR_PESSIMISTIC] = {"pessimistic",
+                               0.0,
                                {8u,
                                 {0.02, 0.04, 0.06, 0.10, 0.15, 0.45, 1.45, 1.55},
                                 {20.5, 8.5, 6.5, 7.5, 12.5, 1.5, 1.5, 1.0}},

@@ -223,8 +223,7 @@ static inline bool circle_misses(const cone_t *k, const room_circle_t *c)
     double qx = c->cx - k->ox;
     double qy = c->cy - k->oy;
     return k->lx * qy - k->ly * qx > c->r || k->rx * qy - k->ry * qx < -c->r ||
-           k->bx * qx + k->by * qy < -c->r ||
-           qx * qx + qy * qy > (k->max + c->r) * (k->max + c->r);
+           k->bx * qx + k->by * qy < -c->r || qx * qx + qy * qy > (k->max + c->r) * (k->max + c->r);
 }
 
 /* The segments and circles (as nsegs + i) near the cone, in ascending order (the order a
@@ -280,8 +279,8 @@ static void cone_candidates(const room_t *r, sim_sonar_t *so, const cone_t *k, s
 }
 
 /* The first hit along one ray among the cone's candidates. */
-static double cone_ray(const sim_t *s, const sim_sonar_t *so, size_t nseg, size_t ncirc,
-                       double ox, double oy, double dx, double dy, double *cosi)
+static double cone_ray(const sim_t *s, const sim_sonar_t *so, size_t nseg, size_t ncirc, double ox,
+                       double oy, double dx, double dy, double *cosi)
 {
     const room_t *r = s->room;
     const uint32_t *cand = so->cand;
@@ -294,8 +293,7 @@ static double cone_ray(const sim_t *s, const sim_sonar_t *so, size_t nseg, size_
     }
     if (r->occ != NULL) {
         double rc = 1.0;
-        double d = room_hit_raster(r, ox, oy, dx, dy, sim_dmin(s->p.sonar_max_m, best), &rc,
-                                   NULL);
+        double d = room_hit_raster(r, ox, oy, dx, dy, sim_dmin(s->p.sonar_max_m, best), &rc, NULL);
         if (d < best) {
             best = d;
             *cosi = rc;
@@ -330,8 +328,8 @@ static double graze_echoes(const sim_t *s, const sim_sonar_t *so, const cone_t *
         gz[j] = g;
     }
     for (int i = 0; i < n && gz[i].first.t < sim_dmin(best, mp); i++) {
-        mp = sim_dmin(mp, sim_multipath(s, so, k->ox, k->oy, k->bx, k->by, gz[i].dx, gz[i].dy,
-                                        &gz[i].first));
+        mp = sim_dmin(
+            mp, sim_multipath(s, so, k->ox, k->oy, k->bx, k->by, gz[i].dx, gz[i].dy, &gz[i].first));
     }
     return mp;
 }
@@ -483,8 +481,8 @@ static void ping_schedule(sim_t *s, sim_sonar_t *so, sim_ping_t *pg, double echo
 {
     const sim_params_t *p = &s->p;
     so->out = true;
-    so->echo = pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_MULTIPATH ||
-               pg->kind == SIM_PING_GHOST;
+    so->echo =
+        pg->kind == SIM_PING_ECHO || pg->kind == SIM_PING_MULTIPATH || pg->kind == SIM_PING_GHOST;
     double width = so->echo ? 2.0 * range / p->sound_mps * 1e6 : HOST_INF;
     double late = late_echo_us(s, so);
     if (late < width && late < p->sonar_timeout_us) {

@@ -62,22 +62,36 @@
 
 /** Every pin the port drives or reads but those of the instance tables below (servos,
  *  sonars, bump switches), which their drivers configure from their rows. */
-#define BOARD_PINS                                                                              \
-    {                                                                                           \
-        /* port, pin, mode, alternate function, pull, output type, speed */                    \
-        {BOARD_PORT_A, 6, STM32_PIN_AF, 2, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM3_CH1 */ \
-        {BOARD_PORT_A, 7, STM32_PIN_AF, 2, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM3_CH2 */ \
-        {BOARD_PORT_B, 6, STM32_PIN_AF, 2, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM4_CH1 */ \
-        {BOARD_PORT_B, 7, STM32_PIN_AF, 2, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM4_CH2 */ \
-        {BOARD_PORT_A, 2, STM32_PIN_AF, 3, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* TIM9_CH1 */ \
-        {BOARD_PORT_A, 3, STM32_PIN_AF, 3, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* TIM9_CH2 */ \
-        {BOARD_PORT_B, 12, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 L */   \
-        {BOARD_PORT_B, 13, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 L */   \
-        {BOARD_PORT_B, 14, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 R */   \
-        {BOARD_PORT_B, 15, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 R */   \
-        {BOARD_PORT_B, 10, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* STBY */ \
-        {BOARD_PORT_A, 9, STM32_PIN_AF, 7, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* USART1_TX */ \
-        {BOARD_PORT_A, 10, STM32_PIN_AF, 7, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0}, /* USART1_RX */ \
+#define BOARD_PINS                                                                                 \
+    {                                                                                              \
+        /* port, pin, mode, alternate function, pull, output type, speed */                        \
+        {                                                                                          \
+            BOARD_PORT_A,       6, STM32_PIN_AF, 2, STM32_PIN_PULLUP,                              \
+            STM32_PIN_PUSHPULL, 0}, /* TIM3_CH1 */                                                 \
+            {BOARD_PORT_A,       7, STM32_PIN_AF, 2, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM3_CH2 */                                                \
+            {BOARD_PORT_B,       6, STM32_PIN_AF, 2, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM4_CH1 */                                                \
+            {BOARD_PORT_B,       7, STM32_PIN_AF, 2, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM4_CH2 */                                                \
+            {BOARD_PORT_A,       2, STM32_PIN_AF, 3, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* TIM9_CH1 */                                                \
+            {BOARD_PORT_A,       3, STM32_PIN_AF, 3, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* TIM9_CH2 */                                                \
+            {BOARD_PORT_B,       12, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                           \
+             STM32_PIN_PUSHPULL, 0}, /* IN1 L */                                                   \
+            {BOARD_PORT_B,       13, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                           \
+             STM32_PIN_PUSHPULL, 0}, /* IN2 L */                                                   \
+            {BOARD_PORT_B,       14, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                           \
+             STM32_PIN_PUSHPULL, 0}, /* IN1 R */                                                   \
+            {BOARD_PORT_B,       15, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                           \
+             STM32_PIN_PUSHPULL, 0}, /* IN2 R */                                                   \
+            {BOARD_PORT_B,       10, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN,                         \
+             STM32_PIN_PUSHPULL, 0}, /* STBY */                                                    \
+            {BOARD_PORT_A,       9, STM32_PIN_AF, 7, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* USART1_TX */                                               \
+            {BOARD_PORT_A,       10, STM32_PIN_AF, 7, STM32_PIN_PULLUP,                            \
+             STM32_PIN_PUSHPULL, 0}, /* USART1_RX */                                               \
     }
 
 /* ---- wheels ------------------------------------------------------------------------------ */
@@ -107,10 +121,9 @@
 
 /* The rows' fields are board_generic_f405.h's. The trigger timer needs one-pulse mode: on
  * the F411 TIM1-5 or 9. */
-#define BOARD_SERVOS(X) \
-    X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
+#define BOARD_SERVOS(X) X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
 
-#define BOARD_SONARS(X) \
+#define BOARD_SONARS(X)                                                                            \
     X(0, BOARD_PORT_A, 8, 1, TIM1, 1, BOARD_PORT_A, 5, 1, TIM2, 1, TIM2) /* PA8, PA5 */
 
 /* None wired. */

@@ -59,22 +59,36 @@
 
 /** Every pin the port drives or reads but those of the instance tables below (servos,
  *  sonars, bump switches), which their drivers configure from their rows. */
-#define BOARD_PINS                                                                              \
-    {                                                                                           \
-        /* port, pin, mode, alternate function, pull, output type, speed */                    \
-        {BOARD_PORT_A, 8, STM32_PIN_AF, 1, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM1_CH1 */ \
-        {BOARD_PORT_A, 9, STM32_PIN_AF, 1, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM1_CH2 */ \
-        {BOARD_PORT_C, 6, STM32_PIN_AF, 3, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM8_CH1 */ \
-        {BOARD_PORT_C, 7, STM32_PIN_AF, 3, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* TIM8_CH2 */ \
-        {BOARD_PORT_B, 0, STM32_PIN_AF, 2, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* TIM3_CH3 */ \
-        {BOARD_PORT_B, 1, STM32_PIN_AF, 2, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* TIM3_CH4 */ \
-        {BOARD_PORT_C, 0, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 L */    \
-        {BOARD_PORT_C, 1, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 L */    \
-        {BOARD_PORT_C, 2, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN1 R */    \
-        {BOARD_PORT_C, 3, STM32_PIN_OUT, 0, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}, /* IN2 R */    \
-        {BOARD_PORT_C, 4, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}, /* STBY */  \
-        {BOARD_PORT_B, 6, STM32_PIN_AF, 7, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 1},  /* USART1_TX */ \
-        {BOARD_PORT_B, 7, STM32_PIN_AF, 7, STM32_PIN_PULLUP, STM32_PIN_PUSHPULL, 0},  /* USART1_RX */ \
+#define BOARD_PINS                                                                                 \
+    {                                                                                              \
+        /* port, pin, mode, alternate function, pull, output type, speed */                        \
+        {                                                                                          \
+            BOARD_PORT_A,       8, STM32_PIN_AF, 1, STM32_PIN_PULLUP,                              \
+            STM32_PIN_PUSHPULL, 0}, /* TIM1_CH1 */                                                 \
+            {BOARD_PORT_A,       9, STM32_PIN_AF, 1, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM1_CH2 */                                                \
+            {BOARD_PORT_C,       6, STM32_PIN_AF, 3, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM8_CH1 */                                                \
+            {BOARD_PORT_C,       7, STM32_PIN_AF, 3, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* TIM8_CH2 */                                                \
+            {BOARD_PORT_B,       0, STM32_PIN_AF, 2, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* TIM3_CH3 */                                                \
+            {BOARD_PORT_B,       1, STM32_PIN_AF, 2, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* TIM3_CH4 */                                                \
+            {BOARD_PORT_C,       0, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                            \
+             STM32_PIN_PUSHPULL, 0}, /* IN1 L */                                                   \
+            {BOARD_PORT_C,       1, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                            \
+             STM32_PIN_PUSHPULL, 0}, /* IN2 L */                                                   \
+            {BOARD_PORT_C,       2, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                            \
+             STM32_PIN_PUSHPULL, 0}, /* IN1 R */                                                   \
+            {BOARD_PORT_C,       3, STM32_PIN_OUT, 0, STM32_PIN_NOPULL,                            \
+             STM32_PIN_PUSHPULL, 0}, /* IN2 R */                                                   \
+            {BOARD_PORT_C,       4, STM32_PIN_OUT, 0, STM32_PIN_PULLDOWN,                          \
+             STM32_PIN_PUSHPULL, 0}, /* STBY */                                                    \
+            {BOARD_PORT_B,       6, STM32_PIN_AF, 7, STM32_PIN_NOPULL,                             \
+             STM32_PIN_PUSHPULL, 1}, /* USART1_TX */                                               \
+            {BOARD_PORT_B,       7, STM32_PIN_AF, 7, STM32_PIN_PULLUP,                             \
+             STM32_PIN_PUSHPULL, 0}, /* USART1_RX */                                               \
     }
 
 /* ---- wheels ------------------------------------------------------------------------------ */
@@ -118,10 +132,9 @@
  * Bump switch: a GPIO input with the pull-up on, closed to ground when pressed.
  *   X(index, port, pin)
  */
-#define BOARD_SERVOS(X) \
-    X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
+#define BOARD_SERVOS(X) X(0, BOARD_PORT_B, 8, 3, TIM10, 1) /* PB8 TIM10_CH1 */
 
-#define BOARD_SONARS(X) \
+#define BOARD_SONARS(X)                                                                            \
     X(0, BOARD_PORT_A, 2, 3, TIM9, 1, BOARD_PORT_A, 0, 2, TIM5, 1, TIM5) /* PA2, PA0 */
 
 /* None wired. Two on PC8 and PC9 would be X(0, BOARD_PORT_C, 8) X(1, BOARD_PORT_C, 9). */

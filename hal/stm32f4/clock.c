@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The clock tree: HSE + PLL to the board's speed, a timeout on every ready bit, HSI as the fallback. */
+/* The clock tree: HSE + PLL to the board's speed, a timeout on every ready bit, HSI as the
+ * fallback. */
 #include "board.h"
 #include "cortex_m.h"
 #include "stm32f4_port.h"
@@ -16,15 +17,15 @@
 #define PCLK1_HZ (SYSCLK_PLL_HZ / BOARD_APB1_DIV)
 #define PCLK2_HZ (SYSCLK_PLL_HZ / BOARD_APB2_DIV)
 
-#if PLL_IN_HZ < 1000000u || PLL_IN_HZ > 2000000u || BOARD_HSE_HZ % PLL_IN_HZ != 0u || \
+#if PLL_IN_HZ < 1000000u || PLL_IN_HZ > 2000000u || BOARD_HSE_HZ % PLL_IN_HZ != 0u ||              \
     HSI_HZ % PLL_IN_HZ != 0u || BOARD_HSE_HZ / PLL_IN_HZ > 63u
 #error "BOARD_PLL_IN_HZ must be 1 to 2 MHz and divide both the crystal and the 16 MHz HSI"
 #endif
-#if SYSCLK_PLL_HZ != BOARD_SYSCLK_HZ || PLL_N < 50u || PLL_N > 432u || \
-    PLL_VCO_HZ < 100000000u || PLL_VCO_HZ > 432000000u || PLL_Q < 2u || PLL_Q > 15u
+#if SYSCLK_PLL_HZ != BOARD_SYSCLK_HZ || PLL_N < 50u || PLL_N > 432u || PLL_VCO_HZ < 100000000u ||  \
+    PLL_VCO_HZ > 432000000u || PLL_Q < 2u || PLL_Q > 15u
 #error "BOARD_SYSCLK_HZ is not reachable with this PLL input (VCO 100..432 MHz, N 50..432)"
 #endif
-#if BOARD_SYSCLK_HZ > BOARD_SYSCLK_MAX_HZ || PCLK1_HZ > BOARD_APB1_MAX_HZ || \
+#if BOARD_SYSCLK_HZ > BOARD_SYSCLK_MAX_HZ || PCLK1_HZ > BOARD_APB1_MAX_HZ ||                       \
     PCLK2_HZ > BOARD_APB2_MAX_HZ
 #error "a clock of the board table exceeds its chip's maximum"
 #endif

@@ -12,7 +12,8 @@ void stm32_gpio_setup(const stm32_pin_t *pins, size_t n)
         uint32_t four = 4u * (p->pin % 8u);
         /* Level and function first, so an output never drives before it is meant to. */
         gpio->BSRR = 1u << (p->pin + 16u);
-        gpio->AFR[p->pin / 8u] = (gpio->AFR[p->pin / 8u] & ~(0xFu << four)) | ((uint32_t)p->af << four);
+        gpio->AFR[p->pin / 8u] =
+            (gpio->AFR[p->pin / 8u] & ~(0xFu << four)) | ((uint32_t)p->af << four);
         gpio->OTYPER = (gpio->OTYPER & ~(1u << p->pin)) | ((uint32_t)p->otype << p->pin);
         gpio->OSPEEDR = (gpio->OSPEEDR & ~(3u << two)) | ((uint32_t)p->speed << two);
         gpio->PUPDR = (gpio->PUPDR & ~(3u << two)) | ((uint32_t)p->pull << two);

@@ -15,7 +15,6 @@
 #define SLAM_VERSION "unknown"
 #endif
 
-
 static robot_t robot;
 
 static void tick(void *ctx)
@@ -95,7 +94,7 @@ int main(void)
     }
 
     for (;;) {
-        cm_wfi(); /* until the next tick or UART interrupt */
+        cm_wfi();           /* until the next tick or UART interrupt */
         robot_idle(&robot); /* telemetry: HELLO, POSE, READING, MAP_ROW, STATUS frames */
         stm32_uart_pump();
     }

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Servo PWM and the HC-SR04s, one row of the board's tables each: a one-pulse timer triggers, a PWM-input timer measures the echo. */
+/* Servo PWM and the HC-SR04s, one row of the board's tables each: a one-pulse timer triggers, a
+ * PWM-input timer measures the echo. */
 #include "board.h"
 #include "cortex_m.h"
 #include "hal/hal.h"
@@ -24,12 +25,12 @@ typedef struct {
 } servo_row_t;
 
 typedef struct {
-    uint32_t trig_tim;     /* one-pulse: setting CEN is the whole trigger */
-    uint32_t echo_tim;     /* PWM input */
-    uint8_t trig_ch;       /* 1..4 */
-    uint8_t echo_ch;       /* the echo pin's channel, 1 or 2; the other captures the width */
-    uint8_t irq;           /* the echo timer's interrupt */
-    bool echo_wide;        /* a 32-bit echo timer; a 16-bit one wraps after 65.5 ms */
+    uint32_t trig_tim; /* one-pulse: setting CEN is the whole trigger */
+    uint32_t echo_tim; /* PWM input */
+    uint8_t trig_ch;   /* 1..4 */
+    uint8_t echo_ch;   /* the echo pin's channel, 1 or 2; the other captures the width */
+    uint8_t irq;       /* the echo timer's interrupt */
+    bool echo_wide;    /* a 32-bit echo timer; a 16-bit one wraps after 65.5 ms */
     stm32_pin_t trig_pin;
     stm32_pin_t echo_pin;
 } sonar_row_t;
@@ -39,22 +40,28 @@ enum { SERVOS = 0 BOARD_SERVOS(COUNT_ROW), SONARS = 0 BOARD_SONARS(COUNT_ROW) };
 _Static_assert(SERVOS >= 1 && SONARS >= 1, "every board has instance 0 of each: the paper's");
 _Static_assert(SERVOS <= 255 && SONARS <= 255, "instances are numbered by a uint8_t");
 
-#define SERVO_CHECK(i, port, pin, af, tim, ch) \
+#define SERVO_CHECK(i, port, pin, af, tim, ch)                                                     \
     _Static_assert((ch) >= 1 && (ch) <= 4, "servo " #i ": a timer channel is 1..4");
-#define SONAR_CHECK(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq) \
-    _Static_assert((tch) >= 1 && (tch) <= 4, "sonar " #i ": a timer channel is 1..4");   \
+#define SONAR_CHECK(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq)              \
+    _Static_assert((tch) >= 1 && (tch) <= 4, "sonar " #i ": a timer channel is 1..4");             \
     _Static_assert((ech) == 1 || (ech) == 2, "sonar " #i ": PWM input takes CH1 or CH2");
 BOARD_SERVOS(SERVO_CHECK)
 BOARD_SONARS(SONAR_CHECK)
 
 /* Designated by index, so a row numbered twice or past the count fails the build. */
-#define SERVO_ROW(i, port, pin, af, tim, ch)                                                   \
-    [i] = {&STM32_TIM(STM32_##tim##_BASE)->CCR[(ch) - 1u], STM32_##tim##_BASE, ch,             \
+#define SERVO_ROW(i, port, pin, af, tim, ch)                                                       \
+    [i] = {&STM32_TIM(STM32_##tim##_BASE)->CCR[(ch)-1u],                                           \
+           STM32_##tim##_BASE,                                                                     \
+           ch,                                                                                     \
            {port, pin, STM32_PIN_AF, af, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0}},
-#define SONAR_ROW(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq)            \
-    [i] = {STM32_##ttim##_BASE, STM32_##etim##_BASE, tch, ech, STM32_IRQ_##irq,                \
-           STM32_##etim##_BASE == STM32_TIM2_BASE || STM32_##etim##_BASE == STM32_TIM5_BASE, \
-           {tport, tpin, STM32_PIN_AF, taf, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},          \
+#define SONAR_ROW(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq)                \
+    [i] = {STM32_##ttim##_BASE,                                                                    \
+           STM32_##etim##_BASE,                                                                    \
+           tch,                                                                                    \
+           ech,                                                                                    \
+           STM32_IRQ_##irq,                                                                        \
+           STM32_##etim##_BASE == STM32_TIM2_BASE || STM32_##etim##_BASE == STM32_TIM5_BASE,       \
+           {tport, tpin, STM32_PIN_AF, taf, STM32_PIN_NOPULL, STM32_PIN_PUSHPULL, 0},              \
            {eport, epin, STM32_PIN_AF, eaf, STM32_PIN_PULLDOWN, STM32_PIN_PUSHPULL, 0}},
 
 static const servo_row_t servos[SERVOS] = {BOARD_SERVOS(SERVO_ROW)};
@@ -145,7 +152,8 @@ STM32_START_UP void stm32_sonar_init(void)
     }
 }
 
-/* ---- the echoes' interrupts -------------------------------------------------------------------- */
+/* ---- the echoes' interrupts --------------------------------------------------------------------
+ */
 
 /* The falling edge of sonar i's echo: post its width, nothing else. */
 static inline __attribute__((always_inline)) void echo_capture(unsigned i)
@@ -165,14 +173,15 @@ static inline __attribute__((always_inline)) void echo_capture(unsigned i)
     tim->SR = ~(STM32_TIM_SR_CCIF(pin) | STM32_TIM_SR_CCOF(pin) | STM32_TIM_SR_CCOF(width));
 }
 
-#define ECHO_HANDLER(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq) \
-    void irq##_IRQHandler(void)                                                           \
-    {                                                                                     \
-        echo_capture(i);                                                                  \
+#define ECHO_HANDLER(i, tport, tpin, taf, ttim, tch, eport, epin, eaf, etim, ech, irq)             \
+    void irq##_IRQHandler(void)                                                                    \
+    {                                                                                              \
+        echo_capture(i);                                                                           \
     }
 BOARD_SONARS(ECHO_HANDLER)
 
-/* ---- hal.h ------------------------------------------------------------------------------------- */
+/* ---- hal.h -------------------------------------------------------------------------------------
+ */
 
 uint8_t hal_servo_count(void)
 {
@@ -192,7 +201,9 @@ int hal_servo_set_pulse(uint8_t servo, uint16_t pulse_us)
     if (servo >= SERVOS) {
         return HAL_EINVAL;
     }
-    uint32_t p = pulse_us < SERVO_MIN_US ? SERVO_MIN_US : pulse_us > SERVO_MAX_US ? SERVO_MAX_US : pulse_us;
+    uint32_t p = pulse_us < SERVO_MIN_US   ? SERVO_MIN_US
+                 : pulse_us > SERVO_MAX_US ? SERVO_MAX_US
+                                           : pulse_us;
     *servos[servo].ccr = p; /* preloaded: next period */
     return HAL_OK;
 }

@@ -12,6 +12,7 @@
 #define STM32F4_IRQ_H
 
 /* Interrupts in vector order: position n is IRQ n, exception 16 + n. */
+/* clang-format off */
 #define STM32_IRQS(X)                                                                           \
     X(WWDG) X(PVD) X(TAMP_STAMP) X(RTC_WKUP) X(FLASH) X(RCC) X(EXTI0) X(EXTI1) X(EXTI2)        \
     X(EXTI3) X(EXTI4) X(DMA1_Stream0) X(DMA1_Stream1) X(DMA1_Stream2) X(DMA1_Stream3)          \
@@ -26,6 +27,7 @@
     X(OTG_FS) X(DMA2_Stream5) X(DMA2_Stream6) X(DMA2_Stream7) X(USART6) X(I2C3_EV)             \
     X(I2C3_ER) X(OTG_HS_EP1_OUT) X(OTG_HS_EP1_IN) X(OTG_HS_WKUP) X(OTG_HS) X(DCMI) X(CRYP)     \
     X(HASH_RNG) X(FPU)
+/* clang-format on */
 
 /** IRQ numbers: STM32_IRQ_USART1 == 37 and so on. */
 #define STM32_IRQ_ENUM_(name) STM32_IRQ_##name,

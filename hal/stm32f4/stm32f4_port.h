@@ -110,7 +110,8 @@ void stm32_tick_stop(void);
 /** The timeout while a flash sector is erased: RM0090 gives 2 s at most for 128 KiB. */
 #define STM32_WATCHDOG_ERASE_MS 4000u
 
-/** Start the independent watchdog; it cannot be stopped again. Frozen while halted in a debugger. */
+/** Start the independent watchdog; it cannot be stopped again. Frozen while halted in a debugger.
+ */
 void stm32_watchdog_start(uint32_t timeout_ms);
 
 /** Change the timeout of a running watchdog and reload it. */

@@ -99,11 +99,11 @@ _Static_assert(offsetof(stm32_rcc_t, PLLI2SCFGR) == 0x84, "RCC_PLLI2SCFGR");
 #define STM32_RCC_CR_PLLON (1u << 24)
 #define STM32_RCC_CR_PLLRDY (1u << 25)
 
-#define STM32_RCC_PLLCFGR_M(m) ((uint32_t)(m) << 0)         /* 2..63 */
-#define STM32_RCC_PLLCFGR_N(n) ((uint32_t)(n) << 6)         /* 50..432 */
+#define STM32_RCC_PLLCFGR_M(m) ((uint32_t)(m) << 0)              /* 2..63 */
+#define STM32_RCC_PLLCFGR_N(n) ((uint32_t)(n) << 6)              /* 50..432 */
 #define STM32_RCC_PLLCFGR_P(p) ((uint32_t)((p) / 2u - 1u) << 16) /* 2, 4, 6, 8 */
 #define STM32_RCC_PLLCFGR_SRC_HSE (1u << 22)
-#define STM32_RCC_PLLCFGR_Q(q) ((uint32_t)(q) << 24)        /* 2..15 */
+#define STM32_RCC_PLLCFGR_Q(q) ((uint32_t)(q) << 24) /* 2..15 */
 /** Reserved bits (31:28, 23, 21:18, 15) keep their reset value; bit 29 resets to 1. */
 #define STM32_RCC_PLLCFGR_RESERVED 0xF0BC8000u
 
@@ -116,7 +116,8 @@ _Static_assert(offsetof(stm32_rcc_t, PLLI2SCFGR) == 0x84, "RCC_PLLI2SCFGR");
 #define STM32_RCC_CFGR_SWS_PLL (2u << 2)
 #define STM32_RCC_CFGR_HPRE_DIV1 (0u << 4)
 /** APB prescaler field of a divider 1, 2, 4, 8 or 16: 0, then 4 + log2(div) - 1. */
-#define STM32_RCC_PPRE(div) ((div) == 1u ? 0u : (div) == 2u ? 4u : (div) == 4u ? 5u : (div) == 8u ? 6u : 7u)
+#define STM32_RCC_PPRE(div)                                                                        \
+    ((div) == 1u ? 0u : (div) == 2u ? 4u : (div) == 4u ? 5u : (div) == 8u ? 6u : 7u)
 #define STM32_RCC_CFGR_PPRE1(div) (STM32_RCC_PPRE(div) << 10)
 #define STM32_RCC_CFGR_PPRE2(div) (STM32_RCC_PPRE(div) << 13)
 #define STM32_RCC_CFGR_PRESCALERS_MASK ((0xFu << 4) | (7u << 10) | (7u << 13))
@@ -175,8 +176,8 @@ _Static_assert(offsetof(stm32_flash_t, CR) == 0x10, "FLASH_CR");
 #define STM32_FLASH_SR_PGPERR (1u << 6)
 #define STM32_FLASH_SR_PGSERR (1u << 7)
 #define STM32_FLASH_SR_BSY (1u << 16)
-#define STM32_FLASH_SR_ERRORS                                                                   \
-    (STM32_FLASH_SR_OPERR | STM32_FLASH_SR_WRPERR | STM32_FLASH_SR_PGAERR |                    \
+#define STM32_FLASH_SR_ERRORS                                                                      \
+    (STM32_FLASH_SR_OPERR | STM32_FLASH_SR_WRPERR | STM32_FLASH_SR_PGAERR |                        \
      STM32_FLASH_SR_PGPERR | STM32_FLASH_SR_PGSERR)
 
 #define STM32_FLASH_CR_PG (1u << 0)
@@ -208,24 +209,24 @@ _Static_assert(offsetof(stm32_gpio_t, AFR) == 0x20, "GPIO_AFRL");
 /* ---- timers: TIM1..TIM14 share one layout (RM0090 §17.4, §18.4, §19.4) ---------------- */
 
 typedef struct {
-    volatile uint32_t CR1;   /* 0x00 */
-    volatile uint32_t CR2;   /* 0x04 */
-    volatile uint32_t SMCR;  /* 0x08 */
-    volatile uint32_t DIER;  /* 0x0C */
-    volatile uint32_t SR;    /* 0x10 */
-    volatile uint32_t EGR;   /* 0x14 */
-    volatile uint32_t CCMR1; /* 0x18 */
-    volatile uint32_t CCMR2; /* 0x1C */
-    volatile uint32_t CCER;  /* 0x20 */
-    volatile uint32_t CNT;   /* 0x24 */
-    volatile uint32_t PSC;   /* 0x28 */
-    volatile uint32_t ARR;   /* 0x2C */
-    volatile uint32_t RCR;   /* 0x30, TIM1/TIM8 only */
+    volatile uint32_t CR1;    /* 0x00 */
+    volatile uint32_t CR2;    /* 0x04 */
+    volatile uint32_t SMCR;   /* 0x08 */
+    volatile uint32_t DIER;   /* 0x0C */
+    volatile uint32_t SR;     /* 0x10 */
+    volatile uint32_t EGR;    /* 0x14 */
+    volatile uint32_t CCMR1;  /* 0x18 */
+    volatile uint32_t CCMR2;  /* 0x1C */
+    volatile uint32_t CCER;   /* 0x20 */
+    volatile uint32_t CNT;    /* 0x24 */
+    volatile uint32_t PSC;    /* 0x28 */
+    volatile uint32_t ARR;    /* 0x2C */
+    volatile uint32_t RCR;    /* 0x30, TIM1/TIM8 only */
     volatile uint32_t CCR[4]; /* 0x34..0x40: CCR1..CCR4 */
-    volatile uint32_t BDTR;  /* 0x44, TIM1/TIM8 only */
-    volatile uint32_t DCR;   /* 0x48 */
-    volatile uint32_t DMAR;  /* 0x4C */
-    volatile uint32_t OR;    /* 0x50 */
+    volatile uint32_t BDTR;   /* 0x44, TIM1/TIM8 only */
+    volatile uint32_t DCR;    /* 0x48 */
+    volatile uint32_t DMAR;   /* 0x4C */
+    volatile uint32_t OR;     /* 0x50 */
 } stm32_tim_t;
 _Static_assert(offsetof(stm32_tim_t, CCMR1) == 0x18, "TIM_CCMR1");
 _Static_assert(offsetof(stm32_tim_t, CCER) == 0x20, "TIM_CCER");
@@ -260,19 +261,19 @@ _Static_assert(offsetof(stm32_tim_t, OR) == 0x50, "TIM_OR");
 #define STM32_TIM_EGR_UG (1u << 0)
 
 /* CCMRx: each 16-bit half configures one channel (odd channels low, even high). */
-#define STM32_TIM_CCMR_CCS_OUT 0u    /* CCxS = 00: output */
-#define STM32_TIM_CCMR_CCS_TI_SAME 1u /* CCxS = 01: ICx on its own TIx */
+#define STM32_TIM_CCMR_CCS_OUT 0u      /* CCxS = 00: output */
+#define STM32_TIM_CCMR_CCS_TI_SAME 1u  /* CCxS = 01: ICx on its own TIx */
 #define STM32_TIM_CCMR_CCS_TI_OTHER 2u /* CCxS = 10: ICx on the neighbour's TI (IC2 on TI1) */
 #define STM32_TIM_CCMR_OCPE (1u << 3)
 #define STM32_TIM_CCMR_OCM_PWM1 (6u << 4)
 #define STM32_TIM_CCMR_OCM_PWM2 (7u << 4)
 #define STM32_TIM_CCMR_ICF(f) ((uint32_t)(f) << 4)
 /** Place a channel's 8-bit CCMR setting: channel 1..4 into CCMR1/CCMR2's half. */
-#define STM32_TIM_CCMR_CH(ch, bits) ((uint32_t)(bits) << (((ch) - 1u) % 2u * 8u))
+#define STM32_TIM_CCMR_CH(ch, bits) ((uint32_t)(bits) << (((ch)-1u) % 2u * 8u))
 
-#define STM32_TIM_CCER_CCE(ch) (1u << (((ch) - 1u) * 4u))
-#define STM32_TIM_CCER_CCP(ch) (2u << (((ch) - 1u) * 4u))
-#define STM32_TIM_CCER_CCNP(ch) (8u << (((ch) - 1u) * 4u))
+#define STM32_TIM_CCER_CCE(ch) (1u << (((ch)-1u) * 4u))
+#define STM32_TIM_CCER_CCP(ch) (2u << (((ch)-1u) * 4u))
+#define STM32_TIM_CCER_CCNP(ch) (8u << (((ch)-1u) * 4u))
 
 #define STM32_TIM_BDTR_MOE (1u << 15)
 

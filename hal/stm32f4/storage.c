@@ -103,7 +103,8 @@ int hal_storage_begin(uint8_t slot)
         return HAL_EIO;
     }
     stm32_watchdog_set_timeout(STM32_WATCHDOG_ERASE_MS);
-    STM32_FLASH->CR = BOARD_FLASH_PSIZE | STM32_FLASH_CR_SER | STM32_FLASH_CR_SNB(slots[slot].sector);
+    STM32_FLASH->CR =
+        BOARD_FLASH_PSIZE | STM32_FLASH_CR_SER | STM32_FLASH_CR_SNB(slots[slot].sector);
     STM32_FLASH->CR |= STM32_FLASH_CR_STRT;
     bool done = flash_done();
     stm32_watchdog_set_timeout(STM32_WATCHDOG_MS);

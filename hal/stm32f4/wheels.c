@@ -7,14 +7,16 @@
 
 typedef struct {
     volatile uint32_t *ccr; /* the PWM channel's compare register */
-    uint32_t forward;   /* BSRR word for forward: IN1 high, IN2 low */
-    uint32_t reverse;   /* BSRR word for reverse: IN1 low, IN2 high */
-    uint32_t off;       /* BSRR word for coasting: both low */
+    uint32_t forward;       /* BSRR word for forward: IN1 high, IN2 low */
+    uint32_t reverse;       /* BSRR word for reverse: IN1 low, IN2 high */
+    uint32_t off;           /* BSRR word for coasting: both low */
 } motor_t;
 
-#define DIR_WORDS(in1, in2, invert)                                                             \
-    .forward = (invert) ? (1u << (in2)) | (1u << ((in1) + 16u)) : (1u << (in1)) | (1u << ((in2) + 16u)), \
-    .reverse = (invert) ? (1u << (in1)) | (1u << ((in2) + 16u)) : (1u << (in2)) | (1u << ((in1) + 16u)), \
+#define DIR_WORDS(in1, in2, invert)                                                                \
+    .forward =                                                                                     \
+        (invert) ? (1u << (in2)) | (1u << ((in1) + 16u)) : (1u << (in1)) | (1u << ((in2) + 16u)),  \
+    .reverse =                                                                                     \
+        (invert) ? (1u << (in1)) | (1u << ((in2) + 16u)) : (1u << (in2)) | (1u << ((in1) + 16u)),  \
     .off = (1u << ((in1) + 16u)) | (1u << ((in2) + 16u))
 
 static const motor_t motors[2] = {
@@ -25,7 +27,7 @@ static const motor_t motors[2] = {
 };
 
 static uint32_t motor_period; /* timer counts in one PWM period: full duty */
-static uint32_t motor_dir[2];  /* the BSRR word the direction pins were last given */
+static uint32_t motor_dir[2]; /* the BSRR word the direction pins were last given */
 
 STM32_START_UP static void encoder_setup(uint32_t base, bool invert)
 {

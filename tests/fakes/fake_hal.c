@@ -223,7 +223,8 @@ static void program(uint8_t *dst, const uint8_t *src, size_t len)
 int hal_storage_write(uint8_t slot, uint32_t offset, const void *data, size_t len)
 {
     fake_hal.calls_storage_write++;
-    if (fake_hal.storage_powered_off || (int)fake_hal.calls_storage_write == fake_hal.storage_fail_at) {
+    if (fake_hal.storage_powered_off ||
+        (int)fake_hal.calls_storage_write == fake_hal.storage_fail_at) {
         return HAL_EIO;
     }
     if (!storage_range_ok(slot, offset, len)) {

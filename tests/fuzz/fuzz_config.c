@@ -39,8 +39,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     FUZZ_CHECK(n > 0 && (size_t)n < sizeof text);
     slam_config_t again;
     slam_config_default(&again);
-    FUZZ_CHECK(cfgtext_parse("again", text, (size_t)n, &again, NULL, NULL, NULL, err,
-                             sizeof err) == 0);
+    FUZZ_CHECK(cfgtext_parse("again", text, (size_t)n, &again, NULL, NULL, NULL, err, sizeof err) ==
+               0);
     FUZZ_CHECK(memcmp(&again, &cfg, sizeof cfg) == 0);
     return 0;
 }

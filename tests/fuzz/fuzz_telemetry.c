@@ -31,7 +31,7 @@ static uint32_t take32(const uint8_t **p, const uint8_t *end)
 {
     uint32_t v = 0;
     for (int k = 0; k < 4 && *p < end; k++) {
-        v |= (uint32_t)*(*p)++ << (8 * k);
+        v |= (uint32_t) * (*p)++ << (8 * k);
     }
     return v;
 }
@@ -179,7 +179,8 @@ static void round_trip(const uint8_t *data, size_t size)
         } else {
             FUZZ_CHECK(m.type == TELEM_MAP_ROW && m.row < SLAM_GRID_B &&
                        m.first + m.ncells <= SLAM_GRID_A);
-            const uint8_t *cells = (m.map == 0u ? grid.om : grid.tm) + (uint32_t)m.row * SLAM_GRID_A;
+            const uint8_t *cells =
+                (m.map == 0u ? grid.om : grid.tm) + (uint32_t)m.row * SLAM_GRID_A;
             FUZZ_CHECK(memcmp(m.cells, cells + m.first, m.ncells) == 0);
             others++;
         }

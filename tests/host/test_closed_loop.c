@@ -37,8 +37,8 @@ static void tick(void *ctx)
 }
 
 typedef struct {
-    unsigned om_cells;   /* cells with OM >= 1 */
-    unsigned near[5];    /* of those, within k cells (Chebyshev) of a true wall */
+    unsigned om_cells; /* cells with OM >= 1 */
+    unsigned near[5];  /* of those, within k cells (Chebyshev) of a true wall */
     unsigned hits;
     double odom_err;
 } outcome_t;

@@ -67,7 +67,7 @@ static void test_init_clock_and_tick(void **state)
     (void)state;
     hal_host_attach(NULL);
     assert_int_equal(hal_init(), HAL_EIO); /* no world */
-    hal_host_step();                        /* nothing to step: harmless */
+    hal_host_step();                       /* nothing to step: harmless */
     boot(1u);
     assert_int_equal(hal_time_us(), 0u);
     assert_int_equal(hal_tick_overruns(), 0u);
@@ -109,8 +109,7 @@ static void test_wires_reach_the_world(void **state)
         hal_host_step();
     }
     assert_int_equal(hal_encoder_count(HAL_WHEEL_LEFT), sim_encoder_count(world, HAL_WHEEL_LEFT));
-    assert_int_equal(hal_encoder_count(HAL_WHEEL_RIGHT),
-                     sim_encoder_count(world, HAL_WHEEL_RIGHT));
+    assert_int_equal(hal_encoder_count(HAL_WHEEL_RIGHT), sim_encoder_count(world, HAL_WHEEL_RIGHT));
     assert_true(hal_encoder_count(HAL_WHEEL_LEFT) > 100u);
     assert_true(hal_encoder_count(HAL_WHEEL_RIGHT) > 60000u); /* backwards, wrapped */
     assert_true(fabs(sim_truth(world).servo_deg - 135.0) < 1e-9);

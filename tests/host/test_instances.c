@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* Tests of the simulated robot's instance tables: a second sonar, a second servo, bump switches, through the world and the host HAL. */
+/* Tests of the simulated robot's instance tables: a second sonar, a second servo, bump switches,
+ * through the world and the host HAL. */
 #include <math.h>
 
 #include "hal/hal.h"
@@ -104,7 +105,7 @@ static void test_second_sonar_answers_from_its_mount(void **state)
     sim_ping_t p1 = sim_last_ping_on(s, 1u);
     assert_true(fabs(p1.true_range_m - 0.94) < 1e-9);
     assert_true(fabs(p1.bearing - TEST_PI / 2.0) < 1e-12);
-    assert_true(fabs(p1.servo_deg - 0.0) < 1e-12); /* where a servo would point it so */
+    assert_true(fabs(p1.servo_deg - 0.0) < 1e-12);          /* where a servo would point it so */
     assert_int_equal(sim_last_ping(s).kind, SIM_PING_NONE); /* sonar 0 did not ping */
     assert_int_equal(ping_on(s, 0u, &w0), HAL_SONAR_ECHO);
     assert_true(fabs(range_of(w0) - 2.95) < 0.002);

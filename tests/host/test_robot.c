@@ -97,7 +97,8 @@ static void test_encoders_count_rotation_and_wrap(void **state)
     sim_t *s = test_ideal_world(&big);
     const double m_per_count = TEST_PI * 0.065 / 700.0;
     int64_t total[2] = {0, 0};
-    uint16_t last[2] = {sim_encoder_count(s, HAL_WHEEL_LEFT), sim_encoder_count(s, HAL_WHEEL_RIGHT)};
+    uint16_t last[2] = {sim_encoder_count(s, HAL_WHEEL_LEFT),
+                        sim_encoder_count(s, HAL_WHEEL_RIGHT)};
     bool wrapped = false;
     /* 80 s at full speed: 24 m, about 82 000 counts, more than the counter holds. */
     sim_motor_set(s, HAL_WHEEL_LEFT, 1000);
@@ -169,9 +170,8 @@ static void test_ideal_odometry_matches_truth(void **state)
     fw_odom_init(&f, s, &cfg);
     /* Straights, arcs, spins and reversals: a minute of driving. */
     static const int16_t script[][3] = {
-        {800, 800, 500}, {300, 900, 700}, {-600, 600, 300}, {1000, 400, 800},
-        {-700, -700, 400}, {0, 900, 300}, {500, 500, 600}, {900, -900, 250},
-        {200, 1000, 900}, {0, 0, 200},
+        {800, 800, 500}, {300, 900, 700}, {-600, 600, 300}, {1000, 400, 800}, {-700, -700, 400},
+        {0, 900, 300},   {500, 500, 600}, {900, -900, 250}, {200, 1000, 900}, {0, 0, 200},
     };
     double max_th = 0.0;
     double max_pos = 0.0;
@@ -185,8 +185,8 @@ static void test_ideal_odometry_matches_truth(void **state)
         }
     }
     /* Only quantisation separates them: one count a wheel is 0.29 mm, 2.2 mrad of heading. */
-    print_message("ideal odometry vs truth: max heading error %.2e rad, position %.2e m\n",
-                  max_th, max_pos);
+    print_message("ideal odometry vs truth: max heading error %.2e rad, position %.2e m\n", max_th,
+                  max_pos);
     assert_true(max_th < 0.0050);
     assert_true(max_pos < 0.005);
     sim_destroy(s);
@@ -442,8 +442,8 @@ static void soak(const char *text, double top_speed, unsigned ticks, uint64_t se
         double c = room_clearance(&r, t.x, t.y, 1.0);
         min_clear = fmin(min_clear, c);
         if (c < p.body_radius_m - 1e-9) {
-            fail_msg("tick %u: the body overlaps an obstacle at (%.4f, %.4f): clearance %.6f",
-                     k, t.x, t.y, c);
+            fail_msg("tick %u: the body overlaps an obstacle at (%.4f, %.4f): clearance %.6f", k,
+                     t.x, t.y, c);
         }
         /* The straight path of this tick crosses no wall (nothing is tunnelled through). */
         double dx = t.x - px;
@@ -465,12 +465,12 @@ static void soak(const char *text, double top_speed, unsigned ticks, uint64_t se
     room_free(&r);
 }
 
-#define SOAK_ROOM                                                                              \
-    "wall 0 0 4 0\nwall 4 0 4 3\nwall 4 3 0 3\nwall 0 3 0 0\n"                                 \
-    "wall 2 0 2 1.2\nwall 2 1.6 2 3\n"      /* a thin dividing wall with a narrow gap */      \
-    "wall 0.6 2.2 1.4 2.2\n"                 /* a free-standing thin wall */                   \
-    "poly 3 0.3 3.6 0.3 3.6 0.9\n"           /* a sharp corner */                              \
-    "circle 1 1 0.15\nbox 2.6 2.0 0.5 0.4\n"                                                   \
+#define SOAK_ROOM                                                                                  \
+    "wall 0 0 4 0\nwall 4 0 4 3\nwall 4 3 0 3\nwall 0 3 0 0\n"                                     \
+    "wall 2 0 2 1.2\nwall 2 1.6 2 3\n" /* a thin dividing wall with a narrow gap */                \
+    "wall 0.6 2.2 1.4 2.2\n"           /* a free-standing thin wall */                             \
+    "poly 3 0.3 3.6 0.3 3.6 0.9\n"     /* a sharp corner */                                        \
+    "circle 1 1 0.15\nbox 2.6 2.0 0.5 0.4\n"                                                       \
     "start 0.5 0.5 0\n"
 
 static void test_soak_never_passes_through(void **state)

@@ -120,8 +120,8 @@ static void test_missing_file(void **state)
 static void test_shipped_rooms_load(void **state)
 {
     (void)state;
-    static const char *const names[] = {"default", "obstacles", "clutter", "narrow", "slanted",
-                                        "flat"};
+    static const char *const names[] = {"default", "obstacles", "clutter",
+                                        "narrow",  "slanted",   "flat"};
     for (size_t i = 0; i < 6u; i++) {
         char path[512];
         snprintf(path, sizeof path, "%s/%s.room", HOST_ROOMS_DIR, names[i]);
@@ -135,8 +135,7 @@ static void test_shipped_rooms_load(void **state)
         /* Walled in: rays in every direction hit something within the bounding box. */
         double diag = hypot(r.max_x - r.min_x, r.max_y - r.min_y);
         for (int k = 0; k < 36; k++) {
-            assert_true(room_ray(&r, r.start_x, r.start_y, k * TEST_PI / 18.0, diag, NULL) <=
-                        diag);
+            assert_true(room_ray(&r, r.start_x, r.start_y, k * TEST_PI / 18.0, diag, NULL) <= diag);
         }
         if (i == 0u) { /* the paper's ~20 m² */
             assert_true(fabs((r.max_x - r.min_x) * (r.max_y - r.min_y) - 20.0) < 1.0);
@@ -148,8 +147,8 @@ static void test_shipped_rooms_load(void **state)
         if (i == 5u) { /* three rooms: each door 0.8 m wide, a jamb 0.4 m from its middle */
             assert_true(fabs(room_clearance(&r, 3.05, 1.4, 1.0) - 0.4) < 1e-9);
             assert_true(fabs(room_clearance(&r, 5.4, 2.85, 1.0) - 0.4) < 1e-9);
-            assert_true(room_ray(&r, 2.0, 1.4, 0.0, 10.0, NULL) > 4.0); /* through the door */
-            assert_true(room_ray(&r, 2.0, 3.0, 0.0, 10.0, NULL) < 1.01);  /* not through a wall */
+            assert_true(room_ray(&r, 2.0, 1.4, 0.0, 10.0, NULL) > 4.0);  /* through the door */
+            assert_true(room_ray(&r, 2.0, 3.0, 0.0, 10.0, NULL) < 1.01); /* not through a wall */
         }
         room_free(&r);
     }
@@ -359,8 +358,7 @@ static void test_ros_map_errors(void **state)
     } cases[] = {
         {"resolution: 0.1\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
          ": no 'image' key"},
-        {"@origin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
-         ": no 'resolution' key"},
+        {"@origin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n", ": no 'resolution' key"},
         {"@resolution: 0.1\norigin: [0, 0, 0.5]\noccupied_thresh: 0.65\n"
          "free_thresh: 0.2\n",
          ":3: an origin yaw of 0.5 is not supported"},

@@ -34,12 +34,13 @@ static char *scattered_room(uint32_t n, double wall_len, uint64_t seed)
         if (i < n) {
             double ex = w.x2 - w.x1;
             double ey = w.y2 - w.y1;
-            double t = fmax(0.0, fmin(1.0, ((30.0 - x) * ex + (30.0 - y) * ey) / (ex * ex + ey * ey)));
+            double t =
+                fmax(0.0, fmin(1.0, ((30.0 - x) * ex + (30.0 - y) * ey) / (ex * ex + ey * ey)));
             if (hypot(x + t * ex - 30.0, y + t * ey - 30.0) < 0.5) {
                 continue; /* keep the robot's spot clear */
             }
-            k += (size_t)snprintf(text + k, cap - k, "wall %.6f %.6f %.6f %.6f\n", w.x1, w.y1,
-                                  w.x2, w.y2);
+            k += (size_t)snprintf(text + k, cap - k, "wall %.6f %.6f %.6f %.6f\n", w.x1, w.y1, w.x2,
+                                  w.y2);
         } else if (i % 2u == 0u) {
             k += (size_t)snprintf(text + k, cap - k, "circle %.6f %.6f %.6f\n", x, y,
                                   0.1 * fmin(len, 1.0));
@@ -90,7 +91,8 @@ static void check_same_answers(const room_t *r, unsigned queries, double reach, 
         double a = room_clearance(r, x, y, cap);
         double b = room_clearance(&l, x, y, cap);
         if (a != b) {
-            fail_msg("clearance at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g", x, y, cap, a, b);
+            fail_msg("clearance at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g", x, y, cap, a,
+                     b);
         }
         zero += a == 0.0;
         double dir = 2.0 * TEST_PI * test_rng_unit(&rng);
@@ -99,7 +101,8 @@ static void check_same_answers(const room_t *r, unsigned queries, double reach, 
         double da = room_ray(r, x, y, dir, reach, &ca);
         double db = room_ray(&l, x, y, dir, reach, &cb);
         if (da != db) {
-            fail_msg("ray from (%.9g, %.9g) at %.9g: indexed %.17g, linear %.17g", x, y, dir, da, db);
+            fail_msg("ray from (%.9g, %.9g) at %.9g: indexed %.17g, linear %.17g", x, y, dir, da,
+                     db);
         }
         hits += da <= reach;
     }
@@ -215,11 +218,13 @@ static char *crowded_room(uint32_t n, bool posts)
         } else {
             double e = 1e-6 * (double)(i / 4u);
             double v[4] = {-e, 8.0 + e, 6.0 + e, -e};
-            double w[4][4] = {{0.0, v[0], 8.0, v[0]}, {v[1], 0.0, v[1], 6.0},
-                              {8.0, v[2], 0.0, v[2]}, {v[3], 6.0, v[3], 0.0}};
+            double w[4][4] = {{0.0, v[0], 8.0, v[0]},
+                              {v[1], 0.0, v[1], 6.0},
+                              {8.0, v[2], 0.0, v[2]},
+                              {v[3], 6.0, v[3], 0.0}};
             const double *p = w[i % 4u];
-            k += (size_t)snprintf(text + k, cap - k, "wall %.7f %.7f %.7f %.7f\n", p[0], p[1],
-                                  p[2], p[3]);
+            k += (size_t)snprintf(text + k, cap - k, "wall %.7f %.7f %.7f %.7f\n", p[0], p[1], p[2],
+                                  p[3]);
         }
     }
     return text;
@@ -255,8 +260,8 @@ static void test_crowds_stay_cheap(void **state)
             if (q % 20 == 0) { /* the linear scan looks at all 10^5 */
                 double b = room_clearance(&l, x, y, cap);
                 if (a != b) {
-                    fail_msg("crowd %d at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g",
-                             posts, x, y, cap, a, b);
+                    fail_msg("crowd %d at (%.9g, %.9g) cap %g: indexed %.17g, linear %.17g", posts,
+                             x, y, cap, a, b);
                 }
             }
         }

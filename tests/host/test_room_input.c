@@ -92,9 +92,8 @@ static void test_messages_escape_control_bytes(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         room_t r;
         char err[300] = "";
-        assert_int_equal(room_parse(&r, "esc.room", cases[i].text, strlen(cases[i].text), err,
-                                    sizeof err),
-                         -1);
+        assert_int_equal(
+            room_parse(&r, "esc.room", cases[i].text, strlen(cases[i].text), err, sizeof err), -1);
         if (strstr(err, cases[i].says) == NULL) {
             fail_msg("case %zu: '%s' does not say '%s'", i, err, cases[i].says);
         }
@@ -116,16 +115,16 @@ static void test_huge_numbers(void **state)
         const char *text;
         const char *says;
     } cases[] = {
-        {"wall 0 0 1e300 0\nstart 1 1 0\n", "big.room:1: '1e300' is out of range: values lie within +-10000"},
+        {"wall 0 0 1e300 0\nstart 1 1 0\n",
+         "big.room:1: '1e300' is out of range: values lie within +-10000"},
         {"wall 0 0 4 0\nstart 10000.5 1 0\n", "big.room:2: '10000.5' is out of range"},
         {"circle 0 0 20001\nstart 1 1 0\n", "big.room:1: '20001' is out of range"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         room_t r;
         char err[300] = "";
-        assert_int_equal(room_parse(&r, "big.room", cases[i].text, strlen(cases[i].text), err,
-                                    sizeof err),
-                         -1);
+        assert_int_equal(
+            room_parse(&r, "big.room", cases[i].text, strlen(cases[i].text), err, sizeof err), -1);
         if (strstr(err, cases[i].says) == NULL) {
             fail_msg("case %zu: got \"%s\", want \"%s\"", i, err, cases[i].says);
         }
@@ -135,21 +134,28 @@ static void test_huge_numbers(void **state)
         const char *yaml;
         const char *says;
     } maps[] = {
-        {"image: m.pgm\nresolution: 0.05\norigin: [-2e4, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 0.05\norigin: [-2e4, 0, 0]\noccupied_thresh: "
+         "0.65\nfree_thresh: 0.2\n",
          "m.yaml:3: origin lies beyond +-10000 m"},
-        {"image: m.pgm\nresolution: 1e-9\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 1e-9\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: "
+         "0.2\n",
          "m.yaml:2: resolution 1e-9 m is out of range 0.001..10 m"},
         /* Numbers past a double, or far out of range, are out of range, not "not finite". */
-        {"image: m.pgm\nresolution: 1e300\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 1e300\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: "
+         "0.2\n",
          "m.yaml:2: resolution 1e300 m is out of range 0.001..10 m"},
-        {"image: m.pgm\nresolution: 1e999\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 1e999\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: "
+         "0.2\n",
          "m.yaml:2: resolution 1e999 m is out of range 0.001..10 m"},
-        {"image: m.pgm\nresolution: 0x1p-4\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 0x1p-4\norigin: [0, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: "
+         "0.2\n",
          "m.yaml:2: resolution needs a decimal number, not '0x1p-4'"},
-        {"image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 2e300\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 0.05\norigin: [0, 0, 0]\noccupied_thresh: 2e300\nfree_thresh: "
+         "0.2\n",
          "m.yaml:4: occupied_thresh must lie in 0..1"},
         /* A long image name says how long, and the limit. */
-        {"image: aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
+        {"image: "
+         "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
          "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
          "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
          "aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa"
@@ -159,7 +165,8 @@ static void test_huge_numbers(void **state)
          "aaaaa"
          ".pgm\nresolution: 0.05\n",
          "m.yaml:1: image: a file name of 604 characters, longer than the 511 taken"},
-        {"image: m.pgm\nresolution: 9\norigin: [9999, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: 0.2\n",
+        {"image: m.pgm\nresolution: 9\norigin: [9999, 0, 0]\noccupied_thresh: 0.65\nfree_thresh: "
+         "0.2\n",
          "m.yaml:2: the map (2x2 pixels of 9 m from (9999, 0)) reaches beyond +-10000 m"},
     };
     for (size_t i = 0; i < sizeof maps / sizeof maps[0]; i++) {
@@ -180,7 +187,8 @@ static void test_crops(void **state)
     (void)state;
     const char *room = test_write("c.room", "wall 0 0 4 0\nstart 1 1 0\n");
     room_crop_t crop = {0.0, 0.0, 1.0, 1.0};
-    test_load_refused(room, &crop, ": a crop takes part of a ROS map (.yaml); a .room file is taken whole");
+    test_load_refused(room, &crop,
+                      ": a crop takes part of a ROS map (.yaml); a .room file is taken whole");
     unlink(room);
     static const char pgm[] = "P5\n4 4\n255\n"
                               "\x00\x00\x00\x00\x00\xff\xff\x00\x00\xff\xff\x00\x00\x00\x00\x00";
@@ -253,9 +261,12 @@ static void test_encloses(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_size_limits),      cmocka_unit_test(test_nul_bytes),
-        cmocka_unit_test(test_huge_numbers),     cmocka_unit_test(test_crops),
-        cmocka_unit_test(test_parse_equals_load), cmocka_unit_test(test_encloses),
+        cmocka_unit_test(test_size_limits),
+        cmocka_unit_test(test_nul_bytes),
+        cmocka_unit_test(test_huge_numbers),
+        cmocka_unit_test(test_crops),
+        cmocka_unit_test(test_parse_equals_load),
+        cmocka_unit_test(test_encloses),
         cmocka_unit_test(test_messages_escape_control_bytes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

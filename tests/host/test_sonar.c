@@ -149,8 +149,9 @@ static void test_cone_takes_the_nearest(void **state)
     double c5y = 1.0 * sin(5.0 * TEST_PI / 180.0);
     double c10x = 1.05 + 0.8 * cos(15.0 * TEST_PI / 180.0);
     double c10y = 0.8 * sin(-15.0 * TEST_PI / 180.0);
-    snprintf(text, sizeof text, HALL "circle %.12f %.12f 0.05\ncircle %.12f %.12f 0.05\n"
-                                     "start 1 0 0\n",
+    snprintf(text, sizeof text,
+             HALL "circle %.12f %.12f 0.05\ncircle %.12f %.12f 0.05\n"
+                  "start 1 0 0\n",
              c5x, c5y, c10x, c10y);
     room_t r;
     test_room(&r, text);
@@ -178,8 +179,8 @@ static void test_servo_points_the_beam(void **state)
     /* A post 1.5 m away 25° to the left of the sonar: the servo's 65° (Eq. 3). */
     char text[512];
     double a = 25.0 * TEST_PI / 180.0;
-    snprintf(text, sizeof text, HALL "circle %.12f %.12f 0.1\nstart 1 0 0\n",
-             1.05 + 1.5 * cos(a), 1.5 * sin(a));
+    snprintf(text, sizeof text, HALL "circle %.12f %.12f 0.1\nstart 1 0 0\n", 1.05 + 1.5 * cos(a),
+             1.5 * sin(a));
     room_t r;
     test_room(&r, text);
     sim_t *s = ideal_with(&r, 45.0);
@@ -359,12 +360,12 @@ static void test_late_echo_when_triggers_come_sooner(void **state)
     test_room(&r, HALL "start 8 0 0\n"); /* 1.95 m: a round trip of 11 370 µs */
     const uint32_t w = 11370u;
     static const struct {
-        unsigned ticks;    /* from one trigger to the next */
-        double ring_us;    /* how long the sound rings */
+        unsigned ticks; /* from one trigger to the next */
+        double ring_us; /* how long the sound rings */
         sim_ping_kind_t kind;
         uint32_t echo_us;
     } cases[] = {
-        {6u, 60000.0, SIM_PING_ECHO, w},           /* 60 ms, as the datasheet asks */
+        {6u, 60000.0, SIM_PING_ECHO, w}, /* 60 ms, as the datasheet asks */
         {9u, 60000.0, SIM_PING_ECHO, w},
         {4u, 60000.0, SIM_PING_LATE, 4u * w - 40000u}, /* the fourth return, at 45.5 ms */
         {5u, 60000.0, SIM_PING_LATE, 5u * w - 50000u}, /* the fifth, at 56.9 ms */
@@ -455,8 +456,8 @@ static void test_multipath_reads_half_the_path(void **state)
        back. The short wall is too short for the edge rays' mirrors (15° apart). */
     char text[512];
     int k = wall_at(text, sizeof text, 2.05, 0.0, 150.0, 2.0); /* its normal at 60° */
-    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0),
-                 -sin(TEST_PI / 3.0), 30.0, 0.2);
+    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0), -sin(TEST_PI / 3.0),
+                 30.0, 0.2);
     snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
     room_t r;
     test_room(&r, text);
@@ -484,8 +485,8 @@ static void test_multipath_reads_half_the_path(void **state)
     /* The far wall turned 40° away from square: it does not answer either, and the sound
        reflects out of the room. */
     k = wall_at(text, sizeof text, 2.05, 0.0, 150.0, 2.0);
-    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0),
-                 -sin(TEST_PI / 3.0), 70.0, 0.2);
+    k += wall_at(text + k, sizeof text - (size_t)k, 2.05 + cos(TEST_PI / 3.0), -sin(TEST_PI / 3.0),
+                 70.0, 0.2);
     snprintf(text + k, sizeof text - (size_t)k, "start 1 0 0\n");
     test_room(&r, text);
     s = mirror_world(&r, 2u);
@@ -537,10 +538,8 @@ static void test_limit_narrows_with_range(void **state)
         sim_sonar_level_t level;
         sim_ping_kind_t kind;
     } cases[] = {
-        {0.5, SIM_SONAR_TYPICAL, SIM_PING_ECHO},
-        {2.5, SIM_SONAR_TYPICAL, SIM_PING_GRAZING},
-        {0.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},
-        {2.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},
+        {0.5, SIM_SONAR_TYPICAL, SIM_PING_ECHO},        {2.5, SIM_SONAR_TYPICAL, SIM_PING_GRAZING},
+        {0.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},     {2.5, SIM_SONAR_OPTIMISTIC, SIM_PING_ECHO},
         {0.5, SIM_SONAR_PESSIMISTIC, SIM_PING_GRAZING},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

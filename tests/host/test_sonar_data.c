@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The simulated sonar against published HC-SR04 measurements: incidence limits and long, wrong readings. */
+/* The simulated sonar against published HC-SR04 measurements: incidence limits and long, wrong
+ * readings. */
 #include <math.h>
 
 #include "host_test.h"
@@ -34,8 +35,8 @@
 
 /* A published limit: the first wrong angle (UNIVPM) or the beam's edge (beam data), deg. */
 typedef struct {
-    double d;          /* the target's distance, m */
-    int n;             /* figures */
+    double d; /* the target's distance, m */
+    int n;    /* figures */
     double deg[3];
 } limits_t;
 
@@ -55,11 +56,8 @@ static const struct {
 /* The beam data at the robot's ranges: each series interpolated straight between its
  * figures (Parallax static, Parallax aimed, GaryDyr static). */
 static const limits_t beam[] = {
-    {0.30, 3, {30.0, 25.0, 14.5}},
-    {0.50, 3, {25.2, 25.0, 9.5}},
-    {0.70, 3, {20.5, 24.6, 10.0}},
-    {0.90, 3, {15.7, 23.6, 10.0}},
-    {1.10, 3, {11.0, 22.7, 10.0}},
+    {0.30, 3, {30.0, 25.0, 14.5}}, {0.50, 3, {25.2, 25.0, 9.5}},  {0.70, 3, {20.5, 24.6, 10.0}},
+    {0.90, 3, {15.7, 23.6, 10.0}}, {1.10, 3, {11.0, 22.7, 10.0}},
 };
 
 #define SX 1.0 /* the sensor, facing +x */
@@ -69,8 +67,7 @@ static const limits_t beam[] = {
 typedef enum { READ_RIGHT, READ_LONG, READ_NONE } reading_t;
 
 /* One ping at the target @p d m away, @p w m wide, turned by @p deg; its range into *range. */
-static reading_t ping_turned(sim_sonar_level_t level, double d, double w, double deg,
-                             double *range)
+static reading_t ping_turned(sim_sonar_level_t level, double d, double w, double deg, double *range)
 {
     double th = deg * TEST_PI / 180.0;
     double ux = -sin(th) * 0.5 * w;
@@ -189,7 +186,8 @@ static void check_limits(const limits_t *set, size_t n, double w, bool at_card)
         int typ = got[SIM_SONAR_TYPICAL];
         int pes = got[SIM_SONAR_PESSIMISTIC];
         print_message("%.2f m: published %g..%g, simulated optimistic %d typical %d "
-                      "pessimistic %d\n", l->d, lowest(l), highest(l), opt, typ, pes);
+                      "pessimistic %d\n",
+                      l->d, lowest(l), highest(l), opt, typ, pes);
         if (at_card) {
             assert_true(fabs(typ - median3(l)) <= 2.0);
         } else {
@@ -232,9 +230,8 @@ static void test_long_wrong_readings_at_the_card(void **state)
         double d = univpm_wrong[i].d;
         series_t a = sweep(SIM_SONAR_TYPICAL, d, 0.0856, 1.0);
         series_t b = sweep(SIM_SONAR_TYPICAL, d, 0.0856, -1.0);
-        print_message("%.2f m: long %d of %d wrong (published %d of %d)\n", d,
-                      a.long_ + b.long_, a.wrong + b.wrong, univpm_wrong[i].long_,
-                      univpm_wrong[i].wrong);
+        print_message("%.2f m: long %d of %d wrong (published %d of %d)\n", d, a.long_ + b.long_,
+                      a.wrong + b.wrong, univpm_wrong[i].long_, univpm_wrong[i].wrong);
         assert_true(a.long_ + b.long_ > 0);
         wrong += a.wrong + b.wrong;
         long_ += a.long_ + b.long_;

@@ -246,7 +246,8 @@ static int fake_request(unsigned offset, bool output, int value, gpio_line_t **l
                         size_t errlen)
 {
     if (offset >= FAKE_GPIO_LINES) {
-        snprintf(err, errlen, "line %u does not exist on fakechip0 (%u lines)", offset, FAKE_GPIO_LINES);
+        snprintf(err, errlen, "line %u does not exist on fakechip0 (%u lines)", offset,
+                 FAKE_GPIO_LINES);
         errno = EINVAL;
         return -1;
     }
@@ -274,8 +275,8 @@ static int fake_request(unsigned offset, bool output, int value, gpio_line_t **l
     return rc;
 }
 
-int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line,
-                     char *err, size_t errlen)
+int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line, char *err,
+                     size_t errlen)
 {
     (void)chip;
     return fake_request(offset, true, value, line, err, errlen);

@@ -137,7 +137,8 @@ static void test_check(void **state)
 
     fake_gpio_busy(9, "someone");
     assert_int_equal(run("--config", conf, "--check", NULL), APP_EXIT_HARDWARE);
-    assert_non_null(strstr(out_buf, "motor_right_in1          FAIL: line 9 is in use by 'someone'"));
+    assert_non_null(
+        strstr(out_buf, "motor_right_in1          FAIL: line 9 is in use by 'someone'"));
 }
 
 static void test_hardware_failure_exits_1(void **state)
@@ -264,11 +265,14 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_help),
         cmocka_unit_test(test_bad_command_lines),
-        cmocka_unit_test_setup_teardown(test_bad_config_exits_2_naming_file_and_line, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_bad_config_exits_2_naming_file_and_line, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_check, setup, teardown),
         cmocka_unit_test_setup_teardown(test_hardware_failure_exits_1, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_run_drives_the_firmware_and_stops_the_motors, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_run_saves_and_streams_while_the_tick_runs, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_run_drives_the_firmware_and_stops_the_motors, setup,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_run_saves_and_streams_while_the_tick_runs, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_io_fault_stops_for_safety, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sigterm_stops_cleanly, setup, teardown),
     };

@@ -23,8 +23,23 @@
 
 /* The fake's line offsets, in wiring.h's order; then, when a test wires them, sonar 1 and
  * two bump switches. */
-enum { L_A = 1, L_B = 2, R_A = 3, R_B = 4, TRIG = 5, ECHO = 6, L_IN1 = 7, L_IN2 = 8,
-       R_IN1 = 9, R_IN2 = 10, STBY = 11, TRIG1 = 12, ECHO1 = 13, BUMP0 = 14, BUMP1 = 15 };
+enum {
+    L_A = 1,
+    L_B = 2,
+    R_A = 3,
+    R_B = 4,
+    TRIG = 5,
+    ECHO = 6,
+    L_IN1 = 7,
+    L_IN2 = 8,
+    R_IN1 = 9,
+    R_IN2 = 10,
+    STBY = 11,
+    TRIG1 = 12,
+    ECHO1 = 13,
+    BUMP0 = 14,
+    BUMP1 = 15
+};
 
 static char root[TMPTREE_PATH_MAX];
 static lconf_t cfg;
@@ -140,7 +155,8 @@ static hal_sonar_status_t poll_until_done(uint32_t *w)
 {
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 10000 && st == HAL_SONAR_BUSY; i++) {
-        st = (hal_sonar_status_t)hal_sonar_poll(HAL_SONAR_SWEPT, w); /* never an error for sonar 0 */
+        st =
+            (hal_sonar_status_t)hal_sonar_poll(HAL_SONAR_SWEPT, w); /* never an error for sonar 0 */
         if (st == HAL_SONAR_BUSY) {
             wait_ms(1);
         }
@@ -406,7 +422,8 @@ static void all_threads_saw_the_clock(void)
     const uint32_t output = st.output_rounds;
     const unsigned seen = atomic_load(&ticks);
     WAIT_UNTIL((lhal_stats(&st), atomic_load(&ticks) >= seen + 2u &&
-                st.events_rounds >= events + 2u && st.output_rounds >= output + 2u) ||
+                                     st.events_rounds >= events + 2u &&
+                                     st.output_rounds >= output + 2u) ||
                lhal_fault(NULL, 0) != LHAL_FAULT_NONE);
 }
 
@@ -617,7 +634,7 @@ static void test_check_reports_every_item_and_moves_nothing(void **state)
     assert_non_null(strstr(out, "check: all 17 items ok"));
     assert_int_equal(fake_gpio_requested_count(), 0);
     assert_string_equal(pwm("pwmchip0/pwm0/enable"), ""); /* nothing written */
-    assert_false(tmptree_exists(root, "store"));           /* nothing created */
+    assert_false(tmptree_exists(root, "store"));          /* nothing created */
 
     fake_gpio_busy(L_B, "other-app");
     cfg.servo_pwm = (lconf_pwm_t){4, 2};
@@ -633,27 +650,40 @@ static void test_check_reports_every_item_and_moves_nothing(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_init_requests_every_line_with_the_motors_stopped, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_encoders_decode_both_lines_in_timestamp_order, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_init_requests_every_line_with_the_motors_stopped,
+                                        setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_encoders_decode_both_lines_in_timestamp_order,
+                                        setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_sonar_pulse_and_echo_width, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_sonar_times_out_on_the_backend_clock, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_sonar_times_out_on_the_backend_clock, setup_up,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_sonar_reports_a_stuck_echo_line, setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_motor_direction_duty_and_standby, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_servo_starts_at_its_first_command_and_clamps, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_shutdown_stops_and_releases_everything, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_servo_starts_at_its_first_command_and_clamps, setup_up,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_shutdown_stops_and_releases_everything, setup_up,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_emergency_stop_holds, setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_time_and_storage, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_tick_runs_outside_critical_sections, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_watchdog_stops_the_motors_when_the_tick_stalls, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_tick_runs_outside_critical_sections, setup_up,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_watchdog_stops_the_motors_when_the_tick_stalls,
+                                        setup_up, teardown),
         cmocka_unit_test_setup_teardown(test_watchdog_watches_the_background_loop, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_kicks_keep_the_background_watchdog_quiet, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_events_thread_failure_stops_the_motors, setup_up, teardown),
+        cmocka_unit_test_setup_teardown(test_kicks_keep_the_background_watchdog_quiet, setup,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_events_thread_failure_stops_the_motors, setup_up,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_busy_line_fails_init_naming_the_key, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_missing_pwm_chip_fails_init_naming_the_key, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_missing_pwm_chip_fails_init_naming_the_key, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_missing_chip_fails_init, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_instances_beyond_the_robot_are_refused, setup_up, teardown),
-        cmocka_unit_test_setup_teardown(test_sonar_1_servo_1_and_bump_switches, setup_instances, teardown),
-        cmocka_unit_test_setup_teardown(test_check_reports_every_item_and_moves_nothing, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_instances_beyond_the_robot_are_refused, setup_up,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_sonar_1_servo_1_and_bump_switches, setup_instances,
+                                        teardown),
+        cmocka_unit_test_setup_teardown(test_check_reports_every_item_and_moves_nothing, setup,
+                                        teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

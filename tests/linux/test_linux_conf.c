@@ -24,24 +24,23 @@ static char path[TMPTREE_PATH_MAX + 16];
 
 /* Every required key, wired like the README's table: the [linux] section (its line is line
  * 1 of a file without core keys, so encoder_left_a is on line 2). */
-static const char *const minimal =
-    "[linux]\n"
-    "encoder_left_a = 17\n"
-    "encoder_left_b = 27\n"
-    "encoder_right_a = 22\n"
-    "encoder_right_b = 23\n"
-    "sonar_trigger = 5\n"
-    "sonar_echo = 6\n"
-    "servo_pwm_chip = 2\n"
-    "servo_pwm_channel = 0\n"
-    "motor_left_pwm_chip = 0\n"
-    "motor_left_pwm_channel = 0\n"
-    "motor_right_pwm_chip = 0\n"
-    "motor_right_pwm_channel = 1\n"
-    "motor_left_in1 = 24\n"
-    "motor_left_in2 = 25\n"
-    "motor_right_in1 = 16\n"
-    "motor_right_in2 = 26\n";
+static const char *const minimal = "[linux]\n"
+                                   "encoder_left_a = 17\n"
+                                   "encoder_left_b = 27\n"
+                                   "encoder_right_a = 22\n"
+                                   "encoder_right_b = 23\n"
+                                   "sonar_trigger = 5\n"
+                                   "sonar_echo = 6\n"
+                                   "servo_pwm_chip = 2\n"
+                                   "servo_pwm_channel = 0\n"
+                                   "motor_left_pwm_chip = 0\n"
+                                   "motor_left_pwm_channel = 0\n"
+                                   "motor_right_pwm_chip = 0\n"
+                                   "motor_right_pwm_channel = 1\n"
+                                   "motor_left_in1 = 24\n"
+                                   "motor_left_in2 = 25\n"
+                                   "motor_right_in1 = 16\n"
+                                   "motor_right_in2 = 26\n";
 
 static int setup(void **state)
 {
@@ -192,7 +191,8 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"encoder_left_invert = 2\n", "encoder_left_invert = '2': expected 0 or 1"},
         {"motor_right_invert = maybe\n", "motor_right_invert = 'maybe'"},
         {"encoder_bias = pullup\n", "encoder_bias = 'pullup': expected as-is, disable, pull-up"},
-        {"sonar_timeout_us = 999\n", "sonar_timeout_us = '999': expected a whole number 1000..100000"},
+        {"sonar_timeout_us = 999\n",
+         "sonar_timeout_us = '999': expected a whole number 1000..100000"},
         {"sonar_timeout_us = 100001\n", "sonar_timeout_us = '100001'"},
         {"sonar_timeout_us = 3e4\n", "sonar_timeout_us = '3e4'"},
         {"motor_pwm_period_ns = 9999\n", "motor_pwm_period_ns = '9999'"},
@@ -200,7 +200,8 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"storage_bytes = 4095\n", "storage_bytes = '4095'"},
         {"tick_priority = 99\n", "tick_priority = '99'"},
         {"tick_priority = -1\n", "tick_priority = '-1'"},
-        {"watchdog_idle_ms = 50\n", "watchdog_idle_ms = '50': expected a whole number 0 (off) or 100..60000"},
+        {"watchdog_idle_ms = 50\n",
+         "watchdog_idle_ms = '50': expected a whole number 0 (off) or 100..60000"},
         {"watchdog_idle_ms = 60001\n", "watchdog_idle_ms = '60001'"},
         {"motor_standby = -2\n", "motor_standby = '-2': expected a line offset 0..4095, or -1"},
         {"motor_standby = 4096\n", "motor_standby = '4096'"},
@@ -208,7 +209,8 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         {"sweep_stops = 1\n", "sweep_stops = 1 is out of its valid range: 1..16, and 1 only when"},
         {"wheel_base_um = many\n", "wheel_base_um = 'many': expected a whole number"},
         {"sweep_stops = 300\n", "sweep_stops = '300': out of its valid range: 1..16"},
-        {"wheel_base_um = -130000\n", "wheel_base_um = '-130000': out of its valid range: 50000..1000000"},
+        {"wheel_base_um = -130000\n",
+         "wheel_base_um = '-130000': out of its valid range: 50000..1000000"},
         /* Numbers are decimal (hal_common/number.h); control bytes are shown escaped. */
         {"sonar_timeout_us = 0x7530\n", "sonar_timeout_us = '0x7530': expected a whole number"},
         {"gpio_chip = \033]0;PWNED\007x\n", "gpio_chip = '\\x1b]0;PWNED\\x07x': holds a control"},
@@ -226,7 +228,8 @@ static void test_every_bad_input_is_named_and_changes_nothing(void **state)
         char err[512] = "";
         assert_int_equal(load(cases[i].line, &core, &lc, err, sizeof err), -1);
         if (strstr(err, cases[i].says) == NULL) {
-            fail_msg("case %zu (%s): message '%s' does not say '%s'", i, cases[i].line, err, cases[i].says);
+            fail_msg("case %zu (%s): message '%s' does not say '%s'", i, cases[i].line, err,
+                     cases[i].says);
         }
         assert_non_null(strstr(err, "robot.conf"));
         slam_config_t core0;
@@ -293,11 +296,12 @@ static void test_whole_file_checks(void **state)
 
     /* A clash names both keys with their lines, and blames the later one. */
     assert_int_equal(load("motor_standby = 17\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:18: encoder_left_a (line 2) and motor_standby (line 18) "
-                                "both use line 17"));
+    assert_non_null(strstr(err,
+                           "robot.conf:18: encoder_left_a (line 2) and motor_standby (line 18) "
+                           "both use line 17"));
 
-    assert_int_equal(load_replacing("motor_right_pwm_channel = 1\n", "motor_right_pwm_channel = 0\n",
-                                    &core, &lc, err, sizeof err),
+    assert_int_equal(load_replacing("motor_right_pwm_channel = 1\n",
+                                    "motor_right_pwm_channel = 0\n", &core, &lc, err, sizeof err),
                      -1);
     assert_non_null(strstr(err, "robot.conf:13: motor_left and motor_right both use PWM channel "
                                 "pwmchip0/pwm0 (lines 11 and 13)"));
@@ -362,17 +366,18 @@ static void test_instance_1_and_bump_switches(void **state)
     assert_int_equal(load("sonar1_trigger = 19\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "robot.conf:18: sonar1_trigger is given without sonar1_echo"));
     assert_int_equal(load("servo1_pwm_channel = 1\n", &core, &lc, err, sizeof err), -1);
-    assert_non_null(strstr(err, "robot.conf:18: servo1_pwm_channel is given without servo1_pwm_chip"));
+    assert_non_null(
+        strstr(err, "robot.conf:18: servo1_pwm_channel is given without servo1_pwm_chip"));
     assert_int_equal(load("bump1 = 14\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "robot.conf:18: bump1 is given without bump0"));
     /* Their lines and channels are checked against every other's. */
-    assert_int_equal(load("sonar1_trigger = 19\nsonar1_echo = 6\n", &core, &lc, err, sizeof err), -1);
+    assert_int_equal(load("sonar1_trigger = 19\nsonar1_echo = 6\n", &core, &lc, err, sizeof err),
+                     -1);
     assert_non_null(strstr(err, "sonar_echo (line 7) and sonar1_echo (line 19) both use line 6"));
     assert_int_equal(load("bump0 = 23\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "encoder_right_b (line 5) and bump0 (line 18) both use line 23"));
-    assert_int_equal(load("servo1_pwm_chip = 2\nservo1_pwm_channel = 0\n", &core, &lc, err,
-                          sizeof err),
-                     -1);
+    assert_int_equal(
+        load("servo1_pwm_chip = 2\nservo1_pwm_channel = 0\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "servo and servo1 both use PWM channel pwmchip2/pwm0"));
     assert_int_equal(load("servo1_pwm_chip = -2\n", &core, &lc, err, sizeof err), -1);
     assert_non_null(strstr(err, "servo1_pwm_chip = '-2': expected a number 0..1023, or -1"));
@@ -468,13 +473,15 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_minimal_config_loads_with_defaults, setup, teardown),
         cmocka_unit_test_setup_teardown(test_optional_keys_and_core_keys, setup, teardown),
         cmocka_unit_test(test_dir_driver_without_in2),
-        cmocka_unit_test_setup_teardown(test_every_bad_input_is_named_and_changes_nothing, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_every_bad_input_is_named_and_changes_nothing, setup,
+                                        teardown),
         cmocka_unit_test(test_bad_line_values_say_which_line),
         cmocka_unit_test_setup_teardown(test_whole_file_checks, setup, teardown),
         cmocka_unit_test_setup_teardown(test_instances_and_bump_switches_are_off_by_default, setup,
                                         teardown),
         cmocka_unit_test_setup_teardown(test_instance_1_and_bump_switches, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_keys_belong_to_their_part_of_the_file, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_keys_belong_to_their_part_of_the_file, setup,
+                                        teardown),
         cmocka_unit_test(test_missing_file_is_named),
         cmocka_unit_test_setup_teardown(test_lines_are_listed_with_their_roles, setup, teardown),
         cmocka_unit_test(test_shipped_example_loads),

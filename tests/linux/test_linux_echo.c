@@ -79,7 +79,7 @@ static void test_width_to_distance_through_the_firmware(void **state)
     /* 1 m and back at 343 m/s takes 5830.9 µs. */
     assert_int_equal(ping(5830904u, &w), HAL_SONAR_ECHO);
     assert_int_equal(w, 5831);
-    assert_int_equal(sonar_range_um(&s, w), 1000017); /* 5831 · 171.5 µm, rounded */
+    assert_int_equal(sonar_range_um(&s, w), 1000017);             /* 5831 · 171.5 µm, rounded */
     assert_false(sonar_in_confidence(&s, sonar_range_um(&s, w))); /* d >= rc = 1 m */
     assert_int_equal(ping(2915452u, &w), HAL_SONAR_ECHO);
     assert_int_equal(w, 2915);

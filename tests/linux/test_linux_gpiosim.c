@@ -28,8 +28,20 @@
 #define MS 1000000ull
 
 /* Our lines on the simulated chip, in wiring.h's order. */
-enum { L_A = 0, L_B = 1, R_A = 2, R_B = 3, TRIG = 4, ECHO = 5, L_IN1 = 6, L_IN2 = 7,
-       R_IN1 = 8, R_IN2 = 9, STBY = 10, SIM_LINES = 16 };
+enum {
+    L_A = 0,
+    L_B = 1,
+    R_A = 2,
+    R_B = 3,
+    TRIG = 4,
+    ECHO = 5,
+    L_IN1 = 6,
+    L_IN2 = 7,
+    R_IN1 = 8,
+    R_IN2 = 9,
+    STBY = 10,
+    SIM_LINES = 16
+};
 
 static char sim_dir[96];    /* our device in configfs */
 static char sim_lines[160]; /* /sys/devices/platform/<dev>/<chip> */
@@ -227,7 +239,8 @@ static void test_lines_end_to_end(void **state)
     uint32_t w = 0;
     hal_sonar_status_t st = HAL_SONAR_BUSY;
     for (int i = 0; i < 20000 && st == HAL_SONAR_BUSY; i++) {
-        st = (hal_sonar_status_t)hal_sonar_poll(HAL_SONAR_SWEPT, &w); /* never an error for sonar 0 */
+        st = (hal_sonar_status_t)hal_sonar_poll(HAL_SONAR_SWEPT,
+                                                &w); /* never an error for sonar 0 */
         wait_ms(st == HAL_SONAR_BUSY ? 1 : 0);
     }
     assert_int_equal(st, HAL_SONAR_ECHO);

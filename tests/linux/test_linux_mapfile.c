@@ -34,14 +34,13 @@ static void test_pgm_is_flipped_and_trinary(void **state)
     const uint8_t want[6] = {0, 254, 254, /* b = 0 */ 205, 254, 0};
     assert_memory_equal(px, want, sizeof want);
 
-    assert_string_equal(tmptree_read(root, "om.yaml"),
-                        "image: om.pgm\n"
-                        "mode: trinary\n"
-                        "resolution: 0.050000\n"
-                        "origin: [-4.000000, -0.025000, 0.0]\n"
-                        "negate: 0\n"
-                        "occupied_thresh: 0.65\n"
-                        "free_thresh: 0.196\n");
+    assert_string_equal(tmptree_read(root, "om.yaml"), "image: om.pgm\n"
+                                                       "mode: trinary\n"
+                                                       "resolution: 0.050000\n"
+                                                       "origin: [-4.000000, -0.025000, 0.0]\n"
+                                                       "negate: 0\n"
+                                                       "occupied_thresh: 0.65\n"
+                                                       "free_thresh: 0.196\n");
     assert_false(tmptree_exists(root, "om.pgm.tmp"));
     tmptree_remove(root);
 }

@@ -58,9 +58,9 @@ static void *hog(void *arg)
     return NULL;
 }
 
-/* The backend's clock. Called by the main thread inside hal_sonar_trigger(HAL_SONAR_SWEPT), with the sonar
- * state locked: there, once, the medium-priority thread starts, and the main thread, which
- * has only to return and unlock, waits its turn for the CPU. */
+/* The backend's clock. Called by the main thread inside hal_sonar_trigger(HAL_SONAR_SWEPT), with
+ * the sonar state locked: there, once, the medium-priority thread starts, and the main thread,
+ * which has only to return and unlock, waits its turn for the CPU. */
 static uint64_t clock_that_starts_the_hog(void)
 {
     if (pthread_equal(pthread_self(), main_thread) && atomic_exchange(&armed, false)) {
@@ -135,7 +135,8 @@ static int can_run(void)
     int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
     if (rc != 0) {
         printf("skipped: SCHED_FIFO is not permitted here (%s); run as root or with "
-               "CAP_SYS_NICE\n", strerror(rc));
+               "CAP_SYS_NICE\n",
+               strerror(rc));
         return 0;
     }
     sp.sched_priority = 0;
@@ -149,8 +150,9 @@ int main(void)
         return 77;
     }
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted,
-                                        setup, teardown),
+        cmocka_unit_test_setup_teardown(
+            test_the_tick_runs_while_a_normal_thread_holding_the_sonar_is_preempted, setup,
+            teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -169,10 +169,14 @@ static void test_motor_plan(void **state)
         bool in1, in2;
         uint32_t duty_ns;
     } cases[] = {
-        {500, false, true, false, 25000u},   {-1000, false, false, true, 50000u},
-        {0, false, false, false, 0u},        {2000, false, true, false, 50000u},
-        {INT16_MIN, false, false, true, 50000u}, {1, false, true, false, 50u},
-        {300, true, false, true, 15000u},    {-300, true, true, false, 15000u},
+        {500, false, true, false, 25000u},
+        {-1000, false, false, true, 50000u},
+        {0, false, false, false, 0u},
+        {2000, false, true, false, 50000u},
+        {INT16_MIN, false, false, true, 50000u},
+        {1, false, true, false, 50u},
+        {300, true, false, true, 15000u},
+        {-300, true, true, false, 15000u},
         {0, true, false, false, 0u},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
@@ -181,9 +185,12 @@ static void test_motor_plan(void **state)
         assert_int_equal(m.in2, cases[i].in2);
         assert_int_equal(m.duty_ns, cases[i].duty_ns);
     }
-    assert_true(motor_same_direction(motor_plan(100, false, 50000u), motor_plan(900, false, 50000u)));
-    assert_false(motor_same_direction(motor_plan(100, false, 50000u), motor_plan(-100, false, 50000u)));
-    assert_false(motor_same_direction(motor_plan(100, false, 50000u), motor_plan(0, false, 50000u)));
+    assert_true(
+        motor_same_direction(motor_plan(100, false, 50000u), motor_plan(900, false, 50000u)));
+    assert_false(
+        motor_same_direction(motor_plan(100, false, 50000u), motor_plan(-100, false, 50000u)));
+    assert_false(
+        motor_same_direction(motor_plan(100, false, 50000u), motor_plan(0, false, 50000u)));
     /* Full scale of a 20 ms period does not overflow. */
     assert_int_equal(motor_plan(HAL_DUTY_MAX, false, 50000000u).duty_ns, 50000000u);
 }
@@ -196,7 +203,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_missing_channel_is_exported, setup, teardown),
         cmocka_unit_test_setup_teardown(test_export_failure_names_the_file, setup, teardown),
         cmocka_unit_test_setup_teardown(test_start_writes_period_duty_enable, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_duty_is_clamped_and_repeats_are_skipped, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_duty_is_clamped_and_repeats_are_skipped, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_stop_and_kill_write_zero, setup, teardown),
         cmocka_unit_test_setup_teardown(test_not_writable_attribute_is_named, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_u32_formats_like_echo, setup, teardown),

@@ -140,8 +140,8 @@ static void test_the_correction_comes_with_the_next_edge_of_the_line(void **stat
     (void)state;
     quad_t q;
     quad_init(&q, false, false, false);
-    assert_int_equal(quad_edge(&q, QUAD_A, true), 1);  /* 00 -> 10 */
-    assert_int_equal(quad_edge(&q, QUAD_B, true), 1);  /* 10 -> 11 */
+    assert_int_equal(quad_edge(&q, QUAD_A, true), 1); /* 00 -> 10 */
+    assert_int_equal(quad_edge(&q, QUAD_B, true), 1); /* 10 -> 11 */
     /* A falls, lost. B falls: from the stale 11 that reads as backward. */
     assert_int_equal(quad_edge(&q, QUAD_B, false), -1);
     /* A rises: A's fall was lost. The B edge is counted again, the two A edges added. */
@@ -156,7 +156,7 @@ static void test_start_state_comes_from_the_lines(void **state)
 {
     (void)state;
     quad_t q;
-    quad_init(&q, true, true, false); /* state 11 */
+    quad_init(&q, true, true, false);                  /* state 11 */
     assert_int_equal(quad_edge(&q, QUAD_A, false), 1); /* 11 -> 01 is forward */
     assert_int_equal(q.illegal, 0);
 }
@@ -274,7 +274,8 @@ static void test_random_walk_through_the_queue_is_exact(void **state)
             bool up = test_rng_range(&rng, 0, 2) != 0;
             uint8_t nx = up ? fwd[st] : back[st];
             uint8_t src = (uint8_t)(((st ^ nx) & 2u) ? 0u : 1u);
-            line_edges[src][nl[src]++] = edge(t * 1000u, src, src == 0u ? (nx & 2u) != 0u : (nx & 1u) != 0u);
+            line_edges[src][nl[src]++] =
+                edge(t * 1000u, src, src == 0u ? (nx & 2u) != 0u : (nx & 1u) != 0u);
             pos += up ? 1 : -1;
             st = nx;
         }

@@ -205,7 +205,8 @@ static void wait_until_output_stuck(void)
         WAIT_UNTIL(atomic_load(&sh->writing_servo));
         uint32_t rounds = atomic_load(&sh->output_rounds);
         uint32_t ticks = atomic_load(&sh->ticks);
-        WAIT_UNTIL(atomic_load(&sh->ticks) >= ticks + 10u || atomic_load(&sh->output_rounds) != rounds);
+        WAIT_UNTIL(atomic_load(&sh->ticks) >= ticks + 10u ||
+                   atomic_load(&sh->output_rounds) != rounds);
         if (atomic_load(&sh->output_rounds) == rounds && atomic_load(&sh->writing_servo)) {
             return;
         }
@@ -355,7 +356,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup_teardown(test_a_servo_write_that_never_returns, setup, teardown),
         cmocka_unit_test_setup_teardown(test_the_events_thread_killed, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sigterm_with_the_output_stuck_exits_3, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sigterm_with_the_output_stuck_exits_3, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_sigterm_twice, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

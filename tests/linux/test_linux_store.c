@@ -136,7 +136,7 @@ static void test_bad_arguments_are_refused(void **state)
     assert_int_equal(store_begin(&st, 0), HAL_OK);
     assert_int_equal(store_write(&st, 0, SIZE - 8u, b, 16), HAL_EINVAL); /* past the end */
     assert_int_equal(store_write(&st, 0, SIZE + 1u, b, 0), HAL_EINVAL);
-    assert_int_equal(store_write(&st, 0, SIZE - 16u, b, 16), HAL_OK);    /* up to the end */
+    assert_int_equal(store_write(&st, 0, SIZE - 16u, b, 16), HAL_OK); /* up to the end */
     assert_int_equal(store_write(&st, 2, 0, b, 1), HAL_EINVAL);
     assert_int_equal(store_read(&st, 0, SIZE, b, 1), HAL_EINVAL);
     assert_int_equal(store_read(&st, 9, 0, b, 1), HAL_EINVAL);
@@ -194,10 +194,12 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_open_creates_the_directory, setup, teardown),
         cmocka_unit_test_setup_teardown(test_never_written_slot_reads_erased, setup, teardown),
         cmocka_unit_test_setup_teardown(test_commit_makes_the_slot_durable, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_rewrite_without_commit_keeps_the_old_slot, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_rewrite_without_commit_keeps_the_old_slot, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_close_drops_uncommitted_rewrites, setup, teardown),
         cmocka_unit_test_setup_teardown(test_bad_arguments_are_refused, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_shorter_file_reads_erased_beyond_its_end, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_shorter_file_reads_erased_beyond_its_end, setup,
+                                        teardown),
         cmocka_unit_test_setup_teardown(test_unusable_directory_is_named, setup, teardown),
         cmocka_unit_test_setup_teardown(test_write_file_replaces_atomically, setup, teardown),
     };

@@ -25,13 +25,13 @@ static inline void wait_ms(long ms)
 }
 
 /** Wait until @p cond holds (or the bound passes), then assert it. */
-#define WAIT_UNTIL(cond)                                                                     \
-    do {                                                                                     \
-        uint64_t wait_end_ = wait_real_ns() + 60000000000ull;                                \
-        while (!(cond) && wait_real_ns() < wait_end_) {                                      \
-            wait_ms(1);                                                                      \
-        }                                                                                    \
-        assert_true(cond);                                                                   \
+#define WAIT_UNTIL(cond)                                                                           \
+    do {                                                                                           \
+        uint64_t wait_end_ = wait_real_ns() + 60000000000ull;                                      \
+        while (!(cond) && wait_real_ns() < wait_end_) {                                            \
+            wait_ms(1);                                                                            \
+        }                                                                                          \
+        assert_true(cond);                                                                         \
     } while (0)
 
 #endif /* TEST_WAIT_UNTIL_H */

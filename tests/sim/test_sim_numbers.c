@@ -67,9 +67,24 @@ static void check_fmt(double v, int decimals)
 static void test_fmt_fixed_writes_what_the_plain_writer_wrote(void **state)
 {
     (void)state;
-    static const double edges[] = {0.0, -0.0, 0.5, -0.5, 0.05, -0.05, 1e-11, -1e-11, 9.5,
-                                   99.5, 4294967295.0, 4294967296.0, 42949672.955, 1e8,
-                                   -1e8, 3.14159265358979, -3.14159265358979, 0.0049999999};
+    static const double edges[] = {0.0,
+                                   -0.0,
+                                   0.5,
+                                   -0.5,
+                                   0.05,
+                                   -0.05,
+                                   1e-11,
+                                   -1e-11,
+                                   9.5,
+                                   99.5,
+                                   4294967295.0,
+                                   4294967296.0,
+                                   42949672.955,
+                                   1e8,
+                                   -1e8,
+                                   3.14159265358979,
+                                   -3.14159265358979,
+                                   0.0049999999};
     for (size_t i = 0; i < sizeof edges / sizeof edges[0]; i++) {
         for (int d = 0; d <= 10; d++) {
             check_fmt(edges[i], d);
@@ -138,9 +153,9 @@ static void test_mark_disc_marks_each_cell_the_test_admits(void **state)
 static void test_to_um_rounds_as_lround(void **state)
 {
     (void)state;
-    static const double edges[] = {0.0, -0.0, 5e-7, -5e-7, 2.5e-6, -2.5e-6, 1.0000005,
-                                   2147.4836465, -2147.4836465, 2147.483647, -2147.483648,
-                                   0.49999999999999994e-6};
+    static const double edges[] = {
+        0.0,       -0.0,         5e-7,          -5e-7,       2.5e-6,       -2.5e-6,
+        1.0000005, 2147.4836465, -2147.4836465, 2147.483647, -2147.483648, 0.49999999999999994e-6};
     for (size_t i = 0; i < sizeof edges / sizeof edges[0]; i++) {
         assert_int_equal(to_um(edges[i]), (int32_t)lround(edges[i] * 1e6));
     }
@@ -167,8 +182,18 @@ static void test_wrap_pi_is_the_ieee_remainder(void **state)
 {
     (void)state;
     const double pi = HOST_SIM_PI;
-    const double at[] = {0.0, pi, 2.0 * pi, 3.0 * pi, 4.0 * pi, 5.0 * pi, 1.5 * (2.0 * pi),
-                         0.5 * (2.0 * pi), 2.5 * (2.0 * pi), 100.0, HUGE_VAL, (double)NAN};
+    const double at[] = {0.0,
+                         pi,
+                         2.0 * pi,
+                         3.0 * pi,
+                         4.0 * pi,
+                         5.0 * pi,
+                         1.5 * (2.0 * pi),
+                         0.5 * (2.0 * pi),
+                         2.5 * (2.0 * pi),
+                         100.0,
+                         HUGE_VAL,
+                         (double)NAN};
     for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
         for (int s = -1; s <= 1; s += 2) {
             double a = s * at[i];

@@ -26,8 +26,8 @@
 #define BOARD_LINKER_SCRIPT "stm32f405rg.ld"
 
 #undef BOARD_SONARS
-#define BOARD_SONARS(X)                                                                \
-    X(0, BOARD_PORT_A, 2, 3, TIM9, 1, BOARD_PORT_A, 0, 2, TIM5, 1, TIM5) /* PA2, PA0 */ \
+#define BOARD_SONARS(X)                                                                            \
+    X(0, BOARD_PORT_A, 2, 3, TIM9, 1, BOARD_PORT_A, 0, 2, TIM5, 1, TIM5) /* PA2, PA0 */            \
     X(1, BOARD_PORT_B, 9, 2, TIM4, 4, BOARD_PORT_B, 15, 9, TIM12, 2, TIM8_BRK_TIM12)
 
 #undef BOARD_BUMPS

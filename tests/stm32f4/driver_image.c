@@ -33,12 +33,12 @@ typedef struct {
 } driver_table_t;
 
 const driver_table_t driver_table = {
-    hal_storage_size, hal_storage_begin, hal_storage_write, hal_storage_commit,
-    hal_storage_read, hal_watchdog_kick, stm32_watchdog_start, hal_tick_start,
-    hal_tick_overruns, hal_time_us, hal_encoder_count, hal_motor_set, hal_servo_set_pulse,
-    hal_sonar_trigger, hal_sonar_poll, hal_servo_count, hal_sonar_count, hal_bump_count,
-    hal_bump_read, hal_uart_write, hal_uart_read, hal_critical_enter,
-    hal_critical_exit, cm_safe_outputs,
+    hal_storage_size,    hal_storage_begin,  hal_storage_write,    hal_storage_commit,
+    hal_storage_read,    hal_watchdog_kick,  stm32_watchdog_start, hal_tick_start,
+    hal_tick_overruns,   hal_time_us,        hal_encoder_count,    hal_motor_set,
+    hal_servo_set_pulse, hal_sonar_trigger,  hal_sonar_poll,       hal_servo_count,
+    hal_sonar_count,     hal_bump_count,     hal_bump_read,        hal_uart_write,
+    hal_uart_read,       hal_critical_enter, hal_critical_exit,    cm_safe_outputs,
 };
 
 int main(void)

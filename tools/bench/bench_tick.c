@@ -34,14 +34,14 @@ static const double SOUND = 343.0;
 
 /* The true robot and its sensors. */
 static struct {
-    double x, y, th;         /* true pose in the room, m and rad */
-    double count[2];         /* true encoder position, counts */
+    double x, y, th; /* true pose in the room, m and rad */
+    double count[2]; /* true encoder position, counts */
     uint32_t now_us;
     uint16_t servo_us;
     int ping_out;
-    uint32_t echo_at_us;     /* when the echo (or the timeout) completes */
-    uint32_t echo_us;        /* its width; 0 for a timeout */
-    int16_t duty[2];         /* motor duties in force */
+    uint32_t echo_at_us; /* when the echo (or the timeout) completes */
+    uint32_t echo_us;    /* its width; 0 for a timeout */
+    int16_t duty[2];     /* motor duties in force */
 } w;
 
 /* The trace being recorded (NULL: none) and the HAL traffic of the current tick. */
@@ -274,7 +274,7 @@ int main(int argc, char **argv)
     double ey = (r->pose.y_um * 1e-6 + ROOM_H / 2.0 - 1.0) - w.y;
     printf("%u ticks, grid %ux%u, %u pings (%u echoes, %u timeouts), %u OM hits, "
            "%u beyond rc, odometry error %.1f mm\n",
-           r->ticks, SLAM_GRID_A, SLAM_GRID_B, r->sweep.pings, r->sweep.echoes,
-           r->sweep.timeouts, r->mapper.hits, r->mapper.far, 1000.0 * hypot(ex, ey));
+           r->ticks, SLAM_GRID_A, SLAM_GRID_B, r->sweep.pings, r->sweep.echoes, r->sweep.timeouts,
+           r->mapper.hits, r->mapper.far, 1000.0 * hypot(ex, ey));
     return 0;
 }

@@ -66,7 +66,7 @@ typedef enum {
 #define SLAM_EXPLORE_MODE_ENUM(id, value, ...) id = value,
     SLAM_EXPLORE_MODES(SLAM_EXPLORE_MODE_ENUM)
 #undef SLAM_EXPLORE_MODE_ENUM
-    EXPLORE_MODES
+        EXPLORE_MODES
 } explore_mode_t;
 
 /** Everything the core can be told about the robot, the sensor and the method; the
@@ -77,9 +77,9 @@ typedef struct {
     uint32_t wheel_diameter_right_um; /**< nominal right wheel diameter; 65 mm */
     uint32_t wheel_base_um;           /**< 2h, distance between the wheel contacts; 130 mm */
     uint32_t encoder_counts_per_rev;  /**< encoder counts per wheel turn; 700 */
-    q1_30_t cal_left;   /**< UMBmark correction c_L of the left wheel distance; 1.0 */
-    q1_30_t cal_right;  /**< UMBmark correction c_R of the right wheel distance; 1.0 */
-    q1_30_t cal_base;   /**< UMBmark E_b, actual over nominal wheel base; 1.0 */
+    q1_30_t cal_left;                 /**< UMBmark correction c_L of the left wheel distance; 1.0 */
+    q1_30_t cal_right; /**< UMBmark correction c_R of the right wheel distance; 1.0 */
+    q1_30_t cal_base;  /**< UMBmark E_b, actual over nominal wheel base; 1.0 */
 
     /* Start pose in the world frame (known at the start, paper §III.B). */
     int32_t start_x_um;         /**< 0 */
@@ -146,11 +146,11 @@ typedef struct {
     uint32_t explore_seed;   /**< the random stream of the exploration (not 0); 1 */
 
     /* Persistence (mapstore.h). */
-    uint16_t save_period_s;  /**< save the maps this often from robot_idle(); 0 = never; 60 */
+    uint16_t save_period_s; /**< save the maps this often from robot_idle(); 0 = never; 60 */
 
     /* Localization (localize.h). */
-    uint8_t localize;        /**< 1: correct the pose against OM; 0: odometry alone (the
-                                  paper's); 1 */
+    uint8_t localize; /**< 1: correct the pose against OM; 0: odometry alone (the
+                           paper's); 1 */
 
     /* Sonar timing and the walls mode. */
     uint8_t ping_interval_ticks; /**< least time from one trigger to the next; 6 (60 ms, the

@@ -11,11 +11,11 @@
 
 /** Return codes of the core; every error is negative. */
 typedef enum {
-    SLAM_OK = 0,           /**< success */
-    SLAM_EINVAL = -1,      /**< an argument or configuration value is out of its range */
-    SLAM_EOUTSIDE = -2,    /**< a world point lies outside the A×B grid */
-    SLAM_EIO = -3,         /**< the hardware (HAL) reported a failure */
-    SLAM_ENOSYS = -4,      /**< the operation is not supported by this build or backend */
+    SLAM_OK = 0,        /**< success */
+    SLAM_EINVAL = -1,   /**< an argument or configuration value is out of its range */
+    SLAM_EOUTSIDE = -2, /**< a world point lies outside the A×B grid */
+    SLAM_EIO = -3,      /**< the hardware (HAL) reported a failure */
+    SLAM_ENOSYS = -4,   /**< the operation is not supported by this build or backend */
 } slam_err_t;
 
 #endif /* SLAM_ERROR_H */

@@ -99,15 +99,15 @@ typedef enum {
 
 /** Exploration state: one sub-struct a source file (explore_types.h). */
 typedef struct {
-    explore_cfg_t cfg;         /**< from the configuration */
-    explore_count_t count;     /**< what it did */
-    explore_machine_t machine; /**< the state and its clock */
-    explore_memory_t memory;   /**< the obstacle points, what the sonar heard */
+    explore_cfg_t cfg;           /**< from the configuration */
+    explore_count_t count;       /**< what it did */
+    explore_machine_t machine;   /**< the state and its clock */
+    explore_memory_t memory;     /**< the obstacle points, what the sonar heard */
     explore_corridor_t corridor; /**< the corridor ahead on the map */
-    explore_ahead_t ahead;     /**< what is ahead and on the right */
-    explore_wall_t wall;       /**< the wall on the right */
-    explore_moves_t moves;     /**< turning, looking, backing off along the trail
-                                    (moves.one_wheel: set by the caller) */
+    explore_ahead_t ahead;       /**< what is ahead and on the right */
+    explore_wall_t wall;         /**< the wall on the right */
+    explore_moves_t moves;       /**< turning, looking, backing off along the trail
+                                      (moves.one_wheel: set by the caller) */
     /* Weighing the ways and seeking a frontier block never run at once (both stand in a
      * state of their own, DECIDE and SEEK, which hands over to the other only after it
      * has ended): they share their work space. */
@@ -115,8 +115,8 @@ typedef struct {
         explore_decide_t decide;
         explore_search_t search;
     };
-    explore_seek_t seek;       /**< the frontier of blocks */
-    explore_door_t door;       /**< an opening being measured and passed */
+    explore_seek_t seek; /**< the frontier of blocks */
+    explore_door_t door; /**< an opening being measured and passed */
     explore_walls_t walls;
     explore_square_t square;
     explore_tm_t tm;
@@ -138,9 +138,8 @@ void explore_init(explore_t *e, const slam_config_t *cfg);
  *                whether only one of them did
  * @param target_mm_s  out: target speed of each wheel (ODOM_LEFT, ODOM_RIGHT), mm/s
  */
-void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
-                  int32_t target_mm_s[2]);
+void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw, const mapper_t *m,
+                  const grid_t *g, const int32_t held[2], bool stalled, int32_t target_mm_s[2]);
 
 /** Whether the exploration stands on purpose (EXPLORE_STOP): its mode stands still, the
  *  square is done, or everything reachable has been explored. ISR-safe. */

@@ -3,8 +3,8 @@
  * @file
  * The exploration's state (explore.h's explore_t), one sub-struct a source file of
  * firmware/src/explore/: each file keeps its own, which only the files above it read or
- * set (a file never reaches up). Only explore.h includes this. Outside the exploration only the tests read these
- * fields, and: the counters (host_sim's report; robot_idle.c keeps them across a
+ * set (a file never reaches up). Only explore.h includes this. Outside the exploration only the
+ * tests read these fields, and: the counters (host_sim's report; robot_idle.c keeps them across a
  * reconfiguration, as it does the random stream, machine.rng), and moves.one_wheel,
  * which robot.c sets.
  *
@@ -21,9 +21,9 @@
 #include "slam/fixed.h"
 #include "slam/grid.h"
 
-#define EXPLORE_POINTS 16u        /**< obstacle points remembered */
-#define EXPLORE_TRAIL 8u          /**< trail positions kept */
-#define EXPLORE_BLOCK_SHIFT 4u    /**< frontier blocks are 16 x 16 cells */
+#define EXPLORE_POINTS 16u     /**< obstacle points remembered */
+#define EXPLORE_TRAIL 8u       /**< trail positions kept */
+#define EXPLORE_BLOCK_SHIFT 4u /**< frontier blocks are 16 x 16 cells */
 #define EXPLORE_BLOCKS_A ((SLAM_GRID_A + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS_B ((SLAM_GRID_B + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS (EXPLORE_BLOCKS_A * EXPLORE_BLOCKS_B)
@@ -34,20 +34,20 @@ typedef fix_frame_t explore_frame_t;
 
 /** A walk along a straight line on the grid, a cell a step. */
 typedef struct {
-    int32_t fx, fy;  /**< where the walk is, Q16 cells */
-    int32_t dx, dy;  /**< one step, Q16 cells */
-    uint32_t left;   /**< steps still to walk */
+    int32_t fx, fy; /**< where the walk is, Q16 cells */
+    int32_t dx, dy; /**< one step, Q16 cells */
+    uint32_t left;  /**< steps still to walk */
 } explore_ray_t;
 
 /** What a pass over the obstacle memory found, in the robot's frame (µm from the axle). */
 typedef struct {
-    int32_t ahead_um;  /**< the nearest point in the corridor ahead; INT32_MAX if none */
-    int32_t lateral_um;/**< that point's offset, left positive */
-    int32_t right_q10; /**< the squared offset of the nearest point on the right, beside
-                            or ahead of the robot (walls mode), in units of (1.024 mm)^2;
-                            INT32_MAX if none */
-    int32_t behind_q10;/**< the squared distance of the nearest point on the right behind
-                            the axle, likewise */
+    int32_t ahead_um;   /**< the nearest point in the corridor ahead; INT32_MAX if none */
+    int32_t lateral_um; /**< that point's offset, left positive */
+    int32_t right_q10;  /**< the squared offset of the nearest point on the right, beside
+                             or ahead of the robot (walls mode), in units of (1.024 mm)^2;
+                             INT32_MAX if none */
+    int32_t behind_q10; /**< the squared distance of the nearest point on the right behind
+                             the axle, likewise */
 } explore_scan_t;
 
 /** From the configuration, at explore_init(). */
@@ -94,45 +94,45 @@ typedef struct {
 typedef struct {
     int32_t pt_x_um[EXPLORE_POINTS]; /**< obstacle points, world */
     int32_t pt_y_um[EXPLORE_POINTS];
-    uint32_t pt_seen[EXPLORE_POINTS]; /**< `now` when seen; 0 = empty */
+    uint32_t pt_seen[EXPLORE_POINTS];   /**< `now` when seen; 0 = empty */
     int32_t pending_x_um, pending_y_um; /**< the point of the reading that waits */
-    explore_frame_t frame;   /**< the pass: from where, facing which way */
-    explore_scan_t work;     /**< what it has found so far */
-    uint32_t heard;          /**< `now` at the last echo of any stop */
-    uint32_t deaf_stood;     /**< ticks stood since then for want of an echo */
-    uint16_t echo_bits;      /**< the last readings, the newest in bit 0: 1 an echo */
-    uint8_t echoes;          /**< echoes among them */
-    uint8_t next_point;      /**< the slot the next point goes to */
-    uint8_t next;            /**< the next slot the pass checks */
-    uint8_t pending;         /**< a reading's point waits to enter the memory */
-    bool narrow;             /**< the corridor checked is the body's alone (set while
-                                  passing an opening) */
-    bool right;              /**< the pass measures what is on the right (walls mode) */
+    explore_frame_t frame;              /**< the pass: from where, facing which way */
+    explore_scan_t work;                /**< what it has found so far */
+    uint32_t heard;                     /**< `now` at the last echo of any stop */
+    uint32_t deaf_stood;                /**< ticks stood since then for want of an echo */
+    uint16_t echo_bits;                 /**< the last readings, the newest in bit 0: 1 an echo */
+    uint8_t echoes;                     /**< echoes among them */
+    uint8_t next_point;                 /**< the slot the next point goes to */
+    uint8_t next;                       /**< the next slot the pass checks */
+    uint8_t pending;                    /**< a reading's point waits to enter the memory */
+    bool narrow;                        /**< the corridor checked is the body's alone (set while
+                                             passing an opening) */
+    bool right;                         /**< the pass measures what is on the right (walls mode) */
 } explore_memory_t;
 
 /** corridor.c: the corridor ahead on the map, read a few cells a tick. */
 typedef struct {
-    int32_t fx, fy;    /**< the left end of the first row, Q16 cells */
-    int32_t dx, dy;    /**< one cell along the heading, Q16 cells */
-    int32_t x, y;      /**< the next sample, Q16 cells */
-    int32_t work_um;   /**< the nearest occupied row so far, from the axle; INT32_MAX none */
-    uint8_t along;     /**< rows of cell-spaced samples */
-    uint8_t across;    /**< and columns */
-    uint8_t next;      /**< the next sample read */
-    uint8_t hits;      /**< occupied samples read */
-    uint8_t row, col;  /**< the next sample's row and column */
+    int32_t fx, fy;   /**< the left end of the first row, Q16 cells */
+    int32_t dx, dy;   /**< one cell along the heading, Q16 cells */
+    int32_t x, y;     /**< the next sample, Q16 cells */
+    int32_t work_um;  /**< the nearest occupied row so far, from the axle; INT32_MAX none */
+    uint8_t along;    /**< rows of cell-spaced samples */
+    uint8_t across;   /**< and columns */
+    uint8_t next;     /**< the next sample read */
+    uint8_t hits;     /**< occupied samples read */
+    uint8_t row, col; /**< the next sample's row and column */
 } explore_corridor_t;
 
 /** ahead.c: the pass over the memory and the corridor, and its last complete result. */
 typedef struct {
-    explore_scan_t scan;   /**< the memory, as of the last complete pass */
-    int32_t map_um;        /**< the map's nearest occupied row ahead (or the held-back
-                                obstacle), from the axle; INT32_MAX if none */
-    int32_t ox_um, oy_um;  /**< where the robot was when that pass began */
-    uint32_t at;           /**< `now` when it began */
-    uint32_t begun;        /**< `now` when the pass under way began */
-    uint8_t phase;         /**< the slice of the pass the next tick makes */
-    bool spare;            /**< each pass ends with a slice for the mode (walls mode) */
+    explore_scan_t scan;  /**< the memory, as of the last complete pass */
+    int32_t map_um;       /**< the map's nearest occupied row ahead (or the held-back
+                               obstacle), from the axle; INT32_MAX if none */
+    int32_t ox_um, oy_um; /**< where the robot was when that pass began */
+    uint32_t at;          /**< `now` when it began */
+    uint32_t begun;       /**< `now` when the pass under way began */
+    uint8_t phase;        /**< the slice of the pass the next tick makes */
+    bool spare;           /**< each pass ends with a slice for the mode (walls mode) */
 } explore_ahead_t;
 
 /** wall.c: the wall on the right while following it. */
@@ -140,68 +140,68 @@ typedef struct {
     int32_t front_x_um, front_y_um; /**< its furthest point */
     int32_t edge_x_um, edge_y_um;   /**< an opening: the wall's last point before it */
     int32_t far_x_um, far_y_um;     /**< and its first point after it */
-    uint32_t lost_um;   /**< driven since the wall was last beside */
-    uint16_t arc_ticks; /**< ticks spent arcing right without it (up to a circle's) */
-    bool front;         /**< front_x/y hold a point */
-    bool door;          /**< edge and far hold an opening */
+    uint32_t lost_um;               /**< driven since the wall was last beside */
+    uint16_t arc_ticks;             /**< ticks spent arcing right without it (up to a circle's) */
+    bool front;                     /**< front_x/y hold a point */
+    bool door;                      /**< edge and far hold an opening */
 } explore_wall_t;
 
 /** moves.c: turning, facing, looking, the trail and backing off along it. */
 typedef struct {
     int32_t trail_x_um[EXPLORE_TRAIL]; /**< where the robot was, newest at trail_head */
     int32_t trail_y_um[EXPLORE_TRAIL];
-    int32_t target_mm_s[2];   /**< what the last tick asked of the wheels */
-    bam32_t target_heading;   /**< TURN: where to */
+    int32_t target_mm_s[2];       /**< what the last tick asked of the wheels */
+    bam32_t target_heading;       /**< TURN: where to */
     int32_t face_x_um, face_y_um; /**< FACE: the point turned to */
     int32_t leg_x_um, leg_y_um;   /**< where the last turn ended, or the stall that backing
                                        off began from */
-    uint32_t look_mark;       /**< LOOK: `now` when its sweep was complete; 0 before */
-    uint8_t after_turn;       /**< the state LOOK hands over to */
-    uint8_t trail_head;       /**< the newest trail position */
-    uint8_t trail_len;        /**< trail positions held */
-    uint8_t back_left;        /**< BACK: trail positions still to reach */
-    uint8_t holds;            /**< HOLD: stalls since the backing off began */
-    bool hold_back;           /**< HOLD: back off after it (else look) */
-    bool trail_fresh;         /**< a trail position was added: the walls mode looks at it */
-    bool one_wheel;           /**< set by the caller with `stalled`: only one wheel stalled,
-                                   the other turning (motion_one_wheel()) */
+    uint32_t look_mark;           /**< LOOK: `now` when its sweep was complete; 0 before */
+    uint8_t after_turn;           /**< the state LOOK hands over to */
+    uint8_t trail_head;           /**< the newest trail position */
+    uint8_t trail_len;            /**< trail positions held */
+    uint8_t back_left;            /**< BACK: trail positions still to reach */
+    uint8_t holds;                /**< HOLD: stalls since the backing off began */
+    bool hold_back;               /**< HOLD: back off after it (else look) */
+    bool trail_fresh;             /**< a trail position was added: the walls mode looks at it */
+    bool one_wheel;               /**< set by the caller with `stalled`: only one wheel stalled,
+                                       the other turning (motion_one_wheel()) */
 } explore_moves_t;
 
 /** decide.c: the weighing of candidate headings under way (DECIDE). */
 typedef struct {
-    explore_ray_t ray;   /**< the candidate's ray */
-    uint32_t ray_cost;   /**< visits counted along it so far */
-    uint32_t best_cost;  /**< the best candidate's cost */
-    uint8_t candidate;   /**< the candidate being weighed */
-    uint8_t weighed;     /**< candidates weighed */
-    uint8_t best;        /**< the best candidate so far */
-    uint8_t phase;       /**< 0 start the candidate's ray, 1 walk and judge it */
-    uint8_t first;       /**< where the weighing began */
-    uint8_t span;        /**< candidates to weigh from the first one */
-    uint8_t then;        /**< the state the weighing ends in */
+    explore_ray_t ray;  /**< the candidate's ray */
+    uint32_t ray_cost;  /**< visits counted along it so far */
+    uint32_t best_cost; /**< the best candidate's cost */
+    uint8_t candidate;  /**< the candidate being weighed */
+    uint8_t weighed;    /**< candidates weighed */
+    uint8_t best;       /**< the best candidate so far */
+    uint8_t phase;      /**< 0 start the candidate's ray, 1 walk and judge it */
+    uint8_t first;      /**< where the weighing began */
+    uint8_t span;       /**< candidates to weigh from the first one */
+    uint8_t then;       /**< the state the weighing ends in */
 } explore_decide_t;
 
 /** seek.c: the search for a frontier block under way (SEEK). */
 typedef struct {
-    explore_ray_t sight;                      /**< the line of sight being walked */
-    uint32_t d2[EXPLORE_SEEK_CANDIDATES];     /**< the candidates' squared distances, cells² */
-    uint16_t block[EXPLORE_SEEK_CANDIDATES];  /**< the nearest frontier blocks */
-    uint16_t next;       /**< the next block weighed */
-    uint16_t a, b;       /**< the robot's cell */
-    uint8_t n;           /**< candidates found */
-    uint8_t i;           /**< the one whose line of sight is walked */
-    uint8_t rounds;      /**< sets of candidates tried */
+    explore_ray_t sight;                     /**< the line of sight being walked */
+    uint32_t d2[EXPLORE_SEEK_CANDIDATES];    /**< the candidates' squared distances, cells² */
+    uint16_t block[EXPLORE_SEEK_CANDIDATES]; /**< the nearest frontier blocks */
+    uint16_t next;                           /**< the next block weighed */
+    uint16_t a, b;                           /**< the robot's cell */
+    uint8_t n;                               /**< candidates found */
+    uint8_t i;                               /**< the one whose line of sight is walked */
+    uint8_t rounds;                          /**< sets of candidates tried */
 } explore_search_t;
 
 /** seek.c: the frontier at the scale of blocks (a bit a block), and the block crossed to. */
 typedef struct {
-    int32_t target_x_um, target_y_um; /**< its centre */
-    uint32_t target_since; /**< `now` when it was chosen */
-    uint32_t free_scan;    /**< the cell the rolling scan reads next */
-    uint32_t target;       /**< the block crossed to; 0xFFFF none */
+    int32_t target_x_um, target_y_um;             /**< its centre */
+    uint32_t target_since;                        /**< `now` when it was chosen */
+    uint32_t free_scan;                           /**< the cell the rolling scan reads next */
+    uint32_t target;                              /**< the block crossed to; 0xFFFF none */
     uint8_t explored[(EXPLORE_BLOCKS + 7u) / 8u]; /**< a known free cell lies in it */
     uint8_t dead[(EXPLORE_BLOCKS + 7u) / 8u];     /**< sought and not reached: given up */
-    bool reached;          /**< the target was reached: seek the next */
+    bool reached;                                 /**< the target was reached: seek the next */
 } explore_seek_t;
 
 /** door.c: an opening in the wall on the right, measured on the map and passed. */

@@ -17,16 +17,16 @@
 
 #include <stdint.h>
 
-typedef int32_t q16_16_t;   /**< Q16.16: range ±32768, resolution 1.5e-5 */
-typedef int32_t q1_30_t;    /**< Q1.30: range [-2, 2), resolution 9.3e-10 */
-typedef int64_t q48_16_t;   /**< Q48.16: a long accumulator with 16 fraction bits */
-typedef uint32_t bam32_t;   /**< binary angle: 2^32 = one full turn */
+typedef int32_t q16_16_t; /**< Q16.16: range ±32768, resolution 1.5e-5 */
+typedef int32_t q1_30_t;  /**< Q1.30: range [-2, 2), resolution 9.3e-10 */
+typedef int64_t q48_16_t; /**< Q48.16: a long accumulator with 16 fraction bits */
+typedef uint32_t bam32_t; /**< binary angle: 2^32 = one full turn */
 
-#define FIX_Q16_ONE ((q16_16_t)1 << 16)   /**< 1.0 in Q16.16 */
-#define FIX_Q30_ONE ((q1_30_t)1 << 30)    /**< 1.0 in Q1.30 */
+#define FIX_Q16_ONE ((q16_16_t)1 << 16) /**< 1.0 in Q16.16 */
+#define FIX_Q30_ONE ((q1_30_t)1 << 30)  /**< 1.0 in Q1.30 */
 
-#define FIX_BAM_QUARTER 0x40000000u       /**< 90 degrees */
-#define FIX_BAM_HALF 0x80000000u          /**< 180 degrees */
+#define FIX_BAM_QUARTER 0x40000000u /**< 90 degrees */
+#define FIX_BAM_HALF 0x80000000u    /**< 180 degrees */
 
 /** Maximum absolute error of fix_sin()/fix_cos() against the exact value, in Q1.30
  *  units (5e-6 ≈ 5369 units); the test of the fixed module asserts it. */
@@ -62,8 +62,8 @@ static inline int32_t fix_mul_q30(int32_t v, q1_30_t f)
  */
 static inline int64_t fix_mul_q30_i64(int64_t v, q1_30_t f)
 {
-    int64_t hi = (v >> 15) * f;               /* |hi| < 2^63 */
-    int64_t lo = (v & 0x7FFF) * (int64_t)f;   /* |lo| < 2^46 */
+    int64_t hi = (v >> 15) * f;             /* |hi| < 2^63 */
+    int64_t lo = (v & 0x7FFF) * (int64_t)f; /* |lo| < 2^46 */
     return fix_round_shift(hi + fix_round_shift(lo, 15u), 15u);
 }
 

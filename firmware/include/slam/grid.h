@@ -58,22 +58,23 @@ typedef struct {
 
 /** OM, TM and the geometry that maps world points to their cells. */
 typedef struct {
-    int32_t origin_x_um; /**< world x of the lower-left corner of cell (0, 0) */
-    int32_t origin_y_um; /**< world y of the lower-left corner of cell (0, 0) */
-    uint32_t cell_um;    /**< L */
-    uint8_t om_max;      /**< OMmax */
-    uint8_t tm_max;      /**< TMmax */
-    uint8_t mode;        /**< an om_mode_t */
-    uint8_t hit;         /**< OM_MODE_EVIDENCE: log-odds step of a hit */
-    uint8_t miss;        /**< OM_MODE_EVIDENCE: log-odds step of a pass */
-    uint32_t rejected;   /**< points that fell outside the grid (saturating) */
+    int32_t origin_x_um;         /**< world x of the lower-left corner of cell (0, 0) */
+    int32_t origin_y_um;         /**< world y of the lower-left corner of cell (0, 0) */
+    uint32_t cell_um;            /**< L */
+    uint8_t om_max;              /**< OMmax */
+    uint8_t tm_max;              /**< TMmax */
+    uint8_t mode;                /**< an om_mode_t */
+    uint8_t hit;                 /**< OM_MODE_EVIDENCE: log-odds step of a hit */
+    uint8_t miss;                /**< OM_MODE_EVIDENCE: log-odds step of a pass */
+    uint32_t rejected;           /**< points that fell outside the grid (saturating) */
     uint8_t om[SLAM_GRID_CELLS]; /**< obstacle map, index b·A + a */
     uint8_t tm[SLAM_GRID_CELLS]; /**< trajectory map, index b·A + a */
 } grid_t;
 
 /**
- * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the configuration (L, start pose, start
- * cell, OMmax, TMmax). The configuration must have passed slam_config_check().
+ * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the
+ * configuration (L, start pose, start cell, OMmax, TMmax). The configuration must have passed
+ * slam_config_check().
  */
 void grid_init(grid_t *g, const slam_config_t *cfg);
 

@@ -87,17 +87,17 @@
 #include "slam/readings.h"
 
 #ifndef LOC_HOLD
-#define LOC_HOLD 256u            /**< hits held back from OM */
+#define LOC_HOLD 256u /**< hits held back from OM */
 #endif
-#define LOC_AHEAD_NONE INT32_MIN  /**< no held-back hit ahead (loc_tick_t's ahead points) */
+#define LOC_AHEAD_NONE INT32_MIN /**< no held-back hit ahead (loc_tick_t's ahead points) */
 
 /** The correction from the odometry frame to the map's. */
 typedef struct {
-    int32_t tx_um;  /**< translation */
+    int32_t tx_um; /**< translation */
     int32_t ty_um;
-    bam32_t th;     /**< rotation */
-    q1_30_t c;      /**< cos th */
-    q1_30_t s;      /**< sin th */
+    bam32_t th; /**< rotation */
+    q1_30_t c;  /**< cos th */
+    q1_30_t s;  /**< sin th */
 } loc_corr_t;
 
 /** The filter's states: x, y, θ of a correction, and odometry's two drifts. */
@@ -121,11 +121,11 @@ typedef struct {
  *  systematic drift of odometry, κd (prad/mm) and κt (ppb), and their estimates. */
 typedef struct {
     lkf_cov_t cov;
-    int64_t drift_nrad;               /**< learned drift not yet turned into the correction */
-    loc_corr_t corr;                  /**< the background loop's correction */
+    int64_t drift_nrad; /**< learned drift not yet turned into the correction */
+    loc_corr_t corr;    /**< the background loop's correction */
     int32_t kappa_prad_per_mm;
     int32_t kappa_ppb;
-    odom_pose_t last_odom;            /**< odometry pose of the last reading */
+    odom_pose_t last_odom; /**< odometry pose of the last reading */
     bool have_last;
 } loc_filter_t;
 
@@ -133,22 +133,22 @@ typedef struct {
 typedef struct {
     loc_point_t win[LOC_HOLD];
     uint32_t shadowed[LOC_HOLD / 32u]; /**< bit i: win[i] lay just behind a wall: not mapped */
-    loc_corr_t placed;                /**< where the held-back hits' early halves lie */
-    int32_t clear_um;                 /**< half the corridor ahead (clearance_um) */
+    loc_corr_t placed;                 /**< where the held-back hits' early halves lie */
+    int32_t clear_um;                  /**< half the corridor ahead (clearance_um) */
     uint16_t first;
     uint16_t count;
-    uint8_t point_shift;              /**< a loc_point_t's unit, log2 µm */
+    uint8_t point_shift; /**< a loc_point_t's unit, log2 µm */
 } loc_hold_t;
 
 /** Matches (loc_match.c). */
 typedef struct {
-    lkf_cov_t work;                   /**< a match's covariance while it runs (static: the
-                                           idle loop's stack stays small) */
-    uint32_t tried;                   /**< matches attempted */
-    uint32_t applied;                 /**< matches that moved the pose */
-    uint32_t refused;                 /**< matches refused (too few walls, too large) */
-    uint32_t last_points;             /**< wall measurements of the last match */
-    uint8_t since;                    /**< hits added since the last match */
+    lkf_cov_t work;       /**< a match's covariance while it runs (static: the
+                               idle loop's stack stays small) */
+    uint32_t tried;       /**< matches attempted */
+    uint32_t applied;     /**< matches that moved the pose */
+    uint32_t refused;     /**< matches refused (too few walls, too large) */
+    uint32_t last_points; /**< wall measurements of the last match */
+    uint8_t since;        /**< hits added since the last match */
 } loc_match_t;
 
 /** What the background loop publishes after each reading and the tick adopts (loc_tick.c):
@@ -157,13 +157,13 @@ typedef struct {
 typedef struct {
     volatile loc_corr_t pub;
     volatile int32_t pub_ahead[2];
-    loc_corr_t corr;                  /**< the tick's */
+    loc_corr_t corr; /**< the tick's */
     int32_t ahead[2];
 } loc_tick_t;
 
 /** Localization state and counters. */
 typedef struct {
-    bool on;            /**< matching enabled (the configuration) */
+    bool on; /**< matching enabled (the configuration) */
     loc_tick_t tick;
     loc_filter_t filter;
     loc_hold_t hold;

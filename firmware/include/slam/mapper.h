@@ -33,28 +33,28 @@
 
 /** What became of one reading. */
 typedef enum {
-    MAPPER_HIT = 0,   /**< OM of the obstacle cell was incremented */
-    MAPPER_FAR,       /**< d >= rc: outside the confidence sector, no hit */
-    MAPPER_NEAR,      /**< d < range_min: not trusted, OM untouched */
-    MAPPER_OUTSIDE,   /**< the obstacle point is outside the grid, OM untouched */
-    MAPPER_TIMEOUT,   /**< no echo, OM untouched */
+    MAPPER_HIT = 0, /**< OM of the obstacle cell was incremented */
+    MAPPER_FAR,     /**< d >= rc: outside the confidence sector, no hit */
+    MAPPER_NEAR,    /**< d < range_min: not trusted, OM untouched */
+    MAPPER_OUTSIDE, /**< the obstacle point is outside the grid, OM untouched */
+    MAPPER_TIMEOUT, /**< no echo, OM untouched */
 } mapper_outcome_t;
 
 /** Mapper state and counters. */
 typedef struct {
-    sonar_t sonar;          /**< sensor geometry */
-    uint32_t cell_um;       /**< L: a hit's beam is cleared up to one cell short of it */
-    odom_pose_t ping_pose;  /**< the pose when the last ping was triggered */
-    uint32_t hits;          /**< readings that incremented OM */
-    uint32_t far;           /**< readings with d >= rc */
-    uint32_t near;          /**< readings with d < range_min */
-    uint32_t outside;       /**< obstacle points outside the grid */
-    uint32_t timeouts;      /**< readings without an echo */
-    uint32_t cleared;       /**< OM_MODE_EVIDENCE: cells lowered by free-space evidence */
-    mapper_outcome_t last;  /**< outcome of the most recent reading */
-    int32_t last_x_um;      /**< its obstacle point, when it had one (MAPPER_HIT, */
-    int32_t last_y_um;      /**< MAPPER_OUTSIDE) */
-    bool shadowed;          /**< mapper_free(): the hit lies just behind a wall OM holds */
+    sonar_t sonar;         /**< sensor geometry */
+    uint32_t cell_um;      /**< L: a hit's beam is cleared up to one cell short of it */
+    odom_pose_t ping_pose; /**< the pose when the last ping was triggered */
+    uint32_t hits;         /**< readings that incremented OM */
+    uint32_t far;          /**< readings with d >= rc */
+    uint32_t near;         /**< readings with d < range_min */
+    uint32_t outside;      /**< obstacle points outside the grid */
+    uint32_t timeouts;     /**< readings without an echo */
+    uint32_t cleared;      /**< OM_MODE_EVIDENCE: cells lowered by free-space evidence */
+    mapper_outcome_t last; /**< outcome of the most recent reading */
+    int32_t last_x_um;     /**< its obstacle point, when it had one (MAPPER_HIT, */
+    int32_t last_y_um;     /**< MAPPER_OUTSIDE) */
+    bool shadowed;         /**< mapper_free(): the hit lies just behind a wall OM holds */
 } mapper_t;
 
 /** Prepare the mapper for a checked configuration. */
@@ -74,8 +74,8 @@ void mapper_tick(mapper_t *m, grid_t *g, const odom_pose_t *pose, const sweep_ou
  * mapper_tick() calls it; a log replay calls it directly. ISR-safe, O(1).
  * @return the outcome (also counted and kept in m->last)
  */
-mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping,
-                                bam32_t servo, uint32_t range_um);
+mapper_outcome_t mapper_reading(mapper_t *m, grid_t *g, const odom_pose_t *at_ping, bam32_t servo,
+                                uint32_t range_um);
 
 /**
  * mapper_reading() in its two halves, for a caller that holds hits back (localize.h).

@@ -29,7 +29,7 @@
 
 #define MAPSTORE_MAGIC 0x4D414C53u /**< "SLAM" in a little-endian dump */
 #define MAPSTORE_VERSION 2u
-#define MAPSTORE_CHUNK 256u        /**< bytes written per mapstore_step() */
+#define MAPSTORE_CHUNK 256u /**< bytes written per mapstore_step() */
 
 /** The header at the start of a slot (all fields little-endian on every target). */
 typedef struct {
@@ -40,17 +40,17 @@ typedef struct {
     uint32_t cell_um;      /**< L */
     int32_t origin_x_um;   /**< lower-left corner of cell (0, 0) */
     int32_t origin_y_um;
-    uint32_t seq;          /**< grows with every save */
-    uint32_t ticks;        /**< robot ticks when the save began */
-    int32_t pose_x_um;     /**< the robot's pose when the save began */
+    uint32_t seq;      /**< grows with every save */
+    uint32_t ticks;    /**< robot ticks when the save began */
+    int32_t pose_x_um; /**< the robot's pose when the save began */
     int32_t pose_y_um;
     uint32_t pose_heading; /**< binary angle */
     uint8_t om_mode;       /**< what an OM cell holds (om_mode_t), so a reader can tell */
     uint8_t om_hit;        /**< OM_MODE_EVIDENCE: the log-odds steps */
     uint8_t om_miss;
-    uint8_t om_max;        /**< OM_MODE_COUNT: OMmax */
-    uint32_t data_crc;     /**< CRC-32 (IEEE) of OM then TM */
-    uint32_t header_crc;   /**< CRC-32 of the header bytes before this field */
+    uint8_t om_max;      /**< OM_MODE_COUNT: OMmax */
+    uint32_t data_crc;   /**< CRC-32 (IEEE) of OM then TM */
+    uint32_t header_crc; /**< CRC-32 of the header bytes before this field */
 } mapstore_header_t;
 
 /** Progress of saves. */

@@ -13,8 +13,9 @@
  * clamped to ±HAL's full scale (1000), where e = v_set − v_measured this tick and ē is its
  * mean over the last MOTION_SPEED_TICKS ticks: one encoder count is 0.3 mm, a large step
  * of a 2 mm-per-tick speed, so the proportional part works on a smoothed speed while the
- * integral part (a position error, which counts do not blur) takes every count. The acceleration limit is what the paper's Fig. 6
- * is about: a robot that accelerates hard slips, and its odometry drifts more.
+ * integral part (a position error, which counts do not blur) takes every count. The acceleration
+ * limit is what the paper's Fig. 6 is about: a robot that accelerates hard slips, and its odometry
+ * drifts more.
  */
 #ifndef SLAM_MOTION_H
 #define SLAM_MOTION_H
@@ -40,18 +41,18 @@
 
 /** Speed control state, per wheel (ODOM_LEFT, ODOM_RIGHT). */
 typedef struct {
-    int32_t target_um_tick[2]; /**< where each wheel speed is going */
-    int32_t set_um_tick[2];    /**< the ramped set speed */
-    int32_t integral_um[2];    /**< Σ(set − measured), clamped */
+    int32_t target_um_tick[2];                  /**< where each wheel speed is going */
+    int32_t set_um_tick[2];                     /**< the ramped set speed */
+    int32_t integral_um[2];                     /**< Σ(set − measured), clamped */
     int32_t err_um_tick[2][MOTION_SPEED_TICKS]; /**< the last speed errors */
-    int32_t err_sum[2];        /**< their sum */
-    uint8_t err_pos;           /**< where the next error goes */
-    int32_t accel_um_tick2;    /**< the most the set speed changes in one tick */
-    int32_t top_um_tick;       /**< wheel speed at full duty */
-    int32_t kp_q8;             /**< duty per µm/tick of error, Q8 */
-    int32_t ki_q8;             /**< duty per µm of accumulated error, Q8 */
-    int32_t integral_max_um;   /**< |Σe| limit: the integral term alone stays in range */
-    uint16_t slow_ticks[2];    /**< ticks in a row below a quarter of the set speed */
+    int32_t err_sum[2];                         /**< their sum */
+    uint8_t err_pos;                            /**< where the next error goes */
+    int32_t accel_um_tick2;                     /**< the most the set speed changes in one tick */
+    int32_t top_um_tick;                        /**< wheel speed at full duty */
+    int32_t kp_q8;                              /**< duty per µm/tick of error, Q8 */
+    int32_t ki_q8;                              /**< duty per µm of accumulated error, Q8 */
+    int32_t integral_max_um; /**< |Σe| limit: the integral term alone stays in range */
+    uint16_t slow_ticks[2];  /**< ticks in a row below a quarter of the set speed */
 } motion_t;
 
 /** Start at rest with the gains and limits of a checked configuration. */

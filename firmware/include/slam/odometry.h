@@ -44,13 +44,13 @@ typedef struct {
 
 /** Odometry state. */
 typedef struct {
-    q48_16_t x_um;              /**< X, Q48.16 µm */
-    q48_16_t y_um;              /**< Y, Q48.16 µm */
-    uint64_t heading_q16;       /**< Ψ: a binary angle in bits 16..47, fraction below */
-    uint16_t last_count[2];     /**< encoder counters at the previous step (left, right) */
-    int32_t step_um[2];         /**< how far each wheel rolled in the last step, µm */
-    q48_16_t um_per_count[2];   /**< calibrated wheel travel per count, Q48.16 µm */
-    q48_16_t bam_per_count[2];  /**< heading change per count of one wheel, Q48.16 */
+    q48_16_t x_um;             /**< X, Q48.16 µm */
+    q48_16_t y_um;             /**< Y, Q48.16 µm */
+    uint64_t heading_q16;      /**< Ψ: a binary angle in bits 16..47, fraction below */
+    uint16_t last_count[2];    /**< encoder counters at the previous step (left, right) */
+    int32_t step_um[2];        /**< how far each wheel rolled in the last step, µm */
+    q48_16_t um_per_count[2];  /**< calibrated wheel travel per count, Q48.16 µm */
+    q48_16_t bam_per_count[2]; /**< heading change per count of one wheel, Q48.16 */
 } odom_t;
 
 /** Wheel indices, shared with the HAL's encoder and motor numbering. */

@@ -32,30 +32,30 @@
 
 /** All state of the robot's firmware. */
 typedef struct {
-    slam_config_t cfg;     /**< the configuration in use */
-    odom_t odom;           /**< pose tracking */
-    sweep_t sweep;         /**< servo sweep */
-    mapper_t mapper;       /**< Algorithm C.1 */
-    readq_t readq;         /**< completed readings, from the tick to robot_idle() */
-    loc_t loc;             /**< pose correction */
-    explore_t explore;     /**< where to go */
-    umbmark_t umbmark;     /**< the calibration test, instead of exploring (EXPLORE_UMBMARK) */
-    motion_t motion;       /**< wheel speed control */
-    grid_t grid;           /**< OM and TM */
-    odom_pose_t pose;      /**< the pose after the last tick's odometry step */
-    sweep_out_t last;      /**< what the sweep did in the last tick (for logs) */
-    uint32_t ticks;        /**< control ticks since robot_init() */
-    uint32_t tick_us;      /**< hal_time_us() when the last tick began */
-    uint32_t ping_errors;  /**< pings the sonar refused (busy) */
-    uint32_t idle_ticks;   /**< robot_idle(): the tick count it saw last */
-    mapstore_t store;      /**< map saves, run by robot_idle() */
-    uint32_t next_save;    /**< the tick count at which the next periodic save begins */
+    slam_config_t cfg;    /**< the configuration in use */
+    odom_t odom;          /**< pose tracking */
+    sweep_t sweep;        /**< servo sweep */
+    mapper_t mapper;      /**< Algorithm C.1 */
+    readq_t readq;        /**< completed readings, from the tick to robot_idle() */
+    loc_t loc;            /**< pose correction */
+    explore_t explore;    /**< where to go */
+    umbmark_t umbmark;    /**< the calibration test, instead of exploring (EXPLORE_UMBMARK) */
+    motion_t motion;      /**< wheel speed control */
+    grid_t grid;          /**< OM and TM */
+    odom_pose_t pose;     /**< the pose after the last tick's odometry step */
+    sweep_out_t last;     /**< what the sweep did in the last tick (for logs) */
+    uint32_t ticks;       /**< control ticks since robot_init() */
+    uint32_t tick_us;     /**< hal_time_us() when the last tick began */
+    uint32_t ping_errors; /**< pings the sonar refused (busy) */
+    uint32_t idle_ticks;  /**< robot_idle(): the tick count it saw last */
+    mapstore_t store;     /**< map saves, run by robot_idle() */
+    uint32_t next_save;   /**< the tick count at which the next periodic save begins */
     volatile bool save_requested; /**< robot_request_save() was called */
-    volatile uint8_t hold; /**< why robot_idle() asks the tick to stop the robot
-                                (ROBOT_HOLD_* bits); 0: drive */
-    volatile bool held;    /**< the tick says the robot stands still under hold */
-    uint8_t pending;       /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
-    telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
+    volatile uint8_t hold;        /**< why robot_idle() asks the tick to stop the robot
+                                       (ROBOT_HOLD_* bits); 0: drive */
+    volatile bool held;           /**< the tick says the robot stands still under hold */
+    uint8_t pending; /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
+    telem_t telem;   /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
 
 /** Reasons to hold the robot still: a save beginning, a command waiting to be applied,
@@ -92,9 +92,9 @@ void robot_tick(robot_t *r);
  * save_period_s, and on request) a chunk per call. A command that changes the
  * configuration or the exploration mode waits until the tick has brought the robot to a
  * stand, then re-initialises what the configuration feeds (odometry gains, keeping the
- * pose; the sonar's limits; motion; exploration, from the pose where it stands). A save begins only once the tick has brought the robot to a
- * stand: beginning a slot erases it, and on an MCU that stalls the CPU, ticks included,
- * for up to two seconds.
+ * pose; the sonar's limits; motion; exploration, from the pose where it stands). A save begins only
+ * once the tick has brought the robot to a stand: beginning a slot erases it, and on an MCU that
+ * stalls the CPU, ticks included, for up to two seconds.
  */
 void robot_idle(robot_t *r);
 

@@ -55,9 +55,9 @@ bam32_t sonar_bearing(const sonar_t *s, bam32_t heading, bam32_t servo);
 
 /** A reading's beam in the world: where it starts and its direction. */
 typedef struct {
-    int32_t x_um;  /**< the servo axis */
+    int32_t x_um; /**< the servo axis */
     int32_t y_um;
-    q1_30_t c;     /**< cos and sin of the bearing θ (Eq. 3) */
+    q1_30_t c; /**< cos and sin of the bearing θ (Eq. 3) */
     q1_30_t s;
 } sonar_beam_t;
 
@@ -82,7 +82,7 @@ void sonar_origin(const sonar_t *s, const odom_pose_t *pose, int32_t *x_um, int3
  * @param x_um, y_um  out: the obstacle point in the world, µm (saturated at the
  *                    int32_t limits, which lie far outside any grid)
  */
-void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo,
-                    uint32_t range_um, int32_t *x_um, int32_t *y_um);
+void sonar_obstacle(const sonar_t *s, const odom_pose_t *pose, bam32_t servo, uint32_t range_um,
+                    int32_t *x_um, int32_t *y_um);
 
 #endif /* SLAM_SONAR_H */

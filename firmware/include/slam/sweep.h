@@ -65,20 +65,20 @@ typedef enum {
 
 /** Sweep state and counters. */
 typedef struct {
-    int32_t stop_mdeg[SLAM_SWEEP_STOPS_MAX];       /**< servo angle of each stop */
-    bam32_t stop_bam[SLAM_SWEEP_STOPS_MAX];        /**< the same as binary angles */
-    uint16_t stop_pulse_us[SLAM_SWEEP_STOPS_MAX];  /**< the servo pulse of each stop */
-    uint8_t stops;               /**< number of stops n */
-    uint8_t settle_ticks;        /**< ticks from servo command to ping */
-    uint8_t echo_timeout_ticks;  /**< ticks from ping to giving up */
-    uint8_t ping_interval_ticks; /**< least ticks from one ping to the next */
-    uint8_t since_ping;          /**< ticks since the last ping (saturating) */
-    uint8_t seq;                 /**< position in the back-and-forth cycle, 0 .. 2n-1 */
-    uint8_t phase;               /**< a sweep_phase_t */
-    uint8_t ticks;               /**< ticks spent in the phase */
-    uint32_t pings;              /**< pings triggered */
-    uint32_t echoes;             /**< readings with an echo */
-    uint32_t timeouts;           /**< readings without one (HAL or sweep timeout) */
+    int32_t stop_mdeg[SLAM_SWEEP_STOPS_MAX];      /**< servo angle of each stop */
+    bam32_t stop_bam[SLAM_SWEEP_STOPS_MAX];       /**< the same as binary angles */
+    uint16_t stop_pulse_us[SLAM_SWEEP_STOPS_MAX]; /**< the servo pulse of each stop */
+    uint8_t stops;                                /**< number of stops n */
+    uint8_t settle_ticks;                         /**< ticks from servo command to ping */
+    uint8_t echo_timeout_ticks;                   /**< ticks from ping to giving up */
+    uint8_t ping_interval_ticks;                  /**< least ticks from one ping to the next */
+    uint8_t since_ping;                           /**< ticks since the last ping (saturating) */
+    uint8_t seq;       /**< position in the back-and-forth cycle, 0 .. 2n-1 */
+    uint8_t phase;     /**< a sweep_phase_t */
+    uint8_t ticks;     /**< ticks spent in the phase */
+    uint32_t pings;    /**< pings triggered */
+    uint32_t echoes;   /**< readings with an echo */
+    uint32_t timeouts; /**< readings without one (HAL or sweep timeout) */
 } sweep_t;
 
 /** Compute the stops from a checked configuration and start at the first stop. */

@@ -64,8 +64,8 @@
 #define TELEM_SYNC0 0xA5u
 #define TELEM_SYNC1 0x5Au
 #define TELEM_VERSION 3u
-#define TELEM_RING 8u               /**< events the tick may post before idle drains them */
-#define TELEM_MAP_CELLS 200u        /**< cells per MAP_ROW frame at most */
+#define TELEM_RING 8u        /**< events the tick may post before idle drains them */
+#define TELEM_MAP_CELLS 200u /**< cells per MAP_ROW frame at most */
 #define TELEM_FRAME_MAX (4u + 255u + 2u)
 
 /** Frame types. */
@@ -108,7 +108,7 @@ typedef enum {
 #define TELEM_FLAG_STOPPED 0x01u /**< STOP is in force */
 #define TELEM_FLAG_PENDING 0x02u /**< a command waits for the robot to stand */
 
-#define TELEM_CMD_PAYLOAD_MAX 5u                          /**< SET: key, value */
+#define TELEM_CMD_PAYLOAD_MAX 5u /**< SET: key, value */
 #define TELEM_CMD_FRAME_MAX (6u + TELEM_CMD_PAYLOAD_MAX)
 #define TELEM_RX_TIMEOUT_TICKS 20u /**< a command frame incomplete this long is refused */
 
@@ -131,9 +131,9 @@ typedef enum {
 
 /** An event posted by the tick. */
 typedef struct {
-    uint8_t type;       /**< TELEM_POSE or TELEM_READING */
-    uint8_t stop;       /**< READING: sweep stop */
-    uint8_t outcome;    /**< READING: a mapper_outcome_t */
+    uint8_t type;    /**< TELEM_POSE or TELEM_READING */
+    uint8_t stop;    /**< READING: sweep stop */
+    uint8_t outcome; /**< READING: a mapper_outcome_t */
     uint32_t ticks;
     odom_pose_t pose;   /**< POSE: the pose; READING: the pose of the ping */
     int32_t servo_mdeg; /**< READING */
@@ -150,23 +150,23 @@ typedef struct {
 /** Telemetry state: the event ring, the progress of the map rows, the command parser. */
 typedef struct {
     telem_event_t ring[TELEM_RING];
-    uint8_t head;            /**< next slot the tick writes (only the tick changes it) */
-    uint8_t tail;            /**< next slot idle reads (only idle changes it) */
-    uint8_t map;             /**< the map whose rows are being sent: 0 OM, 1 TM */
-    uint16_t row;            /**< the next row to send */
-    uint16_t first;          /**< the next cell in that row */
-    uint32_t last_row_tick;  /**< when the last map row went out */
+    uint8_t head;           /**< next slot the tick writes (only the tick changes it) */
+    uint8_t tail;           /**< next slot idle reads (only idle changes it) */
+    uint8_t map;            /**< the map whose rows are being sent: 0 OM, 1 TM */
+    uint16_t row;           /**< the next row to send */
+    uint16_t first;         /**< the next cell in that row */
+    uint32_t last_row_tick; /**< when the last map row went out */
     uint32_t last_hello_tick;
     uint32_t last_status_tick;
-    bool hello_due;          /**< SEND_MAP: a HELLO at the next telem_idle() */
-    uint32_t frames;         /**< frames written */
-    uint32_t dropped;        /**< events lost because the ring was full */
-    uint32_t short_writes;   /**< frames the UART took only in part */
+    bool hello_due;                  /**< SEND_MAP: a HELLO at the next telem_idle() */
+    uint32_t frames;                 /**< frames written */
+    uint32_t dropped;                /**< events lost because the ring was full */
+    uint32_t short_writes;           /**< frames the UART took only in part */
     uint8_t rx[TELEM_CMD_FRAME_MAX]; /**< a command frame being received */
-    uint8_t rx_len;          /**< its bytes so far */
-    uint32_t rx_tick;        /**< when its last byte came */
-    uint32_t commands;       /**< commands taken */
-    uint32_t refused;        /**< commands refused (ERROR frames sent) */
+    uint8_t rx_len;                  /**< its bytes so far */
+    uint32_t rx_tick;                /**< when its last byte came */
+    uint32_t commands;               /**< commands taken */
+    uint32_t refused;                /**< commands refused (ERROR frames sent) */
 } telem_t;
 
 /** What the STATUS frame reports besides the telemetry's own counters. */
@@ -192,8 +192,8 @@ void telem_post_reading(telem_t *t, uint32_t ticks, uint8_t stop, uint8_t outcom
  * the map rows move on as if sent. Not ISR-safe.
  * @param cfg  the configuration in force (HELLO carries the sonar's part of it)
  */
-void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg,
-                const telem_status_t *st, uint32_t ticks);
+void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg, const telem_status_t *st,
+                uint32_t ticks);
 
 /** SEND_MAP: a HELLO at the next telem_idle(), then the map rows from OM's first row. */
 void telem_map_restart(telem_t *t);

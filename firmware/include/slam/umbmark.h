@@ -34,7 +34,7 @@
 #include "slam/fixed.h"
 #include "slam/odometry.h"
 
-#define UMB_CRAWL_MM_S 20 /**< the slowest wheel speed of a leg's or a turn's end */
+#define UMB_CRAWL_MM_S 20   /**< the slowest wheel speed of a leg's or a turn's end */
 #define UMB_STILL_TICKS 10u /**< odometry unchanged this long: the robot is at rest */
 
 /** States of the test. */
@@ -48,26 +48,26 @@ typedef enum {
 
 /** The test's state. */
 typedef struct {
-    bool on;             /**< the configuration asks for the test (EXPLORE_UMBMARK) */
-    uint8_t state;       /**< an umb_state_t */
-    uint8_t run;         /**< runs begun: 0 before the first; 1..runs clockwise, then
-                              counter-clockwise up to 2·runs */
-    uint8_t runs;        /**< runs in each direction (umbmark_runs) */
-    uint8_t legs;        /**< legs of this run driven (0..4) */
-    uint8_t next;        /**< STOP: the state that follows */
-    uint32_t ticks;      /**< ticks in the current state (STOP: since odometry moved) */
+    bool on;        /**< the configuration asks for the test (EXPLORE_UMBMARK) */
+    uint8_t state;  /**< an umb_state_t */
+    uint8_t run;    /**< runs begun: 0 before the first; 1..runs clockwise, then
+                         counter-clockwise up to 2·runs */
+    uint8_t runs;   /**< runs in each direction (umbmark_runs) */
+    uint8_t legs;   /**< legs of this run driven (0..4) */
+    uint8_t next;   /**< STOP: the state that follows */
+    uint32_t ticks; /**< ticks in the current state (STOP: since odometry moved) */
     uint32_t pause_ticks;
     int32_t side_um;
     int32_t cruise_mm_s;
     int32_t turn_mm_s;
-    uint32_t brake_q16;  /**< mm/s of wheel speed per µm left to go, Q16: the speed from
-                              which the acceleration limit stops a wheel there */
-    uint32_t arc_um;     /**< a wheel's travel in a full turn in place, π·wheel base */
-    int32_t stop_um;     /**< how far a wheel rolls on from a crawl: a leg or a turn
-                              ends this much early */
-    odom_pose_t start;   /**< the configured start pose */
-    odom_pose_t last;    /**< odometry at the last tick */
-    bam32_t heading;     /**< the odometry heading of this leg, or the turn's target */
+    uint32_t brake_q16;         /**< mm/s of wheel speed per µm left to go, Q16: the speed from
+                                     which the acceleration limit stops a wheel there */
+    uint32_t arc_um;            /**< a wheel's travel in a full turn in place, π·wheel base */
+    int32_t stop_um;            /**< how far a wheel rolls on from a crawl: a leg or a turn
+                                     ends this much early */
+    odom_pose_t start;          /**< the configured start pose */
+    odom_pose_t last;           /**< odometry at the last tick */
+    bam32_t heading;            /**< the odometry heading of this leg, or the turn's target */
     int32_t leg_x_um, leg_y_um; /**< where this leg began (odometry) */
     q1_30_t leg_c, leg_s;       /**< cos, sin of its heading */
 } umbmark_t;

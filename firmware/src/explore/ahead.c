@@ -71,7 +71,8 @@ bool explore_pass_slice(explore_t *e, const odom_pose_t *pose, const grid_t *g,
 int32_t explore_ahead_um(const explore_t *e, const odom_pose_t *pose)
 {
     const explore_ahead_t *a = &e->ahead;
-    int32_t ahead = a->scan.ahead_um == INT32_MAX ? INT32_MAX : a->scan.ahead_um - e->cfg.mount_x_um;
+    int32_t ahead =
+        a->scan.ahead_um == INT32_MAX ? INT32_MAX : a->scan.ahead_um - e->cfg.mount_x_um;
     /* The map holds more than the memory (walls seen long ago, and what the sonar's cone
      * smeared), so it stops the robot only nearer: an occupied cell EXPLORE_MAP_STOP_UM
      * ahead of the axle counts as a point avoid_um ahead of the sonar. */

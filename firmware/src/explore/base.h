@@ -7,7 +7,7 @@
 #include "slam/explore.h"
 #include "slam/fixed.h"
 
-#define EXPLORE_DEG(d) ((bam32_t)((uint64_t)(d) * 0x100000000ull / 360u))
+#define EXPLORE_DEG(d) ((bam32_t)((uint64_t)(d)*0x100000000ull / 360u))
 #define EXPLORE_NO_CELL UINT32_MAX /* explore_cell_q16(): outside the grid */
 
 /* explore_cell_q16() takes a negative coordinate for one beyond the grid's far side. */

@@ -77,8 +77,9 @@ bool explore_corridor_cells(explore_t *e, const grid_t *g)
         /* A cell holding more than one hit's evidence, after the beams that passed
          * through it, is no ghost: it stops the robot alone (the end of a thin screen,
          * whose faces beyond the grazing angle send nothing back). */
-        c->hits = (uint8_t)(c->hits + 1u +
-                            (g->mode == OM_MODE_EVIDENCE && g->om[k] > GRID_EVIDENCE_ZERO + g->hit));
+        c->hits =
+            (uint8_t)(c->hits + 1u +
+                      (g->mode == OM_MODE_EVIDENCE && g->om[k] > GRID_EVIDENCE_ZERO + g->hit));
         if (c->hits >= 2u) {
             c->work_um = (int32_t)(row + 1u) * (int32_t)e->cfg.cell_um;
             next = total; /* rows further on can only be further: done */

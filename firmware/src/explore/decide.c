@@ -89,8 +89,8 @@ void explore_decide_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
         cost += 2u * EXPLORE_LOOK_UM / e->cfg.cell_um * e->cfg.tm_max;
     }
     /* Among equally visited ways, the smallest turn: 0 for straight on, 6 for back. */
-    uint32_t turn = d->candidate <= EXPLORE_CANDIDATES / 2u ? d->candidate
-                                                          : EXPLORE_CANDIDATES - d->candidate;
+    uint32_t turn =
+        d->candidate <= EXPLORE_CANDIDATES / 2u ? d->candidate : EXPLORE_CANDIDATES - d->candidate;
     cost = cost * EXPLORE_CANDIDATES + turn;
     if (cost < d->best_cost) {
         d->best_cost = cost;

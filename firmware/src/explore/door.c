@@ -3,22 +3,22 @@
  * and passed straight through its middle. */
 #include "walls.h"
 
-#define EXPLORE_WALK_BEFORE_UM 300000 /* the wall is read on the map from 0.3 m before */
-#define EXPLORE_WALK_AFTER_UM 150000  /* to 0.15 m after the opening's far point */
-#define EXPLORE_WALK_SAMPLES 4u       /* wall samples read a tick, three cells each */
-#define EXPLORE_WALK_NONE 0xFFu       /* no occupied sample (walk_last, walk_first) */
-#define EXPLORE_DOOR_WIDE_UM 100000   /* free on the map this wide (the cone narrows it) */
-#define EXPLORE_PASS_BEYOND_UM 150000 /* an opening is passed until the body is beyond */
-#define EXPLORE_PASS_MM_S 100         /* at half the cruise speed */
-#define EXPLORE_DOOR_BACK_MM_S 60     /* and backed up to slowly */
+#define EXPLORE_WALK_BEFORE_UM 300000   /* the wall is read on the map from 0.3 m before */
+#define EXPLORE_WALK_AFTER_UM 150000    /* to 0.15 m after the opening's far point */
+#define EXPLORE_WALK_SAMPLES 4u         /* wall samples read a tick, three cells each */
+#define EXPLORE_WALK_NONE 0xFFu         /* no occupied sample (walk_last, walk_first) */
+#define EXPLORE_DOOR_WIDE_UM 100000     /* free on the map this wide (the cone narrows it) */
+#define EXPLORE_PASS_BEYOND_UM 150000   /* an opening is passed until the body is beyond */
+#define EXPLORE_PASS_MM_S 100           /* at half the cruise speed */
+#define EXPLORE_DOOR_BACK_MM_S 60       /* and backed up to slowly */
 #define EXPLORE_DOOR_BACK_MAX_UM 700000 /* but no further than this */
-#define EXPLORE_DOOR_ABREAST_UM 5000  /* abreast of the middle within 5 mm */
-#define EXPLORE_NUDGE_MIN_UM 30000    /* an edge nearer the middle than this is a wall */
-#define EXPLORE_NUDGE_MARGIN_UM 15000 /* a nudge leaves the edge this far out of the way */
-#define EXPLORE_DOOR_SKEW_Q16 11380   /* sin 10°: the robot drives along the wall */
-#define EXPLORE_DOOR_TRAIL_MM 200     /* over a trail at least this long */
-#define EXPLORE_DOOR_ALIGN_Q16 5712   /* sin 5°: backing up turns in place first beyond */
-#define EXPLORE_DOOR_STEER_Q16 200    /* and steers 1 mm/s per this much sine within */
+#define EXPLORE_DOOR_ABREAST_UM 5000    /* abreast of the middle within 5 mm */
+#define EXPLORE_NUDGE_MIN_UM 30000      /* an edge nearer the middle than this is a wall */
+#define EXPLORE_NUDGE_MARGIN_UM 15000   /* a nudge leaves the edge this far out of the way */
+#define EXPLORE_DOOR_SKEW_Q16 11380     /* sin 10°: the robot drives along the wall */
+#define EXPLORE_DOOR_TRAIL_MM 200       /* over a trail at least this long */
+#define EXPLORE_DOOR_ALIGN_Q16 5712     /* sin 5°: backing up turns in place first beyond */
+#define EXPLORE_DOOR_STEER_Q16 200      /* and steers 1 mm/s per this much sine within */
 
 /* Where DOOR is (door.phase). */
 enum {
@@ -55,7 +55,8 @@ static bool walk_begin(explore_t *e, const grid_t *g)
     const explore_moves_t *mv = &e->moves;
     d->ux = e->memory.frame.cos >> 14; /* Q16 */
     d->uy = e->memory.frame.sin >> 14;
-    uint8_t old = (uint8_t)((mv->trail_head + EXPLORE_TRAIL - (mv->trail_len - 1u)) % EXPLORE_TRAIL);
+    uint8_t old =
+        (uint8_t)((mv->trail_head + EXPLORE_TRAIL - (mv->trail_len - 1u)) % EXPLORE_TRAIL);
     int32_t dx = (mv->trail_x_um[mv->trail_head] - mv->trail_x_um[old]) / 1000; /* mm */
     int32_t dy = (mv->trail_y_um[mv->trail_head] - mv->trail_y_um[old]) / 1000;
     uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
@@ -73,7 +74,8 @@ static bool walk_begin(explore_t *e, const grid_t *g)
     }
     int32_t bx = e->wall.edge_x_um - (int32_t)(((int64_t)EXPLORE_WALK_BEFORE_UM * d->ux) >> 16);
     int32_t by = e->wall.edge_y_um - (int32_t)(((int64_t)EXPLORE_WALK_BEFORE_UM * d->uy) >> 16);
-    uint32_t n = (uint32_t)(far - near + EXPLORE_WALK_BEFORE_UM + EXPLORE_WALK_AFTER_UM) / e->cfg.cell_um;
+    uint32_t n =
+        (uint32_t)(far - near + EXPLORE_WALK_BEFORE_UM + EXPLORE_WALK_AFTER_UM) / e->cfg.cell_um;
     uint32_t mid = (uint32_t)((far - near) / 2 + EXPLORE_WALK_BEFORE_UM) / e->cfg.cell_um;
     d->walk_fx = explore_q16_cells(bx, g->origin_x_um, g->cell_um, SLAM_GRID_A);
     d->walk_fy = explore_q16_cells(by, g->origin_y_um, g->cell_um, SLAM_GRID_B);
@@ -192,7 +194,8 @@ void explore_door_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
          * is held to the wall's direction (the turn the robot was in when it stopped may
          * have carried it off), turning in place first when it is far off. */
         int32_t skew = (int32_t)(((int64_t)d->uy * (fix_cos(pose->heading) >> 14) -
-                                  (int64_t)d->ux * (fix_sin(pose->heading) >> 14)) >> 16);
+                                  (int64_t)d->ux * (fix_sin(pose->heading) >> 14)) >>
+                                 16);
         int32_t steer = skew / EXPLORE_DOOR_STEER_Q16;
         int32_t v = -EXPLORE_DOOR_BACK_MM_S;
         if (skew > EXPLORE_DOOR_ALIGN_Q16 || skew < -EXPLORE_DOOR_ALIGN_Q16) {

@@ -10,15 +10,15 @@
  * to an instruction more and 160 bytes less flash, and hides the tick's stack depth from
  * the build's analysis, stack_depth.py.) EXPLORE_HOOK(name) is the call, defined around
  * each use. */
-#define EXPLORE_HOOK_CASE(id, value, name, summary) \
-    case id:                                        \
-        EXPLORE_HOOK(name);                         \
+#define EXPLORE_HOOK_CASE(id, value, name, summary)                                                \
+    case id:                                                                                       \
+        EXPLORE_HOOK(name);                                                                        \
         break;
-#define EXPLORE_DISPATCH(e)                                  \
-    switch ((e)->cfg.mode) {                                 \
-        SLAM_EXPLORE_MODES(EXPLORE_HOOK_CASE)                \
-    default:                                                 \
-        break;                                               \
+#define EXPLORE_DISPATCH(e)                                                                        \
+    switch ((e)->cfg.mode) {                                                                       \
+        SLAM_EXPLORE_MODES(EXPLORE_HOOK_CASE)                                                      \
+    default:                                                                                       \
+        break;                                                                                     \
     }
 
 static void mode_init(explore_t *e)
@@ -49,7 +49,8 @@ static void mode_way(explore_t *e, const odom_pose_t *pose, const grid_t *g, int
 #undef EXPLORE_HOOK
 }
 
-static void mode_step(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32_t target_mm_s[2])
+static void mode_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,
+                      int32_t target_mm_s[2])
 {
 #define EXPLORE_HOOK(name) explore_##name##_step(e, pose, g, target_mm_s)
     EXPLORE_DISPATCH(e)
@@ -109,9 +110,8 @@ static void forward(explore_t *e, const odom_pose_t *pose, const grid_t *g, int3
     mode_way(e, pose, g, target_mm_s);
 }
 
-void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw,
-                  const mapper_t *m, const grid_t *g, const int32_t held[2], bool stalled,
-                  int32_t target_mm_s[2])
+void explore_step(explore_t *e, const odom_pose_t *pose, const sweep_out_t *sw, const mapper_t *m,
+                  const grid_t *g, const int32_t held[2], bool stalled, int32_t target_mm_s[2])
 {
     e->machine.now++;
     e->machine.ticks++;

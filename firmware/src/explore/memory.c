@@ -3,7 +3,7 @@
  * that tells what lies ahead and on the right, a few points a tick. */
 #include "sight.h"
 
-#define EXPLORE_SCAN_POINTS 4u        /* memory points checked a tick */
+#define EXPLORE_SCAN_POINTS 4u         /* memory points checked a tick */
 #define EXPLORE_RIGHT_BEHIND_UM 100000 /* walls: the right side from 0.1 m behind the axle */
 #define EXPLORE_RIGHT_AHEAD_UM 400000  /* to 0.4 m ahead */
 #define EXPLORE_RIGHT_WIDE_UM 1000000  /* and 1 m to the side */

@@ -4,14 +4,14 @@
  * sight (seek.c), or for the least visited way to the left (decide.c). */
 #include "modes.h"
 
-#define EXPLORE_STEER_UM 2500        /* steer 1 mm/s per 2.5 mm off the follow distance */
-#define EXPLORE_STEER_MAX_MM_S 60    /* at most: a 0.2 m radius at cruise */
-#define EXPLORE_ARC_MM_S 30          /* with nothing on the right, arc right gently */
-#define EXPLORE_LOST_UM 100000u      /* with nothing beside, straight on this far first */
-#define EXPLORE_ARC_MAX_TICKS 1500u  /* then about a circle at most */
-#define EXPLORE_RETRACE_LEAVE 12u    /* leave after this many trail steps driven before */
-#define EXPLORE_LEFTS_MAX 8u         /* 45° left turns in a row (a circle), then the ways */
-#define EXPLORE_DOOR_PAST_UM 150000  /* an opening is measured once this far past it */
+#define EXPLORE_STEER_UM 2500       /* steer 1 mm/s per 2.5 mm off the follow distance */
+#define EXPLORE_STEER_MAX_MM_S 60   /* at most: a 0.2 m radius at cruise */
+#define EXPLORE_ARC_MM_S 30         /* with nothing on the right, arc right gently */
+#define EXPLORE_LOST_UM 100000u     /* with nothing beside, straight on this far first */
+#define EXPLORE_ARC_MAX_TICKS 1500u /* then about a circle at most */
+#define EXPLORE_RETRACE_LEAVE 12u   /* leave after this many trail steps driven before */
+#define EXPLORE_LEFTS_MAX 8u        /* 45° left turns in a row (a circle), then the ways */
+#define EXPLORE_DOOR_PAST_UM 150000 /* an opening is measured once this far past it */
 
 /* Seek the nearest frontier block in sight and cross to it; without one, weigh the ways
  * to the left and cross to the best one. */

@@ -36,43 +36,43 @@ typedef enum {
     EXPLORE_WHY_BACKED,  /* BACK is done: the trail starts again where the robot stands */
 } explore_why_t;
 
-#define EXPLORE_MODE_HOOKS(id, value, name, summary)                                         \
-    void explore_##name##_init(explore_t *e);                                                \
-    void explore_##name##_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,        \
-                              const int32_t held[2]);                                        \
-    void explore_##name##_next(explore_t *e, const odom_pose_t *pose, explore_why_t why);    \
-    void explore_##name##_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,        \
-                              int32_t target_mm_s[2]);                                       \
-    void explore_##name##_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,       \
+#define EXPLORE_MODE_HOOKS(id, value, name, summary)                                               \
+    void explore_##name##_init(explore_t *e);                                                      \
+    void explore_##name##_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,              \
+                              const int32_t held[2]);                                              \
+    void explore_##name##_next(explore_t *e, const odom_pose_t *pose, explore_why_t why);          \
+    void explore_##name##_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,              \
+                              int32_t target_mm_s[2]);                                             \
+    void explore_##name##_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,             \
                                int32_t target_mm_s[2]);
 SLAM_EXPLORE_MODES(EXPLORE_MODE_HOOKS)
 #undef EXPLORE_MODE_HOOKS
 
 /* The hooks of a mode that stands still: it stays in EXPLORE_STOP, where no hook but init
  * and job is ever called, and job has nothing to do. */
-#define EXPLORE_STANDING_MODE(name)                                                          \
-    void explore_##name##_init(explore_t *e)                                                 \
-    {                                                                                        \
-        explore_enter(e, EXPLORE_STOP);                                                      \
-    }                                                                                        \
-    void explore_##name##_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,        \
-                              const int32_t held[2])                                         \
-    {                                                                                        \
-        (void)e, (void)pose, (void)g, (void)held;                                            \
-    }                                                                                        \
-    void explore_##name##_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)     \
-    {                                                                                        \
-        (void)e, (void)pose, (void)why;                                                      \
-    }                                                                                        \
-    void explore_##name##_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,        \
-                              int32_t target_mm_s[2])                                        \
-    {                                                                                        \
-        (void)e, (void)pose, (void)g, (void)target_mm_s;                                     \
-    }                                                                                        \
-    void explore_##name##_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,       \
-                               int32_t target_mm_s[2])                                       \
-    {                                                                                        \
-        (void)e, (void)pose, (void)g, (void)target_mm_s;                                     \
+#define EXPLORE_STANDING_MODE(name)                                                                \
+    void explore_##name##_init(explore_t *e)                                                       \
+    {                                                                                              \
+        explore_enter(e, EXPLORE_STOP);                                                            \
+    }                                                                                              \
+    void explore_##name##_job(explore_t *e, const odom_pose_t *pose, const grid_t *g,              \
+                              const int32_t held[2])                                               \
+    {                                                                                              \
+        (void)e, (void)pose, (void)g, (void)held;                                                  \
+    }                                                                                              \
+    void explore_##name##_next(explore_t *e, const odom_pose_t *pose, explore_why_t why)           \
+    {                                                                                              \
+        (void)e, (void)pose, (void)why;                                                            \
+    }                                                                                              \
+    void explore_##name##_way(explore_t *e, const odom_pose_t *pose, const grid_t *g,              \
+                              int32_t target_mm_s[2])                                              \
+    {                                                                                              \
+        (void)e, (void)pose, (void)g, (void)target_mm_s;                                           \
+    }                                                                                              \
+    void explore_##name##_step(explore_t *e, const odom_pose_t *pose, const grid_t *g,             \
+                               int32_t target_mm_s[2])                                             \
+    {                                                                                              \
+        (void)e, (void)pose, (void)g, (void)target_mm_s;                                           \
     }
 
 #endif /* SLAM_EXPLORE_MODES_HOOKS_H */

@@ -8,11 +8,12 @@
 #define EXPLORE_TURN_MIN_MM_S 30          /* to no slower than this */
 #define EXPLORE_TURN_MAX_TICKS 1500u      /* a turn, a face or a backing off gives up after 15 s */
 #define EXPLORE_FACE_DONE 32              /* facing a point: within 1/32 rad (1.8°) */
-#define EXPLORE_ECHOES_SURE 8u            /* of the last sweep's readings, echoes below which
-                                             the robot slows down */
-#define EXPLORE_CRAWL_MM_S 60             /* the slowest approach */
+#define EXPLORE_ECHOES_SURE                                                                        \
+    8u                        /* of the last sweep's readings, echoes below which                  \
+                                 the robot slows down */
+#define EXPLORE_CRAWL_MM_S 60 /* the slowest approach */
 #define EXPLORE_BACK_MM_S 80
-#define EXPLORE_BACK_REACHED_UM 20000     /* a trail position is reached this close */
+#define EXPLORE_BACK_REACHED_UM 20000 /* a trail position is reached this close */
 /* After a stall the robot stands before it backs off: wheels that stall need not touch
  * anything (an encoder that stops counting looks the same), and a wheel driven on a
  * count that does not come would turn the robot blind. A stall while backing off stands
@@ -83,7 +84,8 @@ void explore_face_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
     int32_t side;
     int32_t ahead = fix_frame_point(&f, e->moves.face_x_um, e->moves.face_y_um, &side);
     int32_t mag = side < 0 ? -side : side;
-    if ((ahead > 0 && mag <= ahead / EXPLORE_FACE_DONE) || e->machine.ticks > EXPLORE_TURN_MAX_TICKS) {
+    if ((ahead > 0 && mag <= ahead / EXPLORE_FACE_DONE) ||
+        e->machine.ticks > EXPLORE_TURN_MAX_TICKS) {
         explore_wall_forget(e);
         explore_enter(e, EXPLORE_LOOK);
         return;
@@ -125,8 +127,8 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um)
     int32_t cruise = e->cfg.cruise_mm_s;
     int32_t top = cruise;
     if (e->memory.echoes < EXPLORE_ECHOES_SURE) {
-        top = EXPLORE_CRAWL_MM_S +
-              (cruise - EXPLORE_CRAWL_MM_S) * (int32_t)e->memory.echoes / (int32_t)EXPLORE_ECHOES_SURE;
+        top = EXPLORE_CRAWL_MM_S + (cruise - EXPLORE_CRAWL_MM_S) * (int32_t)e->memory.echoes /
+                                       (int32_t)EXPLORE_ECHOES_SURE;
         top = top < cruise ? top : cruise;
     }
     if (ahead_um >= EXPLORE_SLOW_UM) {

@@ -65,8 +65,9 @@ bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
 
 /* ---- decide.c ----------------------------------------------------------------------- */
 
-#define EXPLORE_CANDIDATES 12u /* headings weighed, 30° apart; candidate 0 is straight on,
-                                  1 .. 6 to the left */
+#define EXPLORE_CANDIDATES                                                                         \
+    12u /* headings weighed, 30° apart; candidate 0 is straight on,                               \
+           1 .. 6 to the left */
 
 /* Stand still and weigh candidates first .. first + span - 1 (mod EXPLORE_CANDIDATES),
  * turning then to the best one; the weighing ends in `then`. */

@@ -2,13 +2,13 @@
 /* Walls mode: the frontier at the scale of blocks of cells, and crossing to it. */
 #include "walls.h"
 
-#define EXPLORE_FREE_STEPS 8u        /* cells (or skipped blocks) the rolling scan reads a tick */
-#define EXPLORE_SEEK_BLOCKS 4u       /* blocks weighed a tick */
-#define EXPLORE_SIGHT_CELLS 8u       /* cells of a line of sight walked a tick */
+#define EXPLORE_FREE_STEPS 8u         /* cells (or skipped blocks) the rolling scan reads a tick */
+#define EXPLORE_SEEK_BLOCKS 4u        /* blocks weighed a tick */
+#define EXPLORE_SIGHT_CELLS 8u        /* cells of a line of sight walked a tick */
 #define EXPLORE_SEEK_REACH_UM 4000000 /* frontier blocks further than 4 m are not sought */
-#define EXPLORE_TARGET_TICKS 6000u   /* a block not reached within a minute is given up */
-#define EXPLORE_STEER_TARGET_MM_S 20 /* the steer toward a target while crossing */
-#define EXPLORE_SEEK_ROUNDS 4u       /* sets of four candidates tried in one search */
+#define EXPLORE_TARGET_TICKS 6000u    /* a block not reached within a minute is given up */
+#define EXPLORE_STEER_TARGET_MM_S 20  /* the steer toward a target while crossing */
+#define EXPLORE_SEEK_ROUNDS 4u        /* sets of four candidates tried in one search */
 #define EXPLORE_NONE 0xFFFFu
 
 static bool bit(const uint8_t *map, uint32_t k)
@@ -76,8 +76,10 @@ void explore_seek_scan(explore_t *e, const grid_t *g)
 /* A block's centre, in cells of the grid. */
 static void block_centre(uint32_t k, int32_t *a, int32_t *b)
 {
-    *a = (int32_t)((k % EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
-    *b = (int32_t)((k / EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+    *a = (int32_t)((k % EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) +
+         (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+    *b = (int32_t)((k / EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) +
+         (1 << (EXPLORE_BLOCK_SHIFT - 1u));
 }
 
 /* An unexplored block, not given up, next to an explored one. */

@@ -11,10 +11,10 @@
 
 /* ---- memory.c ----------------------------------------------------------------------- */
 
-#define EXPLORE_ECHO_WINDOW 12u  /* readings whose echoes are counted: a sweep */
+#define EXPLORE_ECHO_WINDOW 12u /* readings whose echoes are counted: a sweep */
 #define EXPLORE_ECHO_MASK ((1u << EXPLORE_ECHO_WINDOW) - 1u)
 _Static_assert(EXPLORE_ECHO_WINDOW <= 16u, "memory.echo_bits holds the window");
-#define EXPLORE_SLOW_UM 700000   /* what lies further ahead of the sonar does not matter */
+#define EXPLORE_SLOW_UM 700000       /* what lies further ahead of the sonar does not matter */
 #define EXPLORE_PASS_CLEAR_UM 105000 /* half the corridor through an opening (narrow) */
 /* The sonar is the robot's only sight: when no stop has heard an echo for a second (an
  * echo line stuck high, pings lost) the robot stands, for up to three seconds (a fault
@@ -114,9 +114,9 @@ int32_t explore_ahead_um(const explore_t *e, const odom_pose_t *pose);
 
 /* ---- wall.c ------------------------------------------------------------------------- */
 
-#define EXPLORE_WALL_NEAR_UM 100000   /* a point of the wall on the right is 0.1 m or more */
-#define EXPLORE_WALL_FAR_UM 150000    /* and up to 0.15 m beyond the follow distance aside */
-#define EXPLORE_DOOR_MAX_UM 1000000   /* an opening at most this wide is passed */
+#define EXPLORE_WALL_NEAR_UM 100000 /* a point of the wall on the right is 0.1 m or more */
+#define EXPLORE_WALL_FAR_UM 150000  /* and up to 0.15 m beyond the follow distance aside */
+#define EXPLORE_DOOR_MAX_UM 1000000 /* an opening at most this wide is passed */
 
 /* A new point while following: is it on the wall, and does it open a gap? */
 void explore_wall_point(explore_t *e, const odom_pose_t *pose, int32_t x_um, int32_t y_um);

@@ -30,7 +30,8 @@ void explore_wall_point(explore_t *e, const odom_pose_t *pose, int32_t x_um, int
         if (ahead <= front || off >= EXPLORE_WALL_OFF_UM) {
             return; /* behind the front, or not on the wall's line (a jamb's far corner) */
         }
-        if (!w->door && ahead - front >= EXPLORE_DOOR_MIN_UM && ahead - front <= EXPLORE_DOOR_MAX_UM) {
+        if (!w->door && ahead - front >= EXPLORE_DOOR_MIN_UM &&
+            ahead - front <= EXPLORE_DOOR_MAX_UM) {
             w->door = true;
             w->edge_x_um = w->front_x_um;
             w->edge_y_um = w->front_y_um;

@@ -7,30 +7,30 @@
 
 #define LKF_K_SHIFT 20u /* Kalman gains in Q20 */
 
-#define LOC_KAPPA_MAX 20000000      /* ±20 µrad/mm (1.1° a metre), ±2 % of a turn */
+#define LOC_KAPPA_MAX 20000000     /* ±20 µrad/mm (1.1° a metre), ±2 % of a turn */
 #define LOC_URAD_PER_BAM_Q26 98175 /* 0.00146292 µrad per bam, Q26 */
 
 /* Odometry's random errors, measured in the simulator per metre driven and per radian
  * turned: µm² per mm; µrad² per mm and per mrad. */
 #ifndef LKF_Q_XY_PER_MM
-#define LKF_Q_XY_PER_MM 1000      /* (1 mm)² per metre */
+#define LKF_Q_XY_PER_MM 1000 /* (1 mm)² per metre */
 #endif
 #ifndef LKF_Q_TH_PER_MM
-#define LKF_Q_TH_PER_MM 26000     /* (0.29°)² per metre */
+#define LKF_Q_TH_PER_MM 26000 /* (0.29°)² per metre */
 #endif
 #ifndef LKF_Q_TH_PER_MRAD
-#define LKF_Q_TH_PER_MRAD 2200    /* (0.085°)² per radian */
+#define LKF_Q_TH_PER_MRAD 2200 /* (0.085°)² per radian */
 #endif
 /* What the systematic errors may be at the start (E_d and E_b after a calibration, one
  * standard deviation) and how fast they may change (per metre driven). */
 #ifndef LKF_KD0
-#define LKF_KD0 500000LL          /* 0.5 µrad/mm: 0.03° per metre, E_d within ±0.0065 % */
+#define LKF_KD0 500000LL /* 0.5 µrad/mm: 0.03° per metre, E_d within ±0.0065 % */
 #endif
 #ifndef LKF_KT0
-#define LKF_KT0 1000000LL         /* 0.1 % of each turn: E_b within ±0.1 % */
+#define LKF_KT0 1000000LL /* 0.1 % of each turn: E_b within ±0.1 % */
 #endif
 #ifndef LKF_Q_K_PER_MM
-#define LKF_Q_K_PER_MM 1000LL     /* (1 nrad/mm)² or (1 ppm)² per km: E_d and E_b barely change */
+#define LKF_Q_K_PER_MM 1000LL /* (1 nrad/mm)² or (1 ppm)² per km: E_d and E_b barely change */
 #endif
 
 uint32_t lkf_isqrt(uint64_t v)
@@ -89,10 +89,10 @@ void lkf_init(lkf_cov_t *c)
 
 void lkf_sane(lkf_cov_t *c)
 {
-    static const int64_t lo[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN,
-                                      LKF_VAR_K_MIN, LKF_VAR_K_MIN};
-    static const int64_t hi[LKF_N] = {LKF_VAR_XY_MAX, LKF_VAR_XY_MAX, LKF_VAR_TH_MAX,
-                                      LKF_VAR_K_MAX, LKF_VAR_K_MAX};
+    static const int64_t lo[LKF_N] = {LKF_VAR_XY_MIN, LKF_VAR_XY_MIN, LKF_VAR_TH_MIN, LKF_VAR_K_MIN,
+                                      LKF_VAR_K_MIN};
+    static const int64_t hi[LKF_N] = {LKF_VAR_XY_MAX, LKF_VAR_XY_MAX, LKF_VAR_TH_MAX, LKF_VAR_K_MAX,
+                                      LKF_VAR_K_MAX};
     int64_t root[LKF_N];
     for (unsigned i = 0; i < LKF_N; i++) {
         c->p[i][i] = clamp64(c->p[i][i], lo[i], hi[i]);
@@ -156,8 +156,8 @@ static uint64_t magnitude(int64_t v)
     return v < 0 ? 0u - (uint64_t)v : (uint64_t)v;
 }
 
-void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
-                const int32_t j[3], int64_t r)
+void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h, const int32_t j[3],
+                int64_t r)
 {
     /* P Jᵀ, in the state's units × µm Q12. The bounds of lkf_sane(), |j0|, |j1| <= 2^12
      * and |j2| <= 2^15 (an 8 m lever, loc_match.c) keep |P Jᵀ| below 2^55, and so its
@@ -227,8 +227,8 @@ odom_pose_t loc_apply(const loc_corr_t *c, const odom_pose_t *odom)
     return p;
 }
 
-void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy,
-                    q1_30_t c, q1_30_t s, int32_t *ox, int32_t *oy)
+void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy, q1_30_t c,
+                    q1_30_t s, int32_t *ox, int32_t *oy)
 {
     int64_t rx = (int64_t)x - cx;
     int64_t ry = (int64_t)y - cy;
@@ -294,8 +294,7 @@ static int32_t clamp_kappa(int64_t v)
     return (int32_t)(v < -LOC_KAPPA_MAX ? -LOC_KAPPA_MAX : v > LOC_KAPPA_MAX ? LOC_KAPPA_MAX : v);
 }
 
-void loc_filter_correct(loc_filter_t *f, int32_t cx, int32_t cy, const lkf_state_t *d,
-                        lkf_cov_t *p)
+void loc_filter_correct(loc_filter_t *f, int32_t cx, int32_t cy, const lkf_state_t *d, lkf_cov_t *p)
 {
     correct_about(f, cx, cy, loc_bam_of_urad(d->v[LKF_T]), d->v[LKF_X], d->v[LKF_Y]);
     f->kappa_prad_per_mm = clamp_kappa(f->kappa_prad_per_mm + d->v[LKF_KD]);

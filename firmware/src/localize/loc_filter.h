@@ -33,7 +33,7 @@
 enum { LKF_X = 0, LKF_Y, LKF_T, LKF_KD, LKF_KT, LKF_N };
 _Static_assert(LKF_N == LOC_STATES, "the filter's state and loc_t's covariance differ");
 
-#define LKF_J_SHIFT 12u               /**< Jacobians in Q12 */
+#define LKF_J_SHIFT 12u /**< Jacobians in Q12 */
 #define LKF_J_ONE (1 << LKF_J_SHIFT)
 
 /* Bounds that keep every product in 64 bits and the matrix a covariance. */
@@ -42,8 +42,9 @@ _Static_assert(LKF_N == LOC_STATES, "the filter's state and loc_t's covariance d
 #define LKF_VAR_TH_MIN 100LL          /**< (10 µrad)² */
 #define LKF_VAR_TH_MAX 30000000000LL  /**< (10°)² */
 #define LKF_VAR_K_MIN 100000000LL     /**< (10 nrad/mm)², (10 ppm)² */
-#define LKF_VAR_K_MAX 8000000000000LL /**< (2.8 µrad/mm = 0.16°/m)², (0.28 %)²: every
-                                           gain × covariance product stays below 2^63 */
+#define LKF_VAR_K_MAX                                                                              \
+    8000000000000LL /**< (2.8 µrad/mm = 0.16°/m)², (0.28 %)²: every                            \
+                         gain × covariance product stays below 2^63 */
 
 /** A state: µm, µm, µrad, prad/mm, ppb. */
 typedef struct {
@@ -78,8 +79,8 @@ int64_t lkf_drift_nrad(const lkf_state_t *k, int64_t ds_um, int64_t turn_urad);
  * One scalar measurement whose value should be 0: h at the linearisation point lin, with
  * Jacobian j (over x, y, θ) and variance r (µm²). Updates the state d and its covariance.
  */
-void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h,
-                const int32_t j[3], int64_t r);
+void lkf_update(lkf_state_t *d, lkf_cov_t *c, const lkf_state_t *lin, int64_t h, const int32_t j[3],
+                int64_t r);
 
 /* ---- the correction and the drift (loc_filter_t) ---------------------------------------- */
 
@@ -113,8 +114,8 @@ static inline void loc_corr_point(const loc_corr_t *c, int32_t x, int32_t y, int
 
 /** A map point moved by an increment about a centre: turned by c, s, then shifted by
  *  (dx, dy). µm. */
-void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy,
-                    q1_30_t c, q1_30_t s, int32_t *ox, int32_t *oy);
+void loc_move_point(int32_t x, int32_t y, int32_t cx, int32_t cy, int64_t dx, int64_t dy, q1_30_t c,
+                    q1_30_t s, int32_t *ox, int32_t *oy);
 
 /** No correction yet, the starting covariance, no drift learned. */
 void loc_filter_init(loc_filter_t *f);

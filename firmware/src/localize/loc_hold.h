@@ -20,7 +20,7 @@
 #include "slam/localize.h"
 
 #ifndef LOC_WINDOW
-#define LOC_WINDOW 60u           /**< the newest held-back hits: what a match matches */
+#define LOC_WINDOW 60u /**< the newest held-back hits: what a match matches */
 #endif
 #define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
 

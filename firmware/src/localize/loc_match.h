@@ -14,19 +14,19 @@
 #include "slam/localize.h"
 
 #ifndef LOC_EVERY
-#define LOC_EVERY 4u             /**< new hits between two matches */
+#define LOC_EVERY 4u /**< new hits between two matches */
 #endif
 #ifndef LOC_PASSES
-#define LOC_PASSES 3u            /**< associations and updates of a match */
+#define LOC_PASSES 3u /**< associations and updates of a match */
 #endif
 #ifndef LOC_MIN_POINTS
-#define LOC_MIN_POINTS 10u       /**< hits on a wall line a match needs */
+#define LOC_MIN_POINTS 10u /**< hits on a wall line a match needs */
 #endif
 #ifndef LOC_MAX_STEP_MDEG
-#define LOC_MAX_STEP_MDEG 3000   /**< a larger turn of the pose is refused */
+#define LOC_MAX_STEP_MDEG 3000 /**< a larger turn of the pose is refused */
 #endif
 #ifndef LOC_MAX_STEP_UM
-#define LOC_MAX_STEP_UM 150000   /**< and so is a larger shift */
+#define LOC_MAX_STEP_UM 150000 /**< and so is a larger shift */
 #endif
 
 /** A hit was held back from a ping at odometry pose @p ping: every LOC_EVERY of them, once

@@ -16,8 +16,9 @@
 #define LOC_NORMAL_MIN_CELLS 4
 #endif
 #ifndef LOC_LINEAR_PERCENT
-#define LOC_LINEAR_PERCENT 35 /* smaller eigenvalue at most this share of the larger: walls
-                                 a few cells thick still count; corners and blobs do not */
+#define LOC_LINEAR_PERCENT                                                                         \
+    35 /* smaller eigenvalue at most this share of the larger: walls                               \
+          a few cells thick still count; corners and blobs do not */
 #endif
 
 bool loc_known_free(const grid_t *g, int32_t x, int32_t y, uint32_t *cell)
@@ -94,7 +95,7 @@ static bool wall_normal(const grid_t *g, uint8_t top, int32_t a, int32_t b, int3
     int32_t cxy = n * sxy - sx * sy;
     int32_t diff = cxx - cyy;
     int32_t disc = (int32_t)lkf_isqrt((uint32_t)(diff * diff + 4 * cxy * cxy)); /* λ1 − λ2 */
-    int32_t tr = cxx + cyy;                                                    /* λ1 + λ2 */
+    int32_t tr = cxx + cyy;                                                     /* λ1 + λ2 */
     /* λ2 <= p·λ1: (tr − disc)·100 <= p·(tr + disc). */
     if (tr <= 0 || (tr - disc) * 100 > LOC_LINEAR_PERCENT * (tr + disc)) {
         return false;
@@ -118,10 +119,12 @@ static bool wall_normal(const grid_t *g, uint8_t top, int32_t a, int32_t b, int3
 
 /* The cells within LOC_ASSOC_CELLS (3) cells of a point's cell, nearest first, and among
  * equals in row order: the first occupied one is the nearest (Euclidean, in cells). */
+/* clang-format off */
 #define LOC_ASSOC_ORDER(X)                                                                   \
     X(0, 0) X(0, -1) X(-1, 0) X(1, 0) X(0, 1) X(-1, -1) X(1, -1) X(-1, 1) X(1, 1) X(0, -2)   \
     X(-2, 0) X(2, 0) X(0, 2) X(-1, -2) X(1, -2) X(-2, -1) X(2, -1) X(-2, 1) X(2, 1) X(-1, 2) \
     X(1, 2) X(-2, -2) X(2, -2) X(-2, 2) X(2, 2) X(0, -3) X(-3, 0) X(3, 0) X(0, 3)
+/* clang-format on */
 #define LOC_ASSOC_PAIR(da, db) {da, db},
 #define LOC_ASSOC_STEP(da, db) (da) + (db) * (int32_t)SLAM_GRID_A,
 static const int8_t loc_assoc_order[][2] = {LOC_ASSOC_ORDER(LOC_ASSOC_PAIR)};
@@ -139,8 +142,7 @@ static uint8_t wall_of(const grid_t *g, grid_cell_t c, int16_t n[2])
     const uint8_t top = grid_occupied_above(g->mode);
     const int32_t r = LOC_ASSOC_CELLS;
     size_t k = 0;
-    if (c.a >= r && c.a + r < (int32_t)SLAM_GRID_A && c.b >= r &&
-        c.b + r < (int32_t)SLAM_GRID_B) {
+    if (c.a >= r && c.a + r < (int32_t)SLAM_GRID_A && c.b >= r && c.b + r < (int32_t)SLAM_GRID_B) {
         const uint8_t *at = &g->om[grid_index(c)];
         while (k < LOC_ASSOC_N && at[loc_assoc_step[k]] <= top) {
             k++;
@@ -154,8 +156,7 @@ static uint8_t wall_of(const grid_t *g, grid_cell_t c, int16_t n[2])
     int32_t nx;
     int32_t ny;
     if (k == LOC_ASSOC_N ||
-        !wall_normal(g, top, c.a + loc_assoc_order[k][0], c.b + loc_assoc_order[k][1], &nx,
-                     &ny)) {
+        !wall_normal(g, top, c.a + loc_assoc_order[k][0], c.b + loc_assoc_order[k][1], &nx, &ny)) {
         return UINT8_MAX;
     }
     n[0] = (int16_t)nx; /* a unit normal: within ±LKF_J_ONE */
@@ -185,8 +186,8 @@ bool loc_wall_near(const grid_t *g, int32_t x_um, int32_t y_um, loc_assoc_t *w, 
     return true;
 }
 
-bool loc_unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
-                     int32_t wx, int32_t wy, const int32_t n[2], int64_t h)
+bool loc_unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy, int32_t wx,
+                     int32_t wy, const int32_t n[2], int64_t h)
 {
     /* Differences modulo 2^32, as grid.c's: exact, since every position lies within the
      * 1 km world slam_config_check() allows; their products fit 64 bits. */

@@ -17,7 +17,7 @@
 #include "slam/grid.h"
 
 #ifndef LOC_ASSOC_CELLS
-#define LOC_ASSOC_CELLS 3        /**< a hit's wall lies within this many cells */
+#define LOC_ASSOC_CELLS 3 /**< a hit's wall lies within this many cells */
 #endif
 
 /**
@@ -61,7 +61,7 @@ bool loc_wall_near(const grid_t *g, int32_t x_um, int32_t y_um, loc_assoc_t *w, 
  * through a door, is then not matched to the face mapped from the other room, a wall's
  * thickness away.
  */
-bool loc_unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy,
-                     int32_t wx, int32_t wy, const int32_t n[2], int64_t h);
+bool loc_unseen_face(const grid_t *g, int32_t cx, int32_t cy, int32_t qx, int32_t qy, int32_t wx,
+                     int32_t wy, const int32_t n[2], int64_t h);
 
 #endif /* SLAM_LOC_WALLS_H */

@@ -18,12 +18,12 @@ static const char trig_codes[] = {'-', 'o', 'b'};
 
 static struct replay_state {
     const replay_scenario_t *sc;
-    size_t pos;            /* next byte of the stream */
-    bool in_tick;          /* a tick is decoded and robot_tick() may call */
-    trace_tick_t rec;      /* the record of the current tick; all 0 before the first */
-    uint8_t polls;         /* hal_sonar_poll() calls in this tick */
-    uint8_t triggers;      /* hal_sonar_trigger() calls in this tick */
-    int16_t duty[2];       /* outputs as the firmware set them */
+    size_t pos;       /* next byte of the stream */
+    bool in_tick;     /* a tick is decoded and robot_tick() may call */
+    trace_tick_t rec; /* the record of the current tick; all 0 before the first */
+    uint8_t polls;    /* hal_sonar_poll() calls in this tick */
+    uint8_t triggers; /* hal_sonar_trigger() calls in this tick */
+    int16_t duty[2];  /* outputs as the firmware set them */
     uint16_t servo_us;
     replay_status_t st;
 } rp;
@@ -93,7 +93,8 @@ int replay_next(trace_tick_t *out)
     }
     uint8_t hdr;
     int32_t d[2];
-    if (!get_byte(&hdr) || (hdr & HDR_RESERVED) != 0u || (hdr & HDR_POLL_MASK) >= sizeof poll_codes ||
+    if (!get_byte(&hdr) || (hdr & HDR_RESERVED) != 0u ||
+        (hdr & HDR_POLL_MASK) >= sizeof poll_codes ||
         ((hdr >> HDR_TRIG_SHIFT) & HDR_TRIG_MASK) >= sizeof trig_codes || !get_i16(&d[0]) ||
         !get_i16(&d[1])) {
         return corrupt();

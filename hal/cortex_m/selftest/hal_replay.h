@@ -40,11 +40,11 @@
 
 /** A recorded scenario, as trace2c.py generates it. */
 typedef struct {
-    const char *name;                     /**< the trace's file name, without .trace */
-    uint32_t ticks;                       /**< ticks in the stream */
-    const uint8_t *stream;                /**< the encoded ticks */
-    size_t stream_len;                    /**< bytes in the stream */
-    void (*config)(slam_config_t *cfg);   /**< the recorded configuration */
+    const char *name;                   /**< the trace's file name, without .trace */
+    uint32_t ticks;                     /**< ticks in the stream */
+    const uint8_t *stream;              /**< the encoded ticks */
+    size_t stream_len;                  /**< bytes in the stream */
+    void (*config)(slam_config_t *cfg); /**< the recorded configuration */
 } replay_scenario_t;
 
 /** The scenario compiled into this program (the generated file defines it). */

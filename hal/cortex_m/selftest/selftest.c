@@ -83,7 +83,8 @@ static void print_line(text_line_t *l);
 
 void selftest_idle(selftest_t *st)
 {
-    uint32_t cost = selftest_measure(robot_idle, st->robot) - st->nop_cost + SELFTEST_NOP_INSTRUCTIONS;
+    uint32_t cost =
+        selftest_measure(robot_idle, st->robot) - st->nop_cost + SELFTEST_NOP_INSTRUCTIONS;
     st->idle_worst = cost > st->idle_worst ? cost : st->idle_worst;
 }
 
@@ -110,8 +111,8 @@ void selftest_reading_costs(selftest_t *st)
     for (int32_t h = 0; h < 360000; h += 15000) {
         for (uint8_t stop = 0; stop < r->sweep.stops; stop++) {
             for (unsigned k = 0; k < 2u; k++) {
-                reading_args.pose = (odom_pose_t){r->cfg.start_x_um, r->cfg.start_y_um,
-                                                  fix_bam_from_mdeg(h)};
+                reading_args.pose =
+                    (odom_pose_t){r->cfg.start_x_um, r->cfg.start_y_um, fix_bam_from_mdeg(h)};
                 reading_args.servo = r->sweep.stop_bam[stop];
                 reading_args.range_um = ranges[k];
                 uint32_t cost = selftest_measure(selftest_one_reading, r) - st->nop_cost +

@@ -21,11 +21,11 @@
 
 /** Return codes of the HAL; every error is negative. */
 typedef enum {
-    HAL_OK = 0,       /**< success */
-    HAL_EINVAL = -1,  /**< an argument is out of range */
-    HAL_EIO = -2,     /**< the hardware failed or did not answer */
-    HAL_EBUSY = -3,   /**< the resource is in use (a ping is already out) */
-    HAL_ENOSYS = -4,  /**< not supported by this backend */
+    HAL_OK = 0,      /**< success */
+    HAL_EINVAL = -1, /**< an argument is out of range */
+    HAL_EIO = -2,    /**< the hardware failed or did not answer */
+    HAL_EBUSY = -3,  /**< the resource is in use (a ping is already out) */
+    HAL_ENOSYS = -4, /**< not supported by this backend */
 } hal_err_t;
 
 /** The two driven wheels; the numbering is the core's (ODOM_LEFT, ODOM_RIGHT). */

@@ -49,26 +49,27 @@ static void app_on_crash(int sig)
 
 static void app_usage(FILE *f)
 {
-    fprintf(f,
-            "usage: " APP_NAME " --config FILE [--check] [--ticks N]\n"
-            "       " APP_NAME " --help\n"
-            "\n"
-            "Runs the sonarslam firmware on a Linux robot: 10 ms control ticks, wheel encoders,\n"
-            "the swept sonar, the motors and telemetry, as robot.conf describes them.\n"
-            "\n"
-            "  -c, --config FILE  the robot's configuration (key = value; see robot-rpi.conf)\n"
-            "      --check        open every line and PWM channel, report what works, move nothing\n"
-            "      --ticks N      stop after N control ticks (N/100 s); default: run until\n"
-            "                     SIGINT (Ctrl-C) or SIGTERM\n"
-            "  -h, --help         this text\n"
-            "\n"
-            "On exit the motors stop and the maps are written to storage_dir: om.pgm and\n"
-            "om_post.pgm, each with a ROS map_server .yaml, and tm.pgm (where the robot drove,\n"
-            "a picture with no .yaml: no map loader should read it as obstacles). The motors\n"
-            "also stop, and the program exits with status 3, when a thread stalls for more\n"
-            "than 100 ms or a hardware write fails. A second Ctrl-C (or SIGTERM) ends the program at once.\n"
-            "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
-            "3 stopped for safety, 128 + N ended at once by a second signal N.\n");
+    fprintf(
+        f, "usage: " APP_NAME " --config FILE [--check] [--ticks N]\n"
+           "       " APP_NAME " --help\n"
+           "\n"
+           "Runs the sonarslam firmware on a Linux robot: 10 ms control ticks, wheel encoders,\n"
+           "the swept sonar, the motors and telemetry, as robot.conf describes them.\n"
+           "\n"
+           "  -c, --config FILE  the robot's configuration (key = value; see robot-rpi.conf)\n"
+           "      --check        open every line and PWM channel, report what works, move nothing\n"
+           "      --ticks N      stop after N control ticks (N/100 s); default: run until\n"
+           "                     SIGINT (Ctrl-C) or SIGTERM\n"
+           "  -h, --help         this text\n"
+           "\n"
+           "On exit the motors stop and the maps are written to storage_dir: om.pgm and\n"
+           "om_post.pgm, each with a ROS map_server .yaml, and tm.pgm (where the robot drove,\n"
+           "a picture with no .yaml: no map loader should read it as obstacles). The motors\n"
+           "also stop, and the program exits with status 3, when a thread stalls for more\n"
+           "than 100 ms or a hardware write fails. A second Ctrl-C (or SIGTERM) ends the program "
+           "at once.\n"
+           "Exit status: 0 ok, 1 hardware problem, 2 bad command line or configuration,\n"
+           "3 stopped for safety, 128 + N ended at once by a second signal N.\n");
 }
 
 /* The tick callback: the firmware's 10 ms interrupt body. */
@@ -100,7 +101,8 @@ static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
         rc = mapfile_write(lc->storage_dir, "om_post", img, A, B, true, &geo);
     }
     if (rc != 0) {
-        fprintf(err, APP_NAME ": cannot write the maps to %s: %s\n", lc->storage_dir, strerror(-rc));
+        fprintf(err, APP_NAME ": cannot write the maps to %s: %s\n", lc->storage_dir,
+                strerror(-rc));
         return -1;
     }
     fprintf(out, "maps written to %s: om.pgm, om_post.pgm (+ .yaml), tm.pgm\n", lc->storage_dir);
@@ -176,8 +178,9 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         }
         for (unsigned i = 0u; i < st.sonars && !warned_stuck; i++) {
             if (st.sonar[i].stuck_high > 0u) {
-                fprintf(err, APP_NAME ": warning: %s echo line is high before the ping (stuck, "
-                             "or the sensor has no power); pings time out\n",
+                fprintf(err,
+                        APP_NAME ": warning: %s echo line is high before the ping (stuck, "
+                                 "or the sensor has no power); pings time out\n",
                         i == 0u ? "the sonar's" : "sonar 1's");
                 warned_stuck = true;
             }
@@ -195,7 +198,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     }
     if (!clean) {
         fprintf(err, APP_NAME ": a thread did not stop; the maps are written as the tick "
-                     "left them\n");
+                              "left them\n");
         status = APP_EXIT_SAFETY; /* a stalled thread, whatever ended the run (README) */
     }
     fprintf(out, "motors stopped after %u ticks\n", (unsigned)app_robot.ticks);
@@ -236,7 +239,8 @@ int app_main(int argc, char **argv, FILE *out, FILE *err)
         case 't': {
             unsigned long long v = 0u;
             if (num_uint(optarg, 1u, UINT32_MAX, &v) != NUM_OK) {
-                fprintf(err, APP_NAME ": --ticks '%s': expected a whole number of ticks >= 1\n", optarg);
+                fprintf(err, APP_NAME ": --ticks '%s': expected a whole number of ticks >= 1\n",
+                        optarg);
                 return APP_EXIT_USAGE;
             }
             tick_limit = (uint32_t)v;

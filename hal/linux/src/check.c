@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* --check: open every line, PWM channel, the telemetry stream and the storage directory, move nothing. */
+/* --check: open every line, PWM channel, the telemetry stream and the storage directory, move
+ * nothing. */
 #define _GNU_SOURCE
 #include <stdbool.h>
 #include <stdio.h>
@@ -12,7 +13,8 @@
 
 static unsigned lx_check_item(FILE *out, const char *what, int ok, const char *detail)
 {
-    fprintf(out, "  %-24s %s%s\n", what, ok ? "ok" : "FAIL: ", ok ? (detail[0] ? detail : "") : detail);
+    fprintf(out, "  %-24s %s%s\n", what,
+            ok ? "ok" : "FAIL: ", ok ? (detail[0] ? detail : "") : detail);
     return ok ? 0u : 1u;
 }
 
@@ -26,7 +28,8 @@ unsigned lhal_check(const lconf_t *cfg, FILE *out)
     gpio_chip_t *chip = NULL;
     int ok = gpio_chip_open(cfg->gpio_chip, &chip, msg, sizeof msg) == 0;
     if (ok) {
-        snprintf(detail, sizeof detail, " (%s, %u lines)", gpio_chip_describe(chip), gpio_chip_lines(chip));
+        snprintf(detail, sizeof detail, " (%s, %u lines)", gpio_chip_describe(chip),
+                 gpio_chip_lines(chip));
     }
     bad += lx_check_item(out, "gpio_chip", ok, ok ? detail : msg);
     items++;
@@ -44,8 +47,9 @@ unsigned lhal_check(const lconf_t *cfg, FILE *out)
         gpio_line_t *line = NULL;
         unsigned off = (unsigned)lines[i].offset;
         bool input = lines[i].bias != LCONF_OUTPUT;
-        ok = (input ? gpio_line_edges(chip, off, (lconf_bias_t)lines[i].bias, &line, msg, sizeof msg)
-                    : gpio_line_output(chip, off, 0, &line, msg, sizeof msg)) == 0;
+        ok =
+            (input ? gpio_line_edges(chip, off, (lconf_bias_t)lines[i].bias, &line, msg, sizeof msg)
+                   : gpio_line_output(chip, off, 0, &line, msg, sizeof msg)) == 0;
         if (ok && input) {
             snprintf(detail, sizeof detail, " (line %u, input, now %s)", off,
                      gpio_line_get(line) == 1 ? "high" : "low");
@@ -59,8 +63,10 @@ unsigned lhal_check(const lconf_t *cfg, FILE *out)
     const struct {
         const char *name;
         lconf_pwm_t pwm;
-    } pwms[] = {{"servo_pwm", cfg->servo_pwm}, {"motor_left_pwm", cfg->motor_pwm[0]},
-                {"motor_right_pwm", cfg->motor_pwm[1]}, {"servo1_pwm", cfg->servo1_pwm}};
+    } pwms[] = {{"servo_pwm", cfg->servo_pwm},
+                {"motor_left_pwm", cfg->motor_pwm[0]},
+                {"motor_right_pwm", cfg->motor_pwm[1]},
+                {"servo1_pwm", cfg->servo1_pwm}};
     for (unsigned i = 0u; i < sizeof pwms / sizeof pwms[0]; i++) {
         if (pwms[i].pwm.chip < 0 || pwms[i].pwm.channel < 0) {
             continue; /* an optional channel that is not wired */

@@ -80,8 +80,8 @@ static int gpio_request(gpio_chip_t *chip, unsigned offset, int type, int flags,
                  gpiod_chip_num_lines(chip->chip));
         return -1;
     }
-    struct gpiod_line_request_config rc = {.consumer = GPIO_CONSUMER, .request_type = type,
-                                           .flags = flags};
+    struct gpiod_line_request_config rc = {
+        .consumer = GPIO_CONSUMER, .request_type = type, .flags = flags};
     if (gpiod_line_request(l, &rc, value) != 0) {
         int e = errno;
         const char *user = gpiod_line_consumer(l);
@@ -99,8 +99,8 @@ static int gpio_request(gpio_chip_t *chip, unsigned offset, int type, int flags,
     return 0;
 }
 
-int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line,
-                     char *err, size_t errlen)
+int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line, char *err,
+                     size_t errlen)
 {
     return gpio_request(chip, offset, GPIOD_LINE_REQUEST_DIRECTION_OUTPUT, 0, value, line, err,
                         errlen);

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* hal.h on a Linux single-board computer: start-up, shutdown, the critical section, inputs, storage. */
+/* hal.h on a Linux single-board computer: start-up, shutdown, the critical section, inputs,
+ * storage. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <pthread.h>
@@ -17,9 +18,14 @@
 #define LX_LATE_NS (2u * LX_NS_PER_MS)
 #define LX_IDLE_WAIT_NS (20u * LX_NS_PER_MS) /* lhal_idle_lock()'s longest wait */
 
-lx_t lx = {.timer_fd = -1, .stop_fd = -1, .out_fd = -1, .kill_fd = -1,
-           .uart = {.fd = -1, .peer_fd = -1}, .store = {.tmp_fd = {-1, -1}},
-           .servos = 1u, .sonars = 1u};
+lx_t lx = {.timer_fd = -1,
+           .stop_fd = -1,
+           .out_fd = -1,
+           .kill_fd = -1,
+           .uart = {.fd = -1, .peer_fd = -1},
+           .store = {.tmp_fd = {-1, -1}},
+           .servos = 1u,
+           .sonars = 1u};
 pthread_mutex_t lx_crit;
 pthread_mutex_t lx_sonar_lock;
 const char *const lx_wheel_name[2] = {"left", "right"};
@@ -313,7 +319,8 @@ static int lx_open_lines(void)
         int a = gpio_line_get(LX_ENC(w, 0u));
         int b = gpio_line_get(LX_ENC(w, 1u));
         if (a < 0 || b < 0) {
-            return lx_fail("encoder_%s: cannot read the lines: %s", lx_wheel_name[w], strerror(errno));
+            return lx_fail("encoder_%s: cannot read the lines: %s", lx_wheel_name[w],
+                           strerror(errno));
         }
         quad_init(&lx.quad[w], a == 1, b == 1, c->enc_invert[w]);
         edgeq_init(&lx.edgeq[w]);
@@ -479,7 +486,8 @@ int hal_tick_start(hal_tick_fn fn, void *ctx)
     uint64_t first = lx_mono_ns() + LX_TICK_NS;
     struct itimerspec its = {
         .it_interval = {.tv_sec = 0, .tv_nsec = (long)LX_TICK_NS},
-        .it_value = {.tv_sec = (time_t)(first / LX_NS_PER_S), .tv_nsec = (long)(first % LX_NS_PER_S)},
+        .it_value = {.tv_sec = (time_t)(first / LX_NS_PER_S),
+                     .tv_nsec = (long)(first % LX_NS_PER_S)},
     };
     if (timerfd_settime(lx.timer_fd, TFD_TIMER_ABSTIME, &its, NULL) != 0) {
         return lx_fail("timerfd_settime: %s", strerror(errno));
@@ -515,8 +523,9 @@ uint32_t hal_tick_overruns(void)
 
 uint16_t hal_encoder_count(hal_wheel_t wheel)
 {
-    return wheel <= HAL_WHEEL_RIGHT ? atomic_load_explicit(&lx.enc_count[wheel], memory_order_relaxed)
-                                    : 0u;
+    return wheel <= HAL_WHEEL_RIGHT
+               ? atomic_load_explicit(&lx.enc_count[wheel], memory_order_relaxed)
+               : 0u;
 }
 
 uint8_t hal_servo_count(void)

@@ -10,7 +10,17 @@
 #include "hal_common/number.h"
 #include "lhal/serial.h"
 
-typedef enum { K_LINE, K_OPT_LINE, K_PWM, K_OPT_PWM, K_U32, K_BAUD, K_BOOL, K_STR, K_BIAS } key_type_t;
+typedef enum {
+    K_LINE,
+    K_OPT_LINE,
+    K_PWM,
+    K_OPT_PWM,
+    K_U32,
+    K_BAUD,
+    K_BOOL,
+    K_STR,
+    K_BIAS
+} key_type_t;
 
 typedef struct {
     const char *name;
@@ -22,10 +32,14 @@ typedef struct {
     bool required;
 } lkey_t;
 
-#define KEY(n, t, field, req) \
-    {n, t, offsetof(lconf_t, field), sizeof(((lconf_t *)0)->field), 0u, 0u, false, req}
-#define KEY_U32(n, field, lo, hi, zero_ok) \
-    {n, K_U32, offsetof(lconf_t, field), sizeof(uint32_t), lo, hi, zero_ok, false}
+#define KEY(n, t, field, req)                                                                      \
+    {                                                                                              \
+        n, t, offsetof(lconf_t, field), sizeof(((lconf_t *)0)->field), 0u, 0u, false, req          \
+    }
+#define KEY_U32(n, field, lo, hi, zero_ok)                                                         \
+    {                                                                                              \
+        n, K_U32, offsetof(lconf_t, field), sizeof(uint32_t), lo, hi, zero_ok, false               \
+    }
 static const lkey_t keys[] = {
     KEY("gpio_chip", K_STR, gpio_chip, false),
     KEY("encoder_left_a", K_LINE, enc_a[0], true),
@@ -173,8 +187,8 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
     }
     case K_U32: {
         if (!(k->zero_ok && strcmp(v, "0") == 0) && !parse_int(v, k->lo, k->hi, &x)) {
-            snprintf(why, sizeof why, "expected a whole number %s%u..%u", k->zero_ok ? "0 (off) or " : "",
-                     (unsigned)k->lo, (unsigned)k->hi);
+            snprintf(why, sizeof why, "expected a whole number %s%u..%u",
+                     k->zero_ok ? "0 (off) or " : "", (unsigned)k->lo, (unsigned)k->hi);
             return bad(k->name, v, why, err, n);
         }
         uint32_t u = strcmp(v, "0") == 0 ? 0u : (uint32_t)x;
@@ -184,7 +198,8 @@ static int set_value(lconf_t *c, const lkey_t *k, const char *v, char *err, size
     case K_BAUD: {
         if (!parse_int(v, 1, UINT32_MAX, &x) || !serial_baud_supported((uint32_t)x)) {
             return bad(k->name, v,
-                       "expected 9600, 19200, 38400, 57600, 115200, 230400, 460800 or 921600", err, n);
+                       "expected 9600, 19200, 38400, 57600, 115200, 230400, 460800 or 921600", err,
+                       n);
         }
         uint32_t u = (uint32_t)x;
         memcpy(dst, &u, sizeof u);
@@ -327,7 +342,8 @@ static int check_pairs(const lconf_t *c, unsigned *blame, char *err, size_t errl
         if (pairs[i].has_a != pairs[i].has_b) {
             const char *given = pairs[i].has_a ? pairs[i].a : pairs[i].b;
             const char *missing = pairs[i].has_a ? pairs[i].b : pairs[i].a;
-            snprintf(err, errlen, "%s is given without %s (an instance needs both)", given, missing);
+            snprintf(err, errlen, "%s is given without %s (an instance needs both)", given,
+                     missing);
             *blame = key_line(c, given);
             return -1;
         }
@@ -391,7 +407,8 @@ static int check(const lconf_t *c, unsigned *blame, char *err, size_t errlen)
         for (size_t j = i + 1u; j < NPWM; j++) {
             if (pwm_wired(pwms[j].pwm) && pwms[i].pwm.chip == pwms[j].pwm.chip &&
                 pwms[i].pwm.channel == pwms[j].pwm.channel) {
-                snprintf(err, errlen, "%s and %s both use PWM channel pwmchip%d/pwm%d (lines %u and %u)",
+                snprintf(err, errlen,
+                         "%s and %s both use PWM channel pwmchip%d/pwm%d (lines %u and %u)",
                          pwms[i].name, pwms[j].name, (int)pwms[i].pwm.chip,
                          (int)pwms[i].pwm.channel, pwm_line[i], pwm_line[j]);
                 *blame = later(pwm_line[i], pwm_line[j]);

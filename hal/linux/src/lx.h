@@ -49,7 +49,7 @@
 /** A thread of the backend. */
 typedef struct {
     pthread_t id;
-    bool running;          /**< started and not joined */
+    bool running;             /**< started and not joined */
     _Atomic uint64_t beat_ns; /**< lx_now() when it last went round */
     _Atomic uint32_t rounds;  /**< times it went round */
 } lx_thread_t;
@@ -79,9 +79,9 @@ typedef struct {
     _Atomic int32_t want_duty[2];
     _Atomic uint32_t want_servo_us[LCONF_SERVOS]; /* 0: no command yet */
     _Atomic uint32_t want_triggers[LCONF_SONARS]; /* pulses asked for */
-    _Atomic uint32_t posted;         /* postings */
-    _Atomic uint32_t applied;        /* the postings written so far */
-    _Atomic(const char *) doing;     /* what the output thread writes now, for messages */
+    _Atomic uint32_t posted;                      /* postings */
+    _Atomic uint32_t applied;                     /* the postings written so far */
+    _Atomic(const char *) doing; /* what the output thread writes now, for messages */
     /* The output thread's own. */
     bool servo_started[LCONF_SERVOS];
     uint32_t servo_us[LCONF_SERVOS];
@@ -89,7 +89,7 @@ typedef struct {
     motor_out_t motor_out[2];
     bool standby_on;
 
-    echo_t echo[LCONF_SONARS]; /* under lx_sonar_lock */
+    echo_t echo[LCONF_SONARS];  /* under lx_sonar_lock */
     _Atomic uint32_t bump_high; /* the events thread's: bit i set while bump i's line is high */
     edgeq_t edgeq[2];
     quad_t quad[2];
@@ -102,9 +102,9 @@ typedef struct {
     store_t store; /* main */
 
     int timer_fd;
-    int stop_fd;          /* readable once the threads are to end */
-    int out_fd;           /* eventfd: something was posted */
-    _Atomic int kill_fd;  /* eventfd: the watchdog is to stop the motors now */
+    int stop_fd;         /* readable once the threads are to end */
+    int out_fd;          /* eventfd: something was posted */
+    _Atomic int kill_fd; /* eventfd: the watchdog is to stop the motors now */
     lx_thread_t tick;
     lx_thread_t events;
     lx_thread_t output;
@@ -115,10 +115,10 @@ typedef struct {
     bool sched_fifo;
 
     atomic_bool stop;
-    atomic_bool killed;      /* the motors are stopped for good */
-    atomic_bool kill_asked;  /* the watchdog is to do the kill (a signal, the shutdown) */
-    atomic_bool pwm_dead;    /* a kill turned the PWM outputs off */
-    atomic_bool pwm_failed;  /* a kill's PWM writes failed: the watchdog tries again */
+    atomic_bool killed;     /* the motors are stopped for good */
+    atomic_bool kill_asked; /* the watchdog is to do the kill (a signal, the shutdown) */
+    atomic_bool pwm_dead;   /* a kill turned the PWM outputs off */
+    atomic_bool pwm_failed; /* a kill's PWM writes failed: the watchdog tries again */
     atomic_bool tick_started;
     _Atomic uint32_t overruns;
     _Atomic uint64_t last_kick_ns;

@@ -10,8 +10,8 @@
 #include "hal_common/mapexport.h"
 #include "lhal/store.h"
 
-int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w,
-                  uint32_t h, bool yaml, const mapfile_geometry_t *geo)
+int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w, uint32_t h,
+                  bool yaml, const mapfile_geometry_t *geo)
 {
     char header[64];
     int hlen = snprintf(header, sizeof header, "P5\n%u %u\n255\n", (unsigned)w, (unsigned)h);

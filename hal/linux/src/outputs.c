@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The Linux backend's outputs: the output thread writes what the tick posted; the kill stops the motors without a lock. */
+/* The Linux backend's outputs: the output thread writes what the tick posted; the kill stops the
+ * motors without a lock. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <poll.h>
@@ -224,7 +225,8 @@ static void lx_apply(void)
 void *lx_output_main(void *arg)
 {
     (void)arg;
-    struct pollfd pfd[2] = {{.fd = lx.out_fd, .events = POLLIN}, {.fd = lx.stop_fd, .events = POLLIN}};
+    struct pollfd pfd[2] = {{.fd = lx.out_fd, .events = POLLIN},
+                            {.fd = lx.stop_fd, .events = POLLIN}};
     while (!atomic_load(&lx.stop)) {
         atomic_store(&lx.output.beat_ns, lx_now());
         atomic_fetch_add(&lx.output.rounds, 1u);

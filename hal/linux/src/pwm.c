@@ -56,8 +56,8 @@ static void pwm_sleep_ms(unsigned ms)
     }
 }
 
-int pwm_open(pwm_chan_t *p, const char *root, unsigned chip, unsigned channel,
-             unsigned wait_ms, char *err, size_t errlen)
+int pwm_open(pwm_chan_t *p, const char *root, unsigned chip, unsigned channel, unsigned wait_ms,
+             char *err, size_t errlen)
 {
     char chipdir[PWM_PATH_MAX];
     int n = snprintf(chipdir, sizeof chipdir, "%s/pwmchip%u", root, chip);

@@ -4,10 +4,10 @@
 
 /* Index: old state << 2 | new state. 2 marks an illegal transition (both lines changed). */
 static const int8_t quad_table[16] = {
-    /* old 00 */ 0, -1, +1, 2,
-    /* old 01 */ +1, 0, 2, -1,
-    /* old 10 */ -1, 2, 0, +1,
-    /* old 11 */ 2, +1, -1, 0,
+    /* old 00 */ 0,  -1, +1, 2,
+    /* old 01 */ +1, 0,  2,  -1,
+    /* old 10 */ -1, 2,  0,  +1,
+    /* old 11 */ 2,  +1, -1, 0,
 };
 
 void quad_init(quad_t *q, bool a, bool b, bool invert)
@@ -66,7 +66,7 @@ int quad_edge(quad_t *q, quad_line_t line, bool level)
     uint8_t bit = line == QUAD_A ? 2u : 1u;
     q->edges++;
     int d = ((q->state & bit) != 0u) == level ? quad_lost(q, x, bit)
-                                               : quad_step(q, (uint8_t)(q->state ^ bit));
+                                              : quad_step(q, (uint8_t)(q->state ^ bit));
     /* This line starts over; for the other one, this is one more edge since its last. */
     q->seen[x] = true;
     q->since[x] = 0u;

@@ -49,8 +49,8 @@ static int serial_raw(int fd, uint32_t baud, bool set_speed)
     cfmakeraw(&t);
     t.c_cflag |= CLOCAL | CREAD;
     t.c_cflag &= ~(tcflag_t)CRTSCTS;
-    if (set_speed && (cfsetispeed(&t, serial_speed(baud)) != 0 ||
-                      cfsetospeed(&t, serial_speed(baud)) != 0)) {
+    if (set_speed &&
+        (cfsetispeed(&t, serial_speed(baud)) != 0 || cfsetospeed(&t, serial_speed(baud)) != 0)) {
         return -1;
     }
     return tcsetattr(fd, TCSANOW, &t);

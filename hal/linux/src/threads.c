@@ -22,7 +22,8 @@ enum { LX_POLL_ECHO = 4, LX_POLL_MAX = LX_POLL_ECHO + LCONF_SONARS + LCONF_BUMPS
 
 int lx_spawn(lx_thread_t *t, void *(*fn)(void *), unsigned prio, bool *fifo, int *prio_err)
 {
-    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGPIPE, SIGUSR1, SIGUSR2, SIGALRM};
+    static const int sigs[] = {SIGINT,  SIGTERM, SIGHUP,  SIGQUIT,
+                               SIGPIPE, SIGUSR1, SIGUSR2, SIGALRM};
     sigset_t block;
     sigset_t old;
     sigemptyset(&block);
@@ -142,7 +143,8 @@ static bool lx_read_echo(unsigned sonar)
     edgeq_edge_t buf[16];
     int n = gpio_line_read_edges(LX_ECHO(sonar), 0u, buf, 16u);
     if (n < 0) {
-        lx_fault(LHAL_FAULT_IO, "%s: reading edges failed: %s", lx_echo_key[sonar], strerror(errno));
+        lx_fault(LHAL_FAULT_IO, "%s: reading edges failed: %s", lx_echo_key[sonar],
+                 strerror(errno));
         return false;
     }
     pthread_mutex_lock(&lx_sonar_lock);
@@ -211,9 +213,9 @@ void *lx_events_main(void *arg)
                 char bump[16];
                 snprintf(bump, sizeof bump, "bump%u", i >= poll_bump ? i - poll_bump : 0u);
                 lx_fault(LHAL_FAULT_IO, "a GPIO event descriptor failed (line of %s)",
-                         i < LX_POLL_ECHO  ? "an encoder"
-                         : i < poll_bump ? lx_echo_key[i - LX_POLL_ECHO]
-                                         : bump);
+                         i < LX_POLL_ECHO ? "an encoder"
+                         : i < poll_bump  ? lx_echo_key[i - LX_POLL_ECHO]
+                                          : bump);
                 return NULL;
             }
         }
@@ -269,15 +271,19 @@ static void lx_wdog_judge(const wdog_t *w)
         break;
     case WDOG_EVENTS_STALL:
         lx_fault(LHAL_FAULT_WATCHDOG,
-                 "watchdog: the events thread (encoders, echo) stopped %llu ms ago; motors stopped", ms);
+                 "watchdog: the events thread (encoders, echo) stopped %llu ms ago; motors stopped",
+                 ms);
         break;
     case WDOG_OUTPUT_STALL:
-        lx_fault(LHAL_FAULT_WATCHDOG, "watchdog: writing %s has not returned for %llu ms; motors stopped",
+        lx_fault(LHAL_FAULT_WATCHDOG,
+                 "watchdog: writing %s has not returned for %llu ms; motors stopped",
                  doing != NULL ? doing : "the outputs", ms);
         break;
     case WDOG_IDLE_STALL:
-        lx_fault(LHAL_FAULT_WATCHDOG,
-                 "watchdog: the background loop stalled for %llu ms (watchdog_idle_ms); motors stopped", ms);
+        lx_fault(
+            LHAL_FAULT_WATCHDOG,
+            "watchdog: the background loop stalled for %llu ms (watchdog_idle_ms); motors stopped",
+            ms);
         break;
     default:
         break;

@@ -68,7 +68,8 @@ static int check_trace(const char *path)
     char *a = config_text(&cfg);
     char *b = config_text(&compiled);
     if (a == NULL || b == NULL || strcmp(a, b) != 0) {
-        fprintf(stderr, "replay_host: %s: the compiled-in configuration differs from the trace's\n", path);
+        fprintf(stderr, "replay_host: %s: the compiled-in configuration differs from the trace's\n",
+                path);
         rc = 1;
     }
     free(a);
@@ -83,7 +84,8 @@ static int check_trace(const char *path)
         trace_tick_t t;
         const trace_tick_t *w = &ticks[i];
         if (replay_next(&t) != 0) {
-            fprintf(stderr, "replay_host: the compiled-in scenario does not decode at tick %zu\n", i);
+            fprintf(stderr, "replay_host: the compiled-in scenario does not decode at tick %zu\n",
+                    i);
             rc = 1;
         } else if (t.enc[0] != w->enc[0] || t.enc[1] != w->enc[1] || t.poll != w->poll ||
                    t.echo_us != w->echo_us || t.trig != w->trig || t.duty[0] != w->duty[0] ||

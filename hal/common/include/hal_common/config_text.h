@@ -46,8 +46,7 @@ void cfgtext_write_raw(FILE *f, const slam_config_t *cfg, const char *prefix);
  * Set one field from its raw integer, as cfgtext_write_raw() wrote it.
  * @retval 0 set; -1 unknown key; -2 the value does not fit the field (cfg unchanged)
  */
-int cfgtext_set_raw(slam_config_t *cfg, const char *key, long long raw, char *err,
-                    size_t errlen);
+int cfgtext_set_raw(slam_config_t *cfg, const char *key, long long raw, char *err, size_t errlen);
 
 /** Lines longer than this (the newline included) are refused. */
 #define CFGTEXT_LINE_MAX 512u
@@ -131,8 +130,8 @@ extern const char *const cfgtext_sections[];
  * another program's section are skipped, but each line there must still be `key = value`.
  */
 int cfgtext_parse_in(const char *name, const char *text, size_t len, const char *section,
-                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx,
-                     cfgtext_where_t *where, char *err, size_t errlen);
+                     slam_config_t *cfg, cfgtext_other_fn other, void *ctx, cfgtext_where_t *where,
+                     char *err, size_t errlen);
 
 /** cfgtext_parse_in() on a file, as cfgtext_load(). */
 int cfgtext_load_in(const char *path, const char *section, slam_config_t *cfg,

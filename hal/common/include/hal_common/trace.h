@@ -53,7 +53,7 @@ void trace_write_end(FILE *f, uint64_t ticks);
  * @param err    out: on failure "FILE:LINE: message"
  * @return 0, or -1 with nothing allocated
  */
-int trace_read(const char *path, slam_config_t *cfg, trace_tick_t **ticks, size_t *n,
-               char *err, size_t errlen);
+int trace_read(const char *path, slam_config_t *cfg, trace_tick_t **ticks, size_t *n, char *err,
+               size_t errlen);
 
 #endif /* HAL_COMMON_TRACE_H */

@@ -12,9 +12,9 @@
 /** One tick of a trace. */
 typedef struct {
     uint16_t enc[2];
-    char poll;        /**< '-', 'i', 'b', 'e' or 't' */
+    char poll; /**< '-', 'i', 'b', 'e' or 't' */
     uint32_t echo_us;
-    char trig;        /**< '-', 'o' or 'b' */
+    char trig; /**< '-', 'o' or 'b' */
     int16_t duty[2];
     uint16_t servo_us;
 } trace_tick_t;

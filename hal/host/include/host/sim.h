@@ -59,11 +59,11 @@ typedef struct {
  * is empty space.
  */
 typedef struct {
-    room_segment_t *segs;  /**< walls, box and polygon edges */
+    room_segment_t *segs; /**< walls, box and polygon edges */
     size_t nsegs;
     room_circle_t *circles;
     size_t ncircles;
-    room_box_t *boxes;     /**< the solid insides of `box` statements */
+    room_box_t *boxes; /**< the solid insides of `box` statements */
     size_t nboxes;
     uint8_t *occ;          /**< raster rooms (ROS maps): 1 = occupied pixel, row 0 at the bottom */
     uint8_t *occ_free;     /**< the same raster: 1 = known free pixel (p < free_thresh) */
@@ -73,9 +73,9 @@ typedef struct {
     double min_x, min_y, max_x, max_y; /**< bounding box of all geometry (occupied pixels
                                             for a raster), m */
     double start_x, start_y, start_th; /**< start pose (m, m, rad) */
-    bool has_start;        /**< the file gave a start pose (ROS maps do not) */
-    unsigned start_line;   /**< the line of the file that gave it; 0 */
-    struct room_index *index; /**< the objects by place, for large rooms; NULL (private) */
+    bool has_start;                    /**< the file gave a start pose (ROS maps do not) */
+    unsigned start_line;               /**< the line of the file that gave it; 0 */
+    struct room_index *index;          /**< the objects by place, for large rooms; NULL (private) */
 } room_t;
 
 /** A crop of a building map, in metres of the map's frame. */
@@ -108,16 +108,15 @@ int room_load(room_t *r, const char *path, const room_crop_t *crop, char *err, s
  * @param name  the file's name, for messages
  * @param text  @p len bytes (need not end in a NUL)
  */
-int room_parse(room_t *r, const char *name, const char *text, size_t len, char *err,
-               size_t errlen);
+int room_parse(room_t *r, const char *name, const char *text, size_t len, char *err, size_t errlen);
 
 /**
  * room_load() of a ROS map whose YAML and image are held in memory (the YAML's `image`
  * key is checked, not opened).
  */
 int room_parse_ros(room_t *r, const char *yaml_name, const char *yaml, size_t yaml_len,
-                   const char *pgm_name, const char *pgm, size_t pgm_len,
-                   const room_crop_t *crop, char *err, size_t errlen);
+                   const char *pgm_name, const char *pgm, size_t pgm_len, const room_crop_t *crop,
+                   char *err, size_t errlen);
 
 /** Free what room_load() allocated and zero the room. */
 void room_free(room_t *r);
@@ -226,12 +225,12 @@ typedef struct {
     /* The instance tables: the paper's servo and sonar (instance 0) always, the others and
        the bump switches only when asked for. Every servo and sonar is the same model
        (the fields above); the fault episodes of sim_errors_t act on instance 0 alone. */
-    uint32_t servos;           /**< servos fitted, 1..SIM_SERVOS_MAX; 1 */
-    uint32_t extra_sonars;     /**< sonars fitted besides the paper's, 0..SIM_SONARS_MAX - 1;
-                                    0 */
+    uint32_t servos;       /**< servos fitted, 1..SIM_SERVOS_MAX; 1 */
+    uint32_t extra_sonars; /**< sonars fitted besides the paper's, 0..SIM_SONARS_MAX - 1;
+                                0 */
     sim_sonar_mount_t extra_sonar[SIM_SONARS_MAX - 1u]; /**< sonar i + 1's mount; [0]: a fixed
                                     sensor on the left side looking left, (0, 0.06) at 90° */
-    uint32_t bumps;            /**< bump switches fitted, 0..SIM_BUMPS_MAX; 0 */
+    uint32_t bumps;                 /**< bump switches fitted, 0..SIM_BUMPS_MAX; 0 */
     sim_bump_t bump[SIM_BUMPS_MAX]; /**< switch i's arc: front left (0..90°), front right
                                     (-90..0°), back left, back right; two switches at the
                                     front both close for a touch straight ahead */
@@ -272,27 +271,27 @@ typedef struct {
 
 /** Error sources, each with a level; sim_errors_ideal() turns all off (--ideal). */
 typedef struct {
-    double wheel_ratio_ed;   /**< E_d: actual right/left wheel diameter (mean stays nominal);
-                                  1.0 = none */
-    double wheel_base_eb;    /**< E_b: actual/nominal wheel base; 1.0 = none */
-    double slip_per_mps2;    /**< wheel slip fraction per m/s² of wheel acceleration beyond
-                                  slip_free_mps2 (the ground moves that much less than the
-                                  wheel): traction holds for gentle accelerations and gives
-                                  way to hard ones */
-    double slip_free_mps2;   /**< wheel accelerations up to this roll without slipping */
-    double wheel_noise;      /**< relative random error of each wheel's ground travel per tick
-                                  (one standard deviation) */
-    double sonar_noise_m;    /**< standard deviation of the range noise */
-    double sonar_dropout;    /**< probability that a ping gets no echo */
-    double sonar_ghost;      /**< probability of a ghost echo at a random range */
-    double grazing_deg;      /**< a ray hitting a surface beyond this incidence returns no
-                                  direct echo (at every range); 0 = off; grazing_curve
-                                  replaces it when it has knots */
+    double wheel_ratio_ed; /**< E_d: actual right/left wheel diameter (mean stays nominal);
+                                1.0 = none */
+    double wheel_base_eb;  /**< E_b: actual/nominal wheel base; 1.0 = none */
+    double slip_per_mps2;  /**< wheel slip fraction per m/s² of wheel acceleration beyond
+                                slip_free_mps2 (the ground moves that much less than the
+                                wheel): traction holds for gentle accelerations and gives
+                                way to hard ones */
+    double slip_free_mps2; /**< wheel accelerations up to this roll without slipping */
+    double wheel_noise;    /**< relative random error of each wheel's ground travel per tick
+                                (one standard deviation) */
+    double sonar_noise_m;  /**< standard deviation of the range noise */
+    double sonar_dropout;  /**< probability that a ping gets no echo */
+    double sonar_ghost;    /**< probability of a ghost echo at a random range */
+    double grazing_deg;    /**< a ray hitting a surface beyond this incidence returns no
+                                direct echo (at every range); 0 = off; grazing_curve
+                                replaces it when it has knots */
     sim_grazing_curve_t grazing_curve; /**< the limit by range (n = 0: grazing_deg) */
-    uint32_t multipath;      /**< reflections a ray that met a surface beyond the limit may
-                                  make, mirror-like, before it reaches one that answers or
-                                  passes the receiver: the echo then reads half the path;
-                                  0 = none (the ray is lost, as at the optimistic level) */
+    uint32_t multipath; /**< reflections a ray that met a surface beyond the limit may
+                             make, mirror-like, before it reaches one that answers or
+                             passes the receiver: the echo then reads half the path;
+                             0 = none (the ray is lost, as at the optimistic level) */
     /* Faults of the wiring and the timing, each off (0) by default. An episode lasts
        0.5..3 s (uniform) and a new one may begin once it is over. */
     double echo_stuck_per_s;   /**< episodes a second in which the echo line sticks high: every
@@ -334,14 +333,14 @@ int sim_params_check(const sim_params_t *p, const sim_errors_t *e, const char **
 
 /** What the world knows that the robot does not. */
 typedef struct {
-    double x, y, th;          /**< true pose of the axle centre, m and rad (th in (-pi, pi]) */
-    double servo_deg;         /**< where servo 0 (the sweep's) actually is */
-    double wheel_mps[2];      /**< wheel surface speeds (left, right), m/s, before slip */
-    uint32_t collisions;      /**< times the robot ran into something and was stopped */
-    uint64_t ticks_missed;    /**< control ticks lost to the tick_miss fault */
-    bool contact;             /**< the body touches an obstacle now */
-    uint64_t time_us;         /**< virtual time since sim_create() */
-    uint64_t ticks;           /**< control periods run (sim_step() calls) */
+    double x, y, th;       /**< true pose of the axle centre, m and rad (th in (-pi, pi]) */
+    double servo_deg;      /**< where servo 0 (the sweep's) actually is */
+    double wheel_mps[2];   /**< wheel surface speeds (left, right), m/s, before slip */
+    uint32_t collisions;   /**< times the robot ran into something and was stopped */
+    uint64_t ticks_missed; /**< control ticks lost to the tick_miss fault */
+    bool contact;          /**< the body touches an obstacle now */
+    uint64_t time_us;      /**< virtual time since sim_create() */
+    uint64_t ticks;        /**< control periods run (sim_step() calls) */
 } sim_truth_t;
 
 /** What became of a ping. */
@@ -362,16 +361,16 @@ typedef enum {
 
 /** The pose and sonar geometry of the last ping, for logs. */
 typedef struct {
-    double x, y, th;          /**< true pose at the ping */
-    double servo_deg;         /**< actual angle of the servo it turns on at the ping; a fixed
-                                   sonar's is the angle a servo would point it the same way
-                                   at (90 - yaw_deg) */
-    double bearing;           /**< world direction of the beam axis, rad */
-    double true_range_m;      /**< distance from the servo axis to the nearest surface in
-                                   the cone (any incidence); -1 when none within sonar_max_m */
-    double range_m;           /**< the range the echo stands for (noise included); 0 without */
-    uint32_t echo_us;         /**< the echo width reported; 0 without an echo */
-    uint64_t time_us;         /**< virtual time of the trigger */
+    double x, y, th;     /**< true pose at the ping */
+    double servo_deg;    /**< actual angle of the servo it turns on at the ping; a fixed
+                              sonar's is the angle a servo would point it the same way
+                              at (90 - yaw_deg) */
+    double bearing;      /**< world direction of the beam axis, rad */
+    double true_range_m; /**< distance from the servo axis to the nearest surface in
+                              the cone (any incidence); -1 when none within sonar_max_m */
+    double range_m;      /**< the range the echo stands for (noise included); 0 without */
+    uint32_t echo_us;    /**< the echo width reported; 0 without an echo */
+    uint64_t time_us;    /**< virtual time of the trigger */
     sim_ping_kind_t kind;
 } sim_ping_t;
 
@@ -384,8 +383,7 @@ typedef struct sim sim_t;
  * @return NULL when out of memory, when sim_params_check() refuses @p p or @p e, or when
  *         the body disc (p->body_radius_m) at the start pose touches an obstacle
  */
-sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e,
-                  uint64_t seed);
+sim_t *sim_create(const room_t *room, const sim_params_t *p, const sim_errors_t *e, uint64_t seed);
 void sim_destroy(sim_t *s);
 
 /** The true state now. */

@@ -38,21 +38,21 @@ typedef enum {
 
 /** Echo timing state and counters. */
 typedef struct {
-    uint32_t timeout_us;      /**< a width at or beyond this is out of range */
-    uint8_t phase;            /**< an echo_phase_t */
-    bool line_high;           /**< the echo line's level as the edges tell it */
-    uint64_t trigger_ns;      /**< caller's clock at the trigger */
-    uint64_t rise_ns;         /**< kernel timestamp of the rising edge */
-    uint8_t result;           /**< HAL_SONAR_ECHO or HAL_SONAR_TIMEOUT, with ECHO_DONE */
-    uint32_t width_us;        /**< the width, with HAL_SONAR_ECHO */
-    uint32_t pings;           /**< triggers accepted */
-    uint32_t echoes;          /**< pings that ended with an echo */
-    uint32_t out_of_range;    /**< pings whose echo reached timeout_us */
-    uint32_t no_response;     /**< pings whose echo never rose */
-    uint32_t long_echo;       /**< pings whose echo was still high at the deadline */
-    uint32_t stuck_high;      /**< pings refused because the line was high at the trigger */
-    uint32_t stray;           /**< edges outside a ping */
-    uint32_t lost;            /**< edges that repeated the line's level (one was lost) */
+    uint32_t timeout_us;   /**< a width at or beyond this is out of range */
+    uint8_t phase;         /**< an echo_phase_t */
+    bool line_high;        /**< the echo line's level as the edges tell it */
+    uint64_t trigger_ns;   /**< caller's clock at the trigger */
+    uint64_t rise_ns;      /**< kernel timestamp of the rising edge */
+    uint8_t result;        /**< HAL_SONAR_ECHO or HAL_SONAR_TIMEOUT, with ECHO_DONE */
+    uint32_t width_us;     /**< the width, with HAL_SONAR_ECHO */
+    uint32_t pings;        /**< triggers accepted */
+    uint32_t echoes;       /**< pings that ended with an echo */
+    uint32_t out_of_range; /**< pings whose echo reached timeout_us */
+    uint32_t no_response;  /**< pings whose echo never rose */
+    uint32_t long_echo;    /**< pings whose echo was still high at the deadline */
+    uint32_t stuck_high;   /**< pings refused because the line was high at the trigger */
+    uint32_t stray;        /**< edges outside a ping */
+    uint32_t lost;         /**< edges that repeated the line's level (one was lost) */
 } echo_t;
 
 /**

@@ -45,8 +45,8 @@ void gpio_chip_close(gpio_chip_t *chip);
  * @param line   out: a handle owned by the chip, valid until gpio_chip_close()
  * @return 0, or -1 with err (e.g. "line 17 is in use by 'foo'")
  */
-int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line,
-                     char *err, size_t errlen);
+int gpio_line_output(gpio_chip_t *chip, unsigned offset, int value, gpio_line_t **line, char *err,
+                     size_t errlen);
 
 /**
  * Request a line as an input with both-edge events.

@@ -58,39 +58,39 @@ typedef struct {
 
 /** Where everything is. Wheels are indexed by hal_wheel_t (0 left, 1 right). */
 typedef struct {
-    char gpio_chip[64];          /**< gpio_chip: name, path, label or number; "gpiochip0" */
-    int32_t enc_a[2];            /**< encoder_left_a, encoder_right_a: required */
-    int32_t enc_b[2];            /**< encoder_left_b, encoder_right_b: required */
-    bool enc_invert[2];          /**< encoder_left_invert, encoder_right_invert; 0 */
-    uint8_t enc_bias;            /**< encoder_bias: an lconf_bias_t; as-is */
-    int32_t sonar_trigger;       /**< sonar_trigger: required */
-    int32_t sonar_echo;          /**< sonar_echo: required */
-    int32_t sonar1_trigger;      /**< sonar1_trigger: sonar 1's; -1 (no sonar 1) */
-    int32_t sonar1_echo;         /**< sonar1_echo: sonar 1's; -1; given with sonar1_trigger */
-    uint32_t sonar_timeout_us;   /**< sonar_timeout_us: 1000..100000, every sonar's; 30000
-                                      (5.1 m) */
-    char pwm_root[160];          /**< pwm_root: "/sys/class/pwm" */
-    lconf_pwm_t servo_pwm;       /**< servo_pwm_chip, servo_pwm_channel: required */
-    lconf_pwm_t servo1_pwm;      /**< servo1_pwm_chip, servo1_pwm_channel: servo 1's, both or
-                                      neither; -1 (no servo 1) */
-    lconf_pwm_t motor_pwm[2];    /**< motor_{left,right}_pwm_{chip,channel}: required */
-    uint32_t motor_period_ns;    /**< motor_pwm_period_ns: 10000..50000000; 50000 (20 kHz) */
-    int32_t motor_in1[2];        /**< motor_{left,right}_in1: required */
-    int32_t motor_in2[2];        /**< motor_{left,right}_in2: required, -1 for a DIR driver */
-    bool motor_invert[2];        /**< motor_{left,right}_invert; 0 */
-    int32_t motor_standby;       /**< motor_standby: high while a motor runs; -1 */
-    int32_t bump[LCONF_BUMPS];   /**< bump0 .. bump3: bump switch inputs; -1 (none). bumpN
-                                      needs every bump before it */
-    uint8_t bump_bias;           /**< bump_bias: an lconf_bias_t; pull-up */
-    bool bump_active_low;        /**< bump_active_low: a pressed switch reads low (closes to
-                                      ground); 1 */
-    char telemetry[128];         /**< telemetry: a device path, "pty" or "none"; "none" */
-    uint32_t telemetry_baud;     /**< telemetry_baud: 9600..921600; 115200 */
-    char storage_dir[160];       /**< storage_dir: slots and maps; "." */
-    uint32_t storage_bytes;      /**< storage_bytes: bytes per slot, 4096..16777216; 65536 */
-    uint32_t tick_priority;      /**< tick_priority: SCHED_FIFO 1..98, 0 for normal; 50 */
-    uint32_t watchdog_idle_ms;   /**< watchdog_idle_ms: 0 (off) or 100..60000; 2000 */
-    uint64_t seen;               /**< which keys were given (one bit per key) */
+    char gpio_chip[64];            /**< gpio_chip: name, path, label or number; "gpiochip0" */
+    int32_t enc_a[2];              /**< encoder_left_a, encoder_right_a: required */
+    int32_t enc_b[2];              /**< encoder_left_b, encoder_right_b: required */
+    bool enc_invert[2];            /**< encoder_left_invert, encoder_right_invert; 0 */
+    uint8_t enc_bias;              /**< encoder_bias: an lconf_bias_t; as-is */
+    int32_t sonar_trigger;         /**< sonar_trigger: required */
+    int32_t sonar_echo;            /**< sonar_echo: required */
+    int32_t sonar1_trigger;        /**< sonar1_trigger: sonar 1's; -1 (no sonar 1) */
+    int32_t sonar1_echo;           /**< sonar1_echo: sonar 1's; -1; given with sonar1_trigger */
+    uint32_t sonar_timeout_us;     /**< sonar_timeout_us: 1000..100000, every sonar's; 30000
+                                        (5.1 m) */
+    char pwm_root[160];            /**< pwm_root: "/sys/class/pwm" */
+    lconf_pwm_t servo_pwm;         /**< servo_pwm_chip, servo_pwm_channel: required */
+    lconf_pwm_t servo1_pwm;        /**< servo1_pwm_chip, servo1_pwm_channel: servo 1's, both or
+                                        neither; -1 (no servo 1) */
+    lconf_pwm_t motor_pwm[2];      /**< motor_{left,right}_pwm_{chip,channel}: required */
+    uint32_t motor_period_ns;      /**< motor_pwm_period_ns: 10000..50000000; 50000 (20 kHz) */
+    int32_t motor_in1[2];          /**< motor_{left,right}_in1: required */
+    int32_t motor_in2[2];          /**< motor_{left,right}_in2: required, -1 for a DIR driver */
+    bool motor_invert[2];          /**< motor_{left,right}_invert; 0 */
+    int32_t motor_standby;         /**< motor_standby: high while a motor runs; -1 */
+    int32_t bump[LCONF_BUMPS];     /**< bump0 .. bump3: bump switch inputs; -1 (none). bumpN
+                                        needs every bump before it */
+    uint8_t bump_bias;             /**< bump_bias: an lconf_bias_t; pull-up */
+    bool bump_active_low;          /**< bump_active_low: a pressed switch reads low (closes to
+                                        ground); 1 */
+    char telemetry[128];           /**< telemetry: a device path, "pty" or "none"; "none" */
+    uint32_t telemetry_baud;       /**< telemetry_baud: 9600..921600; 115200 */
+    char storage_dir[160];         /**< storage_dir: slots and maps; "." */
+    uint32_t storage_bytes;        /**< storage_bytes: bytes per slot, 4096..16777216; 65536 */
+    uint32_t tick_priority;        /**< tick_priority: SCHED_FIFO 1..98, 0 for normal; 50 */
+    uint32_t watchdog_idle_ms;     /**< watchdog_idle_ms: 0 (off) or 100..60000; 2000 */
+    uint64_t seen;                 /**< which keys were given (one bit per key) */
     unsigned line[LCONF_KEYS_MAX]; /**< the line of the file that set each key; 0 */
 } lconf_t;
 

@@ -40,23 +40,23 @@ typedef enum {
 
 /** Counters of the backend, a consistent snapshot. */
 typedef struct {
-    tickstat_t tick;               /**< the tick's accounting: ticks, late, overruns, missed */
-    bool sched_fifo;               /**< the tick runs with SCHED_FIFO */
-    uint16_t enc_count[2];         /**< the HAL's encoder counters */
-    uint32_t enc_edges[2];         /**< edges decoded per wheel */
-    uint32_t enc_illegal[2];       /**< impossible transitions and lost edges per wheel */
-    unsigned sonars;               /**< sonars wired: sonar[0 .. sonars - 1] count */
-    echo_t sonar[LCONF_SONARS];    /**< each sonar's counters: pings, echoes, timeouts by cause */
-    unsigned bumps;                /**< bump switches wired */
-    uint32_t bump_high;            /**< bit i set while bump switch i's line is high */
-    uint64_t uart_sent;            /**< telemetry bytes written */
-    uint64_t uart_dropped;         /**< telemetry bytes dropped (no room) */
-    bool kernel_ts_realtime;       /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
-    uint32_t events_rounds;        /**< times the events thread went round (it does every 10 ms) */
-    uint32_t output_rounds;        /**< times the output thread went round (the same) */
-    uint32_t outputs_posted;       /**< output changes set through hal.h */
-    uint32_t outputs_written;      /**< the last of them the output thread has written */
-    const char *output_writing;    /**< what the output thread writes now ("servo_pwm"), or NULL */
+    tickstat_t tick;            /**< the tick's accounting: ticks, late, overruns, missed */
+    bool sched_fifo;            /**< the tick runs with SCHED_FIFO */
+    uint16_t enc_count[2];      /**< the HAL's encoder counters */
+    uint32_t enc_edges[2];      /**< edges decoded per wheel */
+    uint32_t enc_illegal[2];    /**< impossible transitions and lost edges per wheel */
+    unsigned sonars;            /**< sonars wired: sonar[0 .. sonars - 1] count */
+    echo_t sonar[LCONF_SONARS]; /**< each sonar's counters: pings, echoes, timeouts by cause */
+    unsigned bumps;             /**< bump switches wired */
+    uint32_t bump_high;         /**< bit i set while bump switch i's line is high */
+    uint64_t uart_sent;         /**< telemetry bytes written */
+    uint64_t uart_dropped;      /**< telemetry bytes dropped (no room) */
+    bool kernel_ts_realtime;    /**< edge timestamps are not CLOCK_MONOTONIC (kernel < 5.7) */
+    uint32_t events_rounds;     /**< times the events thread went round (it does every 10 ms) */
+    uint32_t output_rounds;     /**< times the output thread went round (the same) */
+    uint32_t outputs_posted;    /**< output changes set through hal.h */
+    uint32_t outputs_written;   /**< the last of them the output thread has written */
+    const char *output_writing; /**< what the output thread writes now ("servo_pwm"), or NULL */
 } lhal_stats_t;
 
 /** Use this configuration at the next hal_init() (copied). */

@@ -26,7 +26,7 @@ typedef struct {
  * @param img  w·h bytes, first row the northern one
  * @return 0, or -errno of the first file that could not be written
  */
-int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w,
-                  uint32_t h, bool yaml, const mapfile_geometry_t *geo);
+int mapfile_write(const char *dir, const char *name, const uint8_t *img, uint32_t w, uint32_t h,
+                  bool yaml, const mapfile_geometry_t *geo);
 
 #endif /* LHAL_MAPFILE_H */

@@ -27,12 +27,12 @@
 
 /** One PWM channel. */
 typedef struct {
-    char dir[PWM_PATH_MAX];        /**< ROOT/pwmchipN/pwmM */
+    char dir[PWM_PATH_MAX];               /**< ROOT/pwmchipN/pwmM */
     char duty_path[PWM_PATH_MAX + 16u];   /**< dir/duty_cycle */
     char enable_path[PWM_PATH_MAX + 16u]; /**< dir/enable */
-    uint32_t period_ns;            /**< as last written by pwm_start() */
-    uint32_t duty_ns;              /**< as last written; UINT32_MAX before the first */
-    bool enabled;                  /**< as last written */
+    uint32_t period_ns;                   /**< as last written by pwm_start() */
+    uint32_t duty_ns;                     /**< as last written; UINT32_MAX before the first */
+    bool enabled;                         /**< as last written */
 } pwm_chan_t;
 
 /**
@@ -43,8 +43,8 @@ typedef struct {
  * @param err      out: on failure, what is missing and where
  * @return 0, or -1 with err set
  */
-int pwm_open(pwm_chan_t *p, const char *root, unsigned chip, unsigned channel,
-             unsigned wait_ms, char *err, size_t errlen);
+int pwm_open(pwm_chan_t *p, const char *root, unsigned chip, unsigned channel, unsigned wait_ms,
+             char *err, size_t errlen);
 
 /**
  * Whether the channel's period, duty_cycle and enable can be written (for --check).

@@ -17,11 +17,11 @@
 
 /** A telemetry stream. */
 typedef struct {
-    int fd;            /**< -1 when there is none */
-    int peer_fd;       /**< our own hold on the pty's other end, or -1 */
-    char name[128];    /**< the device, or the pty's other end */
-    uint64_t sent;     /**< bytes written */
-    uint64_t dropped;  /**< bytes that did not fit */
+    int fd;           /**< -1 when there is none */
+    int peer_fd;      /**< our own hold on the pty's other end, or -1 */
+    char name[128];   /**< the device, or the pty's other end */
+    uint64_t sent;    /**< bytes written */
+    uint64_t dropped; /**< bytes that did not fit */
 } serial_t;
 
 /** Whether a baud rate is one serial_open() can set. */

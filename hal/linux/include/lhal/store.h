@@ -26,8 +26,8 @@
 /** The slots' directory and size, and the rewrites under way. */
 typedef struct {
     char dir[STORE_DIR_MAX];
-    size_t size;                     /**< bytes in a slot */
-    int tmp_fd[HAL_STORAGE_SLOTS];   /**< open copy of a slot being rewritten, or -1 */
+    size_t size;                   /**< bytes in a slot */
+    int tmp_fd[HAL_STORAGE_SLOTS]; /**< open copy of a slot being rewritten, or -1 */
 } store_t;
 
 /**
