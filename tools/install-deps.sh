@@ -29,7 +29,7 @@ pkgs_ros="python3 python3-numpy python3-rosbag python3-nav-msgs python3-sensor-m
 # The tests also drive the page in headless Chromium. On a bookworm system with the rest
 # of the test group, chromium, chromium-driver, python3-selenium and the web and ros groups
 # were 90 packages, 138 MB to download and 466 MB installed.
-pkgs_test="cmake make gcc clang pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2 python3-hypothesis chromium chromium-driver python3-selenium $pkgs_web $pkgs_ros"
+pkgs_test="cmake make gcc clang clang-format pkg-config libcmocka-dev gcc-multilib libcmocka-dev:i386 valgrind binutils libtsan2 python3-hypothesis chromium chromium-driver python3-selenium $pkgs_web $pkgs_ros"
 pkgs_sim="cmake make gcc pkg-config libcmocka-dev python3 python3-numpy python3-matplotlib python3-serial"
 pkgs_firmware="cmake make gcc gcc-arm-none-eabi libnewlib-arm-none-eabi binutils-arm-none-eabi qemu-system-arm python3 python3-unicorn"
 pkgs_flash="openocd gdb-multiarch"
