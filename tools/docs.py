@@ -19,6 +19,8 @@ Generators:
   headline   README.md: the table of "How good the maps are", the paper's row included,
              and the runs' wall coverage and touches: every shipped room x seeds 1-10,
              ten minutes, at the default (typical) sonar (180 runs, under a minute)
+  corpus     host_sim/README.md: the corpus tables, what `make corpus` prints
+             (tools/corpus_report.py, 344 runs, about a minute)
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;
 2 bad options.
 """
@@ -119,7 +121,18 @@ def headline(host_sim, work):
     return {"README.md": "\n".join(lines) + "\n"}, {}
 
 
-GENERATORS = {"make-sim": make_sim, "headline": headline}
+def corpus(host_sim, work):
+    """host_sim/README.md's corpus tables: tools/corpus_report.py's, one heading level down."""
+    p = subprocess.run([os.path.join(SRC, "tools", "corpus_report.py"), "--host-sim", host_sim,
+                        "--out", os.path.join(work, "corpus")], cwd=SRC,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise Failed("tools/corpus_report.py exited %d:\n%s" % (p.returncode, p.stderr))
+    text = re.sub(r"^### ", "#### ", p.stdout.strip(), flags=re.M)
+    return {"host_sim/README.md": "\n" + text + "\n\n"}, {}
+
+
+GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus}
 
 
 def blocks_of(page):
