@@ -9,6 +9,7 @@
 #include <cmocka.h>
 
 #include "fake_hal.h"
+#include "one_sensor_board.h"
 #include "slam/error.h"
 #include "slam/robot.h"
 
@@ -24,19 +25,8 @@ static int reset(void **state)
 static void test_one_of_each_and_no_switches_by_default(void **state)
 {
     (void)state;
-    uint32_t echo = 7u;
-    bool pressed = true;
-    assert_int_equal(hal_servo_count(), 1u);
-    assert_int_equal(hal_sonar_count(), 1u);
-    assert_int_equal(hal_bump_count(), 0u);
-    assert_int_equal(hal_servo_set_pulse(1u, 1500u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_trigger(1u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(1u, &echo), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(255u, &echo), HAL_EINVAL);
-    assert_int_equal(echo, 7u);
+    assert_one_sensor_board();
     assert_int_equal(fake_hal.calls_bad_instance, 4u);
-    assert_int_equal(hal_bump_read(0u, &pressed), HAL_ENOSYS);
-    assert_true(pressed);
     /* Nothing of instance 0 was touched. */
     assert_int_equal(fake_hal.calls_servo + fake_hal.calls_trigger + fake_hal.calls_poll, 0u);
 }

@@ -6,6 +6,7 @@
 #include "hal/hal.h"
 #include "hal_common/trace.h"
 #include "host_test.h"
+#include "one_sensor_board.h"
 
 #define SOUND 343.0
 
@@ -343,22 +344,13 @@ static void test_hal_instances(void **state)
     sim_t *s = test_world(&r, &e, 1u);
     hal_host_attach(s);
     assert_int_equal(hal_init(), HAL_OK);
-    uint32_t w = 7u;
-    bool pressed = true;
-    assert_int_equal(hal_servo_count(), 1u);
-    assert_int_equal(hal_sonar_count(), 1u);
-    assert_int_equal(hal_bump_count(), 0u);
-    assert_int_equal(hal_servo_set_pulse(1u, 1500u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_trigger(1u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(1u, &w), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(255u, &w), HAL_EINVAL);
-    assert_int_equal(w, 7u);
-    assert_int_equal(hal_bump_read(0u, &pressed), HAL_ENOSYS);
-    assert_true(pressed);
+    assert_one_sensor_board();
     hal_host_attach(NULL);
     sim_destroy(s);
 
     /* A second sonar and two switches fitted. */
+    uint32_t w = 7u;
+    bool pressed = true;
     sim_params_t p;
     sim_params_default(&p);
     p.extra_sonars = 1u;

@@ -15,6 +15,7 @@
 #include "fake_gpio.h"
 #include "hal/hal.h"
 #include "lhal/lhal.h"
+#include "one_sensor_board.h"
 #include "tmptree.h"
 #include "wait_until.h"
 #include "wiring.h"
@@ -522,18 +523,7 @@ static void test_missing_chip_fails_init(void **state)
 static void test_instances_beyond_the_robot_are_refused(void **state)
 {
     (void)state;
-    uint32_t w = 7u;
-    bool pressed = true;
-    assert_int_equal(hal_servo_count(), 1u);
-    assert_int_equal(hal_sonar_count(), 1u);
-    assert_int_equal(hal_bump_count(), 0u);
-    assert_int_equal(hal_servo_set_pulse(1u, 1500u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_trigger(1u), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(1u, &w), HAL_EINVAL);
-    assert_int_equal(hal_sonar_poll(255u, &w), HAL_EINVAL);
-    assert_int_equal(w, 7u);
-    assert_int_equal(hal_bump_read(0u, &pressed), HAL_ENOSYS);
-    assert_true(pressed);
+    assert_one_sensor_board();
     written();
     assert_int_equal(fake_gpio_rises(TRIG), 0);
 }
