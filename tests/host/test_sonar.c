@@ -251,17 +251,20 @@ static void test_grazing_loses_the_echo(void **state)
     }
 }
 
-static void test_raster_head_on(void **state)
+/* A ROS map of 80 x 40 pixels of 5 cm, read through the loader into r: walls round its edge,
+ * and down pixel column `column` too when that lies inside. Its files are removed again
+ * (the room keeps what it read). */
+static void raster_box(room_t *r, const char *name, int column)
 {
-    (void)state;
-    /* A ROS map with a wall of pixels at x = 2.0..2.05, read through the loader. */
-    const char *img = test_path("sonar.pgm");
+    char tag[64];
+    snprintf(tag, sizeof tag, "%s.pgm", name);
+    const char *img = test_path(tag);
     FILE *f = fopen(img, "wb");
     assert_non_null(f);
     fprintf(f, "P5\n80 40\n255\n");
     for (int y = 0; y < 40; y++) {
         for (int x = 0; x < 80; x++) {
-            fputc(x == 40 || x == 0 || y == 0 || y == 39 ? 0 : 254, f);
+            fputc(x == column || x == 0 || x == 79 || y == 0 || y == 39 ? 0 : 254, f);
         }
     }
     fclose(f);
@@ -270,10 +273,20 @@ static void test_raster_head_on(void **state)
              "image: %s\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
              "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
              img);
-    const char *yaml = test_write("sonar.yaml", yaml_text);
-    room_t r;
+    snprintf(tag, sizeof tag, "%s.yaml", name);
+    const char *yaml = test_write(tag, yaml_text);
     char err[300];
-    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), 0);
+    assert_int_equal(room_load(r, yaml, NULL, err, sizeof err), 0);
+    unlink(img);
+    unlink(yaml);
+}
+
+static void test_raster_head_on(void **state)
+{
+    (void)state;
+    /* A ROS map with a wall of pixels at x = 2.0..2.05, read through the loader. */
+    room_t r;
+    raster_box(&r, "sonar", 40);
     r.start_x = 1.0;
     r.start_y = 1.0;
     sim_t *s = ideal_with(&r, 45.0);
@@ -282,8 +295,6 @@ static void test_raster_head_on(void **state)
     assert_true(fabs(sim_last_ping(s).range_m - 0.95) < 1e-9);
     sim_destroy(s);
     room_free(&r);
-    unlink(img);
-    unlink(yaml);
 }
 
 static void test_noise_dropouts_and_ghosts(void **state)
@@ -568,25 +579,8 @@ static void test_limit_narrows_with_range(void **state)
 static void test_multipath_in_a_raster_room(void **state)
 {
     (void)state;
-    const char *img = test_path("mirror.pgm");
-    FILE *f = fopen(img, "wb");
-    assert_non_null(f);
-    fprintf(f, "P5\n80 40\n255\n");
-    for (int y = 0; y < 40; y++) {
-        for (int x = 0; x < 80; x++) {
-            fputc(x == 0 || x == 79 || y == 0 || y == 39 ? 0 : 254, f);
-        }
-    }
-    fclose(f);
-    char yaml_text[600];
-    snprintf(yaml_text, sizeof yaml_text,
-             "image: %s\nresolution: 0.05\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
-             "occupied_thresh: 0.65\nfree_thresh: 0.196\n",
-             img);
-    const char *yaml = test_write("mirror.yaml", yaml_text);
     room_t r;
-    char err[300];
-    assert_int_equal(room_load(&r, yaml, NULL, err, sizeof err), 0);
+    raster_box(&r, "mirror", 0);
     r.start_x = 1.0;
     r.start_y = 0.7;
     sim_errors_t e;
@@ -609,8 +603,6 @@ static void test_multipath_in_a_raster_room(void **state)
     assert_true(mirrored > 0u);
     sim_destroy(s);
     room_free(&r);
-    unlink(img);
-    unlink(yaml);
 }
 
 static void test_levels_and_their_checks(void **state)
