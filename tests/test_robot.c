@@ -190,6 +190,60 @@ static void test_held_means_the_ramp_is_at_rest(void **state)
     }
 }
 
+/* Wheels that follow their duty (a first-order lag toward duty/100 counts a tick), and a
+ * sonar that hears a wall 3 m off at every stop (beyond the confidence radius). */
+static void world_tick(int32_t speed[2])
+{
+    for (unsigned w = 0; w < 2u; w++) {
+        speed[w] += (fake_hal.motor[w] * 16 / 100 - speed[w]) / 8;
+        fake_hal.encoder[w] = (uint16_t)(fake_hal.encoder[w] + (uint16_t)(speed[w] / 16));
+    }
+    fake_hal.sonar_next = HAL_SONAR_ECHO;
+    fake_hal.sonar_echo_us = 17500u;
+    robot_tick(&robot);
+}
+
+/* A bump switch closing stops the drive as stalled wheels do, a few ticks sooner; a
+ * contact counts once however long the switch stays closed; a board without switches is
+ * never asked. */
+static void test_a_bump_switch_stops_the_drive(void **state)
+{
+    (void)state;
+    slam_config_default(&cfg);
+    cfg.explore_mode = EXPLORE_RANDOM;
+    for (uint8_t bumps = 0; bumps <= 2u; bumps += 2u) {
+        fake_hal_reset();
+        fake_hal.bumps = bumps;
+        assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+        int32_t speed[2] = {0, 0};
+        for (int t = 0; t < 3000 && robot.explore.machine.state != EXPLORE_FORWARD; t++) {
+            world_tick(speed);
+        }
+        for (int t = 0; t < 50; t++) {
+            world_tick(speed);
+        }
+        assert_int_equal(robot.explore.machine.state, EXPLORE_FORWARD);
+        assert_true(fake_hal.motor[0] > 0 && fake_hal.motor[1] > 0);
+        fake_hal.bump_pressed[1] = true;
+        for (int t = 0; t < 2; t++) { /* the next tick, or the one after a reading's */
+            world_tick(speed);
+        }
+        if (bumps == 0u) {
+            assert_int_equal(fake_hal.calls_bump, 0u);
+            assert_int_equal(robot.explore.machine.state, EXPLORE_FORWARD);
+            continue;
+        }
+        assert_int_equal(robot.explore.machine.state, EXPLORE_HOLD);
+        for (int t = 0; t < 100; t++) { /* standing, the switch still closed */
+            world_tick(speed);
+        }
+        assert_int_equal(robot.bumped, 1u);
+        assert_int_equal(robot.explore.count.stalls, 1u);
+        assert_int_equal(fake_hal.motor[0], 0);
+        assert_int_equal(fake_hal.motor[1], 0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,6 +253,7 @@ int main(void)
         cmocka_unit_test_setup(test_refused_ping_is_counted_and_sweep_goes_on, setup),
         cmocka_unit_test_setup(test_idle_feeds_watchdog_only_while_ticking, setup),
         cmocka_unit_test_setup(test_held_means_the_ramp_is_at_rest, setup),
+        cmocka_unit_test_setup(test_a_bump_switch_stops_the_drive, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

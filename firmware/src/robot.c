@@ -27,6 +27,10 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
     motion_init(&r->motion, cfg);
     grid_init(&r->grid, cfg);
     r->pose = odom_pose(&r->odom);
+    r->bumps = hal_bump_count();
+    r->bump_closed = false;
+    r->bump_news = false;
+    r->bumped = 0u;
     r->last = (sweep_out_t){0};
     r->ticks = 0u;
     r->tick_us = hal_time_us();
@@ -57,6 +61,19 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
     default:
         return SWEEP_ECHO_PENDING;
     }
+}
+
+/* Whether any of the board's n bump switches is closed; a switch that cannot be read
+ * counts as open (the wheels' stall still tells). */
+static bool bump_closed(uint8_t n)
+{
+    for (uint8_t b = 0; b < n; b++) {
+        bool pressed = false;
+        if (hal_bump_read(b, &pressed) == HAL_OK && pressed) {
+            return true;
+        }
+    }
+    return false;
 }
 
 void robot_tick(robot_t *r)
@@ -139,10 +156,21 @@ void robot_tick(robot_t *r)
             r->pose = r->umbmark.start;
         }
     } else {
-        bool stalled = motion_stalled(&r->motion);
-        r->explore.moves.one_wheel = stalled && motion_one_wheel(&r->motion);
+        /* A bump switch closing says at once what stalled wheels say a few ticks later: the
+         * body is against something. Only its closing counts: it stays closed while the
+         * robot backs away. */
+        bool closed = r->bumps != 0u && bump_closed(r->bumps);
+        if (closed && !r->bump_closed) {
+            r->bump_news = true;
+            r->bumped++;
+        }
+        r->bump_closed = closed;
+        bool stalled = r->bump_news || motion_stalled(&r->motion);
+        r->explore.moves.one_wheel = !r->bump_news && stalled && motion_one_wheel(&r->motion);
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick.ahead,
                      stalled, target_mm_s);
+        /* A tick that maps a reading leaves stalls to the next. */
+        r->bump_news = r->bump_news && r->last.reading_ready;
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];

@@ -54,8 +54,12 @@ typedef struct {
     volatile uint8_t hold;        /**< why robot_idle() asks the tick to stop the robot
                                        (ROBOT_HOLD_* bits); 0: drive */
     volatile bool held;           /**< the tick says the robot stands still under hold */
-    uint8_t pending; /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
-    telem_t telem;   /**< telemetry: posted by the tick, sent by robot_idle() */
+    uint8_t pending;  /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
+    uint8_t bumps;    /**< the board's bump switches (hal_bump_count()), read every tick */
+    bool bump_closed; /**< a bump switch was closed in the last tick */
+    bool bump_news;   /**< one closed since the exploration last took a stall */
+    uint32_t bumped;  /**< ticks in which a bump switch closed (the first of each contact) */
+    telem_t telem;    /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
 
 /** Reasons to hold the robot still: a save beginning, a command waiting to be applied,
