@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """The tools' common ground: every script of tools/ starts with Debian's python3, sits in
-tools/ and finds the package slamtools there without editing sys.path, and the one PGM
-reader refuses a malformed map with the one error type, naming the file."""
+tools/ and finds the package slamtools there without editing sys.path, and ends through
+its one error rule (slamtools.errors.main); the one PGM reader refuses a malformed map with
+the one error type, naming the file."""
 import os
 import re
 import subprocess
@@ -16,6 +17,11 @@ sys.path.insert(0, TOOLS)
 from slamtools import errors, pgm  # noqa: E402
 
 PATH_EDIT = re.compile(r"sys\.path(\.insert|\.append|\[|\s*=|\.extend)")
+# A script's last statement: the entry point run by slamtools.errors.main, imported as
+# tool_main or reached as errors.main.
+ENDS_THROUGH_MAIN = re.compile(r'\nif __name__ == "__main__":\n    (tool_main|errors\.main)\([^\n]*\)\n$')
+IMPORTS_MAIN = re.compile(r"^from slamtools\.errors import [^\n]*\bmain as tool_main\b|"
+                          r"^from slamtools import [^\n]*\berrors\b", re.M)
 
 scripts, modules = [], []
 for folder, dirs, files in os.walk(TOOLS):
@@ -40,6 +46,14 @@ bad = [rel for rel, _ in scripts if os.sep in rel]
 check(not bad, "every script sits in tools/ itself, none in a subfolder: %s" % (bad or "yes"))
 bad = [rel for rel, text in modules if '__name__ == "__main__"' in text or text.startswith("#!")]
 check(not bad, "the package holds no script: %s" % (bad or "none"))
+# The one error rule: a script ends through errors.main, which turns a ToolError into
+# `prog: message` and its status; nothing else of tools/ ends the program itself.
+bad = [rel for rel, text in scripts
+       if not (ENDS_THROUGH_MAIN.search(text) and IMPORTS_MAIN.search(text))]
+check(not bad, "every script ends through slamtools.errors.main: %s" % (bad or "yes"))
+bad = [rel for rel, text in scripts + modules
+       if "sys.exit(" in text and rel != os.path.join("slamtools", "errors.py")]
+check(not bad, "no script or module but errors.py calls sys.exit: %s" % (bad or "none does"))
 
 # One PGM reader: every malformed file is a ToolError (exit 2) that names it.
 CASES = (("text.pgm", b"P2\n2 2\n255\n0 0 0 0\n"), ("short.pgm", b"P5\n4 4\n255\n\0\0"),
