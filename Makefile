@@ -164,13 +164,13 @@ fuzz-core: build-host-asan
 # Both benches run whatever the first finds; either over a budget fails the target.
 bench: build-host build-stm32f4
 	@rc=0; tools/bench.py build/host || rc=1; \
-	tools/stm32f4/bench_arm.py build/stm32f4 || rc=1; exit $$rc
+	tools/stm32f4.py bench build/stm32f4 || rc=1; exit $$rc
 
 firmware: deps-firmware
 	@case " $(BOARDS) " in *" $(BOARD) "*) ;; *) echo "make: unknown BOARD '$(BOARD)'; boards: $(BOARDS)" >&2; exit 2 ;; esac
 	cmake --preset stm32f4
 	cmake --build --preset stm32f4 -j $(JOBS) --target $(FIRMWARE_IMAGE)
-	tools/stm32f4/bench_arm.py build/stm32f4 --static-only --image $(FIRMWARE_IMAGE)
+	tools/stm32f4.py bench build/stm32f4 --static-only --image $(FIRMWARE_IMAGE)
 	@echo "firmware: $(FIRMWARE_ELF) (and .bin, .hex, .map)"
 
 flash: firmware

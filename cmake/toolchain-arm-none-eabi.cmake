@@ -25,7 +25,7 @@ set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 # -mfloat-abi=soft: any float or double becomes a call to a soft-float helper, which the
 # image check (hal/cortex_m/check_image.cmake) refuses. Every function in its own section
 # so the linker drops what is unused; stack use and call graph per function for the
-# tick's stack budget (tools/cortex_m/stack_depth.py).
+# tick's stack budget (tools/cortex_m.py stack-depth).
 set(CMAKE_C_FLAGS_INIT
     "-mcpu=cortex-m4 -mthumb -mfloat-abi=soft -ffunction-sections -fdata-sections -fno-common \
 -fno-unwind-tables -fno-asynchronous-unwind-tables -fstack-usage -fcallgraph-info=su")

@@ -14,7 +14,8 @@
    maps, metrics.json). Budgets: 6 000 instructions a control period, the end of the run
    at most 10 % of them. Then three plain runs give simulated ticks per wall-clock second
    (the best of three: the machine may be shared, and only interference slows a run down).
-   Exit status 1 when the simulator is over a budget.
+   Exit status 1 when the simulator is over a budget or a measurement fails, 2 for a wrong
+   command line or a build that lacks a program.
 
 usage: tools/bench.py [BUILD_DIR] [--sim-only]   (BUILD_DIR: build/host by default, made by
        `make bench`; --sim-only: the simulator's part alone)
@@ -26,10 +27,17 @@ import re
 import sys
 import tempfile
 
+from slamtools.errors import FAILED, ToolError, main as tool_main
 
-def die(msg):
-    print("bench: " + msg, file=sys.stderr)
-    sys.exit(1)
+
+def run_program(cmd, **kw):
+    """subprocess.run(cmd), a program that is not installed a ToolError (valgrind comes with
+    tools/install-deps.sh firmware)."""
+    try:
+        return subprocess.run(cmd, **kw)
+    except OSError as e:
+        raise ToolError("cannot run %s: %s (tools/install-deps.sh firmware)"
+                        % (cmd[0], e.strerror), FAILED) from None
 
 
 def tick_counts(bench, workdir):
@@ -39,9 +47,9 @@ def tick_counts(bench, workdir):
            "--callgrind-out-file=" + out, bench]
     print("bench: running %s under callgrind (about 20 s) ..." % os.path.basename(bench),
           file=sys.stderr)
-    run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    run = run_program(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if run.returncode != 0:
-        die("valgrind failed:\n" + run.stderr[-2000:])
+        raise ToolError("valgrind failed:\n" + run.stderr[-2000:], FAILED)
     counts = []
     with open(out) as f:
         for line in f:
@@ -52,7 +60,9 @@ def tick_counts(bench, workdir):
 
 
 def sizes(paths):
-    run = subprocess.run(["size", "-t"] + paths, stdout=subprocess.PIPE, text=True, check=True)
+    run = run_program(["size", "-t"] + paths, stdout=subprocess.PIPE, text=True)
+    if run.returncode != 0:
+        raise ToolError("size -t %s failed" % " ".join(paths), FAILED)
     rows = {}
     for line in run.stdout.splitlines()[1:]:
         f = line.split()
@@ -60,32 +70,34 @@ def sizes(paths):
     return rows
 
 
-def main():
-    args = [a for a in sys.argv[1:] if a != "--sim-only"]
-    sim_only = len(args) < len(sys.argv) - 1
+def main(argv):
+    args = [a for a in argv if a != "--sim-only"]
+    sim_only = len(args) < len(argv)
     build = args[0] if args else "build/host"
     if build in ("-h", "--help"):
         print(__doc__.strip())
-        return
+        return 0
+    if len(args) > 1 or build.startswith("-"):
+        raise ToolError("unknown argument %r (--help)" % args[-1])
     sim = os.path.join(build, "host_sim", "host_sim")
     if sim_only:
         if not os.path.exists(sim):
-            die("%s is missing: build the host preset first (make bench)" % sim)
+            raise ToolError("%s is missing: build the host preset first (make bench)" % sim)
         if not simulator(sim):
-            die("the simulator is over its budget")
-        return
+            raise ToolError("the simulator is over its budget", FAILED)
+        return 0
     bench = os.path.join(build, "tools", "bench", "bench_tick")
     core = os.path.join(build, "firmware", "libslam_core.a")
     robot = os.path.join(build, "tools", "bench", "CMakeFiles", "bench_tick.dir",
                          "robot_instance.c.o")
     for p in (bench, core, robot):
         if not os.path.exists(p):
-            die("%s is missing: build the host preset first (make bench)" % p)
+            raise ToolError("%s is missing: build the host preset first (make bench)" % p)
 
     with tempfile.TemporaryDirectory(prefix="slam-bench-") as tmp:
         counts, scenario = tick_counts(bench, tmp)
     if len(counts) != 60000:
-        die("expected 60000 ticks, callgrind reported %d" % len(counts))
+        raise ToolError("expected 60000 ticks, callgrind reported %d" % len(counts), FAILED)
     worst = max(counts)
     mean = sum(counts) / len(counts)
     grid = re.search(r"grid (\d+)x(\d+)", scenario)
@@ -108,7 +120,8 @@ def main():
     print("  code of the core (host build): %d B" % core_text)
 
     if os.path.exists(sim) and not simulator(sim):
-        die("the simulator is over its budget")
+        raise ToolError("the simulator is over its budget", FAILED)
+    return 0
 
 
 # The HAL calls robot_tick() makes; toggling collection off inside them leaves the firmware.
@@ -123,23 +136,23 @@ SIM_END_SHARE = 0.10     # the end of the run's share of it (no --sweep)
 def callgrind(sim, tmp, opts):
     """host_sim's default run under callgrind: (instructions collected, the profile)."""
     cg = os.path.join(tmp, "sim.callgrind")
-    run = subprocess.run(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + cg] + opts +
+    run = run_program(["valgrind", "--tool=callgrind", "--callgrind-out-file=" + cg] + opts +
                          [sim, "--quiet", "--no-plot", "--out", os.path.join(tmp, "cg")],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if run.returncode != 0:
-        die("host_sim under callgrind failed:\n" + run.stderr[-2000:])
+        raise ToolError("host_sim under callgrind failed:\n" + run.stderr[-2000:], FAILED)
     m = re.search(r"Collected : (\d+)", run.stderr)
     if not m:
-        die("callgrind reported no total")
+        raise ToolError("callgrind reported no total", FAILED)
     return int(m.group(1)), cg
 
 
 def inclusive(profile, names):
     """Each named function's instructions, callees included (callgrind_annotate)."""
-    run = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", profile],
+    run = run_program(["callgrind_annotate", "--inclusive=yes", "--threshold=100", profile],
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if run.returncode != 0:
-        die("callgrind_annotate failed:\n" + run.stderr[-2000:])
+        raise ToolError("callgrind_annotate failed:\n" + run.stderr[-2000:], FAILED)
     got = {}
     for line in run.stdout.splitlines():
         # "N (P%)  FILE:FUNCTION [OBJECT]", FUNCTION maybe a clone (finish.constprop.0); a
@@ -150,7 +163,7 @@ def inclusive(profile, names):
             got[m.group(2)] = max(got.get(m.group(2), 0), int(m.group(1).replace(",", "")))
     missing = [n for n in names if n not in got]
     if missing:
-        die("no instructions for %s in the profile" % ", ".join(missing))
+        raise ToolError("no instructions for %s in the profile" % ", ".join(missing), FAILED)
     return got
 
 
@@ -167,7 +180,8 @@ def simulator(sim):
         rates = []
         for i in range(3):
             out = os.path.join(tmp, "run%d" % i)
-            subprocess.run([sim, "--quiet", "--no-plot", "--out", out], check=True)
+            if subprocess.run([sim, "--quiet", "--no-plot", "--out", out]).returncode != 0:
+                raise ToolError("%s --out %s failed" % (sim, out), FAILED)
             with open(os.path.join(out, "timing.json")) as f:
                 rates.append(json.load(f)["ticks_per_s"])
     rows = (
@@ -201,4 +215,4 @@ def simulator(sim):
 
 
 if __name__ == "__main__":
-    main()
+    tool_main(main, sys.argv[1:])

@@ -20,9 +20,7 @@ import os
 import subprocess
 import sys
 
-
-class Usage(Exception):
-    """Bad input: a message, exit 2."""
+from slamtools.errors import ToolError, main as tool_main
 
 
 def module_folders(src):
@@ -51,17 +49,20 @@ def object_of(rel_c, objects):
     tails = ["src/" + rel_c + ".o", "src/" + rel_c + ".obj"]
     found = [o for o in objects if any(o.replace(os.sep, "/").endswith("/" + t) for t in tails)]
     if len(found) != 1:
-        raise Usage("%s: %s object for it among the objects given (build the core first)"
+        raise ToolError("%s: %s object for it among the objects given (build the core first)"
                     % (rel_c, "no" if not found else "more than one"))
     return found[0]
 
 
 def symbols(nm, obj):
     """(defined global symbols, undefined symbols) of an object."""
-    run = subprocess.run([nm, "-P", obj], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                         text=True)
+    try:
+        run = subprocess.run([nm, "-P", obj], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True)
+    except OSError as e:
+        raise ToolError("cannot run %s: %s (--nm)" % (nm, e.strerror)) from None
     if run.returncode != 0:
-        raise Usage("%s %s: %s" % (nm, obj, run.stderr.strip()))
+        raise ToolError("%s %s: %s" % (nm, obj, run.stderr.strip()))
     defined, undefined = set(), set()
     for line in run.stdout.splitlines():
         f = line.split()
@@ -136,14 +137,14 @@ def main(argv):
     if "--nm" in args:
         i = args.index("--nm")
         if i + 1 >= len(args):
-            raise Usage("--nm needs a program")
+            raise ToolError("--nm needs a program")
         nm = args[i + 1]
         del args[i:i + 2]
     if len(args) != 2:
-        raise Usage("give SRC_DIR and OBJECTS (see --help)")
+        raise ToolError("give SRC_DIR and OBJECTS (see --help)")
     src, objs = args
     if not os.path.isdir(src):
-        raise Usage("%s is no folder" % src)
+        raise ToolError("%s is no folder" % src)
     if os.path.isdir(objs):
         objects = [os.path.join(r, f) for r, _, fs in os.walk(objs) for f in fs
                    if f.endswith((".o", ".obj"))]
@@ -151,7 +152,7 @@ def main(argv):
         objects = [o for o in objs.split(";") if o]
     folders = module_folders(src)
     if not folders:
-        raise Usage("%s holds no module folder" % src)
+        raise ToolError("%s holds no module folder" % src)
     bad = 0
     for folder, files in folders.items():
         syms = {f: symbols(nm, object_of(folder + "/" + f, objects)) for f in files}
@@ -174,8 +175,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main(sys.argv))
-    except Usage as e:
-        print("check_layers: %s" % e, file=sys.stderr)
-        sys.exit(2)
+    tool_main(main, sys.argv)

@@ -38,13 +38,11 @@ import tempfile
 import textwrap
 from concurrent.futures import ThreadPoolExecutor
 
+from slamtools.errors import FAILED, ToolError, main as tool_main
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BLOCK = re.compile(r"(<!-- figures: ([a-z0-9-]+) -->\n)(.*?)(<!-- /figures -->)", re.S)
 WALL_TIME = re.compile(r"in [0-9.]+ s of wall time: [0-9]+x real time")
-
-
-class Failed(Exception):
-    pass
 
 
 def make_sim(host_sim, work):
@@ -54,7 +52,8 @@ def make_sim(host_sim, work):
     p = subprocess.run([host_sim, "--out", out], cwd=SRC, stdout=subprocess.PIPE,
                        stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        raise Failed("host_sim --out %s exited %d:\n%s" % (out, p.returncode, p.stderr))
+        raise ToolError("host_sim --out %s exited %d:\n%s" % (out, p.returncode, p.stderr),
+                        FAILED)
     text = p.stdout.replace(out, "out/sim").replace(SRC + "/", "").lstrip("\n")
     block = "```\n%s```\n" % text
     return {"README.md": block}, {"host_sim/figures/default_room.png":
@@ -77,7 +76,8 @@ def headline_run(host_sim, out, args):
                        + args, cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                        text=True)
     if p.returncode != 0:
-        raise Failed("host_sim %s exited %d:\n%s" % (" ".join(args), p.returncode, p.stderr))
+        raise ToolError("host_sim %s exited %d:\n%s" % (" ".join(args), p.returncode, p.stderr),
+                        FAILED)
     with open(os.path.join(out, "metrics.json"), encoding="utf-8") as f:
         m = json.load(f)
     shutil.rmtree(out, ignore_errors=True)
@@ -141,15 +141,15 @@ def blocks_of(page):
 
 
 def main(argv):
-    if not argv or argv[0] in ("-h", "--help") or len(argv) > 2 or \
-            (len(argv) == 2 and argv[1] != "--check"):
+    if argv and argv[0] in ("-h", "--help"):
         print(__doc__.strip())
-        return 0 if argv and argv[0] in ("-h", "--help") else 2
+        return 0
+    if not argv or len(argv) > 2 or (len(argv) == 2 and argv[1] != "--check"):
+        raise ToolError("usage: tools/docs.py HOST_SIM [--check] (--help)")
     host_sim = os.path.abspath(argv[0])
     check = len(argv) == 2
     if not os.access(host_sim, os.X_OK):
-        print("docs.py: %s is not a program (build host_sim first)" % host_sim, file=sys.stderr)
-        return 2
+        raise ToolError("%s is not a program (build host_sim first)" % host_sim)
     work = tempfile.mkdtemp(prefix="slam-docs-")
     stale = []
     try:
@@ -165,7 +165,7 @@ def main(argv):
             found = {m.group(2) for m in BLOCK.finditer(old)}
             for (p, name) in texts:
                 if p == page and name not in found:
-                    raise Failed("%s has no <!-- figures: %s --> block" % (page, name))
+                    raise ToolError("%s has no <!-- figures: %s --> block" % (page, name), FAILED)
 
             def fill(m, page=page):
                 return m.group(1) + texts.get((page, m.group(2)), m.group(3)) + m.group(4)
@@ -186,20 +186,19 @@ def main(argv):
             stale.append(dest)
             if not check:
                 shutil.copyfile(made, path)
-    except (Failed, OSError) as e:
-        print("docs.py: %s" % e, file=sys.stderr)
-        return 1
+    except OSError as e:
+        raise ToolError(str(e), FAILED) from None
     finally:
         shutil.rmtree(work, ignore_errors=True)
     if check:
         if stale:
-            print("docs.py: out of date: %s (make docs makes them again)" % ", ".join(stale))
-            return 1
-        print("docs.py: the generated figures are up to date (%s)" % ", ".join(GENERATORS))
+            raise ToolError("out of date: %s (make docs makes them again)" % ", ".join(stale),
+                            FAILED)
+        print("docs: the generated figures are up to date (%s)" % ", ".join(GENERATORS))
         return 0
-    print("docs.py: %s" % ("rewrote " + ", ".join(stale) if stale else "nothing to change"))
+    print("docs: %s" % ("rewrote " + ", ".join(stale) if stale else "nothing to change"))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    tool_main(main, sys.argv[1:])

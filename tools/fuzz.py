@@ -23,6 +23,8 @@ import subprocess
 import sys
 import time
 
+from slamtools.errors import FAILED, ToolError, main as tool_main
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TARGETS = ("room", "rosmap", "config", "replay", "telemetry", "slamlink")
 PY_TARGETS = ("slamlink",)  # tests/fuzz/fuzz_<name>.py, property-based (hypothesis)
@@ -84,7 +86,7 @@ def fuzz_python(build, target, examples):
     return rows, rc.returncode == 0
 
 
-def main():
+def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.strip().splitlines()[0])
     ap.add_argument("--build", default=os.path.join(SRC, "build", "fuzz"))
     group = ap.add_mutually_exclusive_group()
@@ -94,15 +96,14 @@ def main():
                     help="cases per property of a Python target (default 100000)")
     ap.add_argument("targets", nargs="*", metavar="TARGET",
                     help="some of: " + " ".join(TARGETS) + " (default: all)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     targets = args.targets or list(TARGETS)
     for t in targets:
         if t not in TARGETS:
             ap.error("unknown target '%s' (%s)" % (t, ", ".join(TARGETS)))
         exe = os.path.join(args.build, "tests", "fuzz", "fuzz_" + t)
         if t not in PY_TARGETS and not os.access(exe, os.X_OK):
-            print("fuzz: %s not found: build it first (make fuzz)" % exe, file=sys.stderr)
-            sys.exit(2)
+            raise ToolError("%s not found: build it first (make fuzz)" % exe)
     if args.seconds <= 0 or (args.runs is not None and args.runs <= 0):
         ap.error("--seconds and --runs need a positive number")
     if args.examples <= 0:
@@ -125,10 +126,10 @@ def main():
         if outcome == "failed":
             failed.append(t)
     if failed:
-        print("fuzz: a crash in %s: see %s/artifacts/" % (", ".join(failed), args.build),
-              file=sys.stderr)
-        sys.exit(1)
+        raise ToolError("a crash in %s: see %s/artifacts/" % (", ".join(failed), args.build),
+                        FAILED)
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    tool_main(main, sys.argv[1:])

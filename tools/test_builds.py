@@ -25,6 +25,8 @@ import threading
 import time
 import xml.etree.ElementTree as ET
 
+from slamtools.errors import FAILED, ToolError, main as tool_main
+
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PROGRESS_S = float(os.environ.get("TEST_PROGRESS_S", "30"))
 NAME_WIDTH = 11
@@ -230,13 +232,11 @@ def main(argv):
             i += 2
             continue
         if argv[i].startswith("-"):
-            print("test_builds.py: unknown option '%s' (--help)" % argv[i], file=sys.stderr)
-            return 2
+            raise ToolError("unknown option '%s' (--help)" % argv[i])
         presets.append(argv[i])
         i += 1
     if not presets:
-        print("test_builds.py: which presets? (--help)", file=sys.stderr)
-        return 2
+        raise ToolError("which presets? (--help)")
     t0 = time.monotonic()
     print("make test: %d build%s (%s), a line each; logs in build/PRESET/test.log"
           % (len(presets), "s" if len(presets) > 1 else "", ", ".join(presets)), flush=True)
@@ -245,11 +245,11 @@ def main(argv):
     if bad:
         print("make test FAILED in %s: %s (logs: %s)" % (
             ", ".join(bad), took, ", ".join("build/%s/test.log" % p for p in bad)))
-        return 1
+        return FAILED
     print("make test: %s passed in %s" % ("all %d builds" % len(presets) if len(presets) > 1
                                          else presets[0], took))
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    tool_main(main, sys.argv[1:])

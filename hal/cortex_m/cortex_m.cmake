@@ -72,10 +72,10 @@ function(cortex_m_selftest target)
         set(trace ${PROJECT_SOURCE_DIR}/tests/data/default_room_110s.trace)
     endif()
     set(scenario ${CMAKE_CURRENT_BINARY_DIR}/${target}_scenario.c)
-    set(trace2c ${PROJECT_SOURCE_DIR}/tools/cortex_m/trace2c.py)
+    set(tools ${PROJECT_SOURCE_DIR}/tools)
     add_custom_command(OUTPUT ${scenario}
-        COMMAND ${Python3_EXECUTABLE} ${trace2c} ${trace} ${scenario}
-        DEPENDS ${trace2c} ${trace}
+        COMMAND ${Python3_EXECUTABLE} ${tools}/cortex_m.py trace2c ${trace} ${scenario}
+        DEPENDS ${tools}/cortex_m.py ${tools}/slamtools/cortex_m/trace2c.py ${trace}
         COMMENT "Generating the self-test scenario from ${trace}"
         VERBATIM)
     set(st ${dir}/selftest)

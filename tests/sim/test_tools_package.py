@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""The tools' common ground: every script of tools/ starts with Debian's python3 and finds
-the package slamtools without editing sys.path, and the one PGM reader refuses a
-malformed map with the one error type, naming the file."""
+"""The tools' common ground: every script of tools/ starts with Debian's python3, sits in
+tools/ and finds the package slamtools there without editing sys.path, and ends through
+its one error rule (slamtools.errors.main); the one PGM reader refuses a malformed map with
+the one error type, naming the file."""
 import os
 import re
 import subprocess
@@ -15,12 +16,12 @@ TOOLS = os.path.join(sim.src, "tools")
 sys.path.insert(0, TOOLS)
 from slamtools import errors, pgm  # noqa: E402
 
-# The scripts in subfolders that still reach tools/cortex_m/ or tools/ by a path of their
-# own: the Cortex-M tools run from the Makefile and CMake by their paths, and gen_tables
-# from tools/web/.
-PATH_EDIT_LEFT = {"web/gen_tables.py", "stm32f4/bench_arm.py", "stm32f4/tick_unicorn.py",
-                  "stm32f4/qemu.py", "cortex_m/stack_depth.py"}
 PATH_EDIT = re.compile(r"sys\.path(\.insert|\.append|\[|\s*=|\.extend)")
+# A script's last statement: the entry point run by slamtools.errors.main, imported as
+# tool_main or reached as errors.main.
+ENDS_THROUGH_MAIN = re.compile(r'\nif __name__ == "__main__":\n    (tool_main|errors\.main)\([^\n]*\)\n$')
+IMPORTS_MAIN = re.compile(r"^from slamtools\.errors import [^\n]*\bmain as tool_main\b|"
+                          r"^from slamtools import [^\n]*\berrors\b", re.M)
 
 scripts, modules = [], []
 for folder, dirs, files in os.walk(TOOLS):
@@ -31,16 +32,28 @@ for folder, dirs, files in os.walk(TOOLS):
             rel = os.path.relpath(path, TOOLS)
             with open(path, encoding="utf-8") as f:
                 text = f.read()
-            # A script is what runs as a program; the rest are modules to import.
-            (scripts if '__name__ == "__main__"' in text else modules).append((rel, text))
+            # Every file of the package is a module to import; every other one a program.
+            (modules if rel.startswith("slamtools" + os.sep) else scripts).append((rel, text))
 
-check(len(scripts) > 20, "%d scripts found in tools/" % len(scripts))
+check(len(scripts) >= 20, "%d scripts found in tools/" % len(scripts))
 bad = [rel for rel, text in scripts if not text.startswith("#!/usr/bin/python3\n")]
 check(not bad, "every script starts with #!/usr/bin/python3: %s" % (bad or "yes"))
-bad = [rel for rel, text in scripts + modules if PATH_EDIT.search(text) and rel not in PATH_EDIT_LEFT]
+bad = [rel for rel, text in scripts + modules if PATH_EDIT.search(text)]
 check(not bad, "no script or module of tools/ edits sys.path: %s" % (bad or "none does"))
-bad = [rel for rel, _ in scripts if rel.startswith("slamtools" + os.sep)]
+# Python puts a script's own folder first on the path: only in tools/ does that find the
+# package. A family of commands is one script over slamtools.commands (cortex_m.py).
+bad = [rel for rel, _ in scripts if os.sep in rel]
+check(not bad, "every script sits in tools/ itself, none in a subfolder: %s" % (bad or "yes"))
+bad = [rel for rel, text in modules if '__name__ == "__main__"' in text or text.startswith("#!")]
 check(not bad, "the package holds no script: %s" % (bad or "none"))
+# The one error rule: a script ends through errors.main, which turns a ToolError into
+# `prog: message` and its status; nothing else of tools/ ends the program itself.
+bad = [rel for rel, text in scripts
+       if not (ENDS_THROUGH_MAIN.search(text) and IMPORTS_MAIN.search(text))]
+check(not bad, "every script ends through slamtools.errors.main: %s" % (bad or "yes"))
+bad = [rel for rel, text in scripts + modules
+       if "sys.exit(" in text and rel != os.path.join("slamtools", "errors.py")]
+check(not bad, "no script or module but errors.py calls sys.exit: %s" % (bad or "none does"))
 
 # One PGM reader: every malformed file is a ToolError (exit 2) that names it.
 CASES = (("text.pgm", b"P2\n2 2\n255\n0 0 0 0\n"), ("short.pgm", b"P5\n4 4\n255\n\0\0"),
@@ -73,4 +86,22 @@ p = subprocess.run(["/usr/bin/python3", os.path.join(TOOLS, "mapscore.py"), sim.
                     sim.out("nowhere")], capture_output=True, text=True)
 check(p.returncode == 2 and p.stderr.startswith("mapscore: ") and "Traceback" not in p.stderr,
       "mapscore.py on bad input: exit 2, one message (%s)" % p.stderr.strip())
+
+# So do the command lines over several modules, the command named before the message.
+bad_trace = sim.out("bad.trace")
+with open(bad_trace, "w") as f:
+    f.write("sonarslam-trace 2\n")
+RUNS = ((["cortex_m.py", "trace2c", bad_trace, sim.out("scenario.c")],
+         "cortex_m trace2c: %s:1: not a version 1" % bad_trace),
+        (["stm32f4.py", "bench", sim.out("no-build"), "--static-only"],
+         "stm32f4 bench: %s" % sim.out("no-build")),
+        (["stm32f4.py", "qemu", "--bogus"], "stm32f4 qemu: unknown command"),
+        (["cortex_m.py", "stack-depth", sim.out("no.elf"), "--root"],
+         "cortex_m stack-depth: --root needs a value"),
+        (["cortex_m.py", "flash"], "cortex_m: unknown command 'flash'"))
+for argv, start in RUNS:
+    p = subprocess.run(["/usr/bin/python3", os.path.join(TOOLS, argv[0])] + argv[1:],
+                       capture_output=True, text=True)
+    check(p.returncode == 2 and p.stderr.startswith(start) and "Traceback" not in p.stderr,
+          "%s: exit 2, one message (%s)" % (" ".join(argv[:2]), p.stderr.strip()))
 sim.done()

@@ -23,9 +23,13 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path[:0] = [os.path.join(HERE, "..", "..", "tools", d) for d in ("stm32f4", "cortex_m")]
-from elf32 import Elf  # noqa: E402
-from tick_unicorn import Machine, unicorn  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
+from slamtools.errors import ToolError  # noqa: E402
+try:
+    from slamtools.cortex_m.elf32 import Elf  # noqa: E402
+    from slamtools.stm32f4.tick_unicorn import Machine, unicorn  # noqa: E402
+except ToolError as e:  # python3-unicorn is missing
+    sys.exit("drivers_model_test: %s" % e)
 
 FLASH_BASE = 0x08000000
 SECTOR_BYTES = 128 * 1024

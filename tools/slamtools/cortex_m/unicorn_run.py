@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Runs a Cortex-M image's own functions in unicorn and counts their instructions.
 
-A library for a chip's tools (tools/stm32f4/tick_unicorn.py, bench_arm.py, the driver
+A library for a chip's tools (slamtools/stm32f4/tick_unicorn.py, bench_arm.py, the driver
 tests): Machine loads an image into python3-unicorn (Debian's; the QEMU CPU core without
 the machine) over the chip's memory map, which a subclass gives, and calls its functions
 directly. Counter counts every instruction executed between a function's entry and its
@@ -11,15 +11,18 @@ measure_selftest() plays the self-test image (hal/cortex_m/selftest) the way its
 does: selftest_begin(), then selftest_step() and robot_idle() for every tick of the
 compiled-in scenario, counting robot_tick(). It is the second, independent measurement of
 the figure the chip's counter gives in QEMU under -icount.
+
+Importing it without python3-unicorn is a ToolError (exit status 1) that says how to get it:
+a tool imports it only once it needs it.
 """
-import sys
+from ..errors import FAILED, ToolError
 
 try:
     import unicorn
     import unicorn.arm_const as A
 except ImportError:
-    sys.exit("unicorn_run: python3-unicorn is missing (Debian: tools/install-deps.sh firmware; "
-             "run this script with /usr/bin/python3)")
+    raise ToolError("python3-unicorn is missing (Debian: tools/install-deps.sh firmware; "
+                    "run this tool with /usr/bin/python3)", FAILED) from None
 
 RETURN = 0x30000000  # a page with nothing but the address the called function returns to
 
@@ -172,7 +175,7 @@ def measure_selftest(m):
     st_obj = m.elf.addr("st")
     robot = m.elf.addr("robot")
     if m.call(st, st_obj, robot, 0, 0) != 0:
-        raise RuntimeError("selftest_begin refused the scenario")
+        raise ToolError("selftest_begin refused the scenario", FAILED)
     scenario = m.elf.addr("replay_scenario")
     ticks = m.read32(scenario + 4)
     c = Counter(m, "robot_tick")

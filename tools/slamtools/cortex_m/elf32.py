@@ -2,18 +2,31 @@
 """A minimal reader of 32-bit little-endian ELF files: loadable segments and symbols.
 
 Enough for the Cortex-M tools to load an image into an emulator and find functions by
-name, without third-party modules.
+name, without third-party modules. A file that is missing, not such an ELF file or cut
+short is a ToolError naming it.
 """
 import struct
+
+from ..errors import ToolError
 
 
 class Elf:
     def __init__(self, path):
-        with open(path, "rb") as f:
-            self.data = f.read()
+        try:
+            with open(path, "rb") as f:
+                self.data = f.read()
+        except OSError as e:
+            raise ToolError("%s: cannot read: %s" % (path, e.strerror)) from None
+        if self.data[:4] != b"\x7fELF" or self.data[4:6] != b"\x01\x01":
+            raise ToolError("%s: not a 32-bit little-endian ELF file" % path)
+        try:
+            self._read()
+        except (struct.error, IndexError, ValueError, UnicodeDecodeError):
+            # An offset or a name beyond the file: what a truncated or corrupted image gives.
+            raise ToolError("%s: a malformed ELF file (cut short?)" % path) from None
+
+    def _read(self):
         d = self.data
-        if d[:4] != b"\x7fELF" or d[4] != 1 or d[5] != 1:
-            raise ValueError("%s: not a 32-bit little-endian ELF file" % path)
         (self.entry, phoff, shoff, _flags, _ehsize, phentsize, phnum, shentsize, shnum,
          shstrndx) = struct.unpack_from("<IIIIHHHHHH", d, 24)
         self.segments = []  # (vaddr, paddr, file bytes, memsz) of PT_LOAD
@@ -47,7 +60,7 @@ class Elf:
 
     def addr(self, name):
         if name not in self.symbols:
-            raise KeyError("symbol %s is not in the image" % name)
+            raise ToolError("symbol %s is not in the image" % name)
         return self.symbols[name][0]
 
     def functions(self, prefix=""):

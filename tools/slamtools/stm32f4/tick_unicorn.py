@@ -1,26 +1,24 @@
-#!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Counts the instructions of robot_tick() by running the ELF's own functions in unicorn.
 
-usage: tools/stm32f4/tick_unicorn.py SELFTEST_ELF [ROBOT_ELF] [--json FILE]
+usage: tools/stm32f4.py tick SELFTEST_ELF [ROBOT_ELF] [--json FILE]
 
 The self-test image is loaded into python3-unicorn over the STM32F405's memory map and
-played as its main loop does (tools/cortex_m/unicorn_run.py): a code hook counts every
+played as its main loop does (slamtools/cortex_m/unicorn_run.py): a code hook counts every
 instruction executed between robot_tick()'s entry and its return, and separately those
 inside hal_* functions (the replay HAL), and a memory hook records the deepest stack write.
 This is the second, independent measurement of the figure QEMU's TIM2 gives under -icount.
 
 With the robot image, the real HAL functions the tick calls are measured too: each call's
 instructions with the peripherals as plain memory, and the SysTick handler's own overhead.
+Without python3-unicorn importing this module is a ToolError (exit status 1).
 """
 import json
-import os
-import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "cortex_m"))
-from elf32 import Elf  # noqa: E402
-import unicorn_run  # noqa: E402
-from unicorn_run import RETURN, Counter, summarize, unicorn  # noqa: E402,F401
+from ..cortex_m import unicorn_run
+from ..cortex_m.elf32 import Elf
+from ..cortex_m.unicorn_run import RETURN, Counter, summarize, unicorn  # noqa: F401  (the API)
+from ..errors import FAILED, ToolError
 
 
 class Machine(unicorn_run.Machine):
@@ -69,14 +67,14 @@ def measure_hal(path):
     # SysTick_Handler around a callback that returns at once (a lone `bx lr`).
     m.uc.mem_write(RETURN + 0x100, b"\x70\x47")
     if m.call("hal_tick_start", RETURN + 0x101, 0) != 0:
-        raise RuntimeError("hal_tick_start failed")
+        raise ToolError("hal_tick_start failed in the robot image", FAILED)
     cost("SysTick_Handler (without the callback)", "SysTick_Handler")
     out["SysTick_Handler (without the callback)"]["instructions"] -= 1
     # main.c's tick(ctx) around robot_tick(): its own instructions, with a started robot.
     cfg = 0x2001F800
     m.call("slam_config_default", cfg)
     if m.call("robot_init", m.elf.addr("robot"), cfg) != 0:
-        raise RuntimeError("robot_init failed in the robot image")
+        raise ToolError("robot_init failed in the robot image", FAILED)
     c = Counter(m, "tick", excluded_prefix="\0")
     m.call("tick", m.elf.addr("robot"))
     out["tick wrapper (main.c)"] = {"instructions": c.own, "stack": 0}
@@ -89,11 +87,15 @@ def main(argv):
     out_json = None
     if "--json" in args:
         i = args.index("--json")
+        if i + 1 >= len(args):
+            raise ToolError("--json needs a file")
         out_json = args[i + 1]
         del args[i:i + 2]
     if not args or args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0 if args else 2
+    if len(args) > 2 or any(a.startswith("-") for a in args):
+        raise ToolError("give SELFTEST_ELF and at most ROBOT_ELF (--help)")
     per_tick = measure_selftest(args[0])
     s = summarize(per_tick)
     result = {"selftest": s, "per_tick": [t[0] for t in per_tick]}
@@ -113,7 +115,3 @@ def main(argv):
         with open(out_json, "w") as f:
             json.dump(result, f)
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv))

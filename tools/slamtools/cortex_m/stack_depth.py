@@ -1,8 +1,7 @@
-#!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """Worst-case stack depth of an image's call paths, from GCC's own per-function numbers.
 
-usage: tools/cortex_m/stack_depth.py ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
+usage: tools/cortex_m.py stack-depth ELF [--root NAME] [--indirect CALLER=TARGET[,TARGET]]...
                                         [--budget ROOT=BYTES]... [--json FILE]
 
 The image is built with -fcallgraph-info=su: next to every object GCC writes a .ci file
@@ -17,15 +16,18 @@ plus up to 4 of alignment; roots that are handlers get those added.
 Without --root it reports the robot image's interrupt nesting: Reset_Handler (main),
 the UART, SysTick (the tick), the echo capture (whichever timer the board table uses) and
 a fault, each preempting the one before.
+
+Exit status 1 when a root is over its budget or the image cannot be bounded (recursion, a
+frame of unbounded size); 2 for a wrong command line, a missing map file or call graph.
 """
 import json
 import os
 import re
 import subprocess
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from elf32 import Elf  # noqa: E402
+from .. import link
+from ..errors import FAILED, ToolError
+from .elf32 import Elf
 
 EXC_FRAME = 32 + 4  # hardware-stacked r0-r3, r12, lr, pc, xpsr, plus alignment padding
 NODE = re.compile(r'^node: \{ title: "([^"]+)" label: "([^"]*)"(.*)\}$')
@@ -33,16 +35,11 @@ EDGE = re.compile(r'^edge: \{ sourcename: "([^"]+)" targetname: "([^"]+)"')
 FRAME = re.compile(r"\\n(\d+) bytes \(([a-z,]+)\)$")
 
 
-def die(msg):
-    print("stack_depth: " + msg, file=sys.stderr)
-    sys.exit(1)
-
-
 def linked_objects(elf):
     """The .ci files of the objects the map file says were linked."""
     mapfile = elf[:-4] + ".map" if elf.endswith(".elf") else elf + ".map"
     if not os.path.exists(mapfile):
-        die("%s is missing: the map file tells which objects were linked" % mapfile)
+        raise ToolError("%s is missing: the map file tells which objects were linked" % mapfile)
     base = os.path.dirname(os.path.abspath(elf))
     text = open(mapfile).read()
     cis = set()
@@ -55,12 +52,13 @@ def linked_objects(elf):
             if member[:-4] + ".ci" in files:
                 found = os.path.join(root, member[:-4] + ".ci")
         if found is None:
-            die("no call graph for %s in %s: build with -fcallgraph-info=su" % (member, lib))
+            raise ToolError("no call graph for %s in %s: build with -fcallgraph-info=su"
+                            % (member, lib))
         cis.add(found)
     for m in re.finditer(r"(?<![(\w])((?:[\w.+-]+/)*CMakeFiles/[\w.+-]+\.dir/\S+?\.c)\.obj\b", text):
         path = os.path.normpath(os.path.join(base, m.group(1) + ".ci"))
         if not os.path.exists(path):
-            die("no call graph %s: build with -fcallgraph-info=su" % path)
+            raise ToolError("no call graph %s: build with -fcallgraph-info=su" % path)
         cis.add(path)
     return cis
 
@@ -78,7 +76,8 @@ def read_graphs(cis):
                 f = FRAME.search(label)
                 if f:
                     if title in frames:
-                        die("%s is defined twice (%s and %s)" % (title, frames[title][2], ci))
+                        raise ToolError("%s is defined twice (%s and %s)"
+                                        % (title, frames[title][2], ci), FAILED)
                     frames[title] = (int(f.group(1)), f.group(2), ci)
                     plain = title.rsplit(":", 1)[-1]
                     local[(ci, plain)] = title
@@ -92,8 +91,11 @@ def read_graphs(cis):
 def disassembly(elf):
     """Frame size and callees of every function, from objdump: for library code."""
     objdump = os.environ.get("OBJDUMP", "arm-none-eabi-objdump")
-    out = subprocess.run([objdump, "-d", "--no-show-raw-insn", elf], stdout=subprocess.PIPE,
-                         text=True, check=True).stdout
+    try:
+        out = subprocess.run([objdump, "-d", "--no-show-raw-insn", elf], stdout=subprocess.PIPE,
+                             text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        raise ToolError("%s -d %s failed: %s" % (objdump, elf, e), FAILED) from None
     funcs = {}
     cur = None
     for line in out.splitlines():
@@ -151,12 +153,12 @@ class Graph:
     def find(self, name):
         hits = [t for t in self.frames if self.plain(t) == name]
         if len(hits) > 1:
-            die("%s is ambiguous: %s" % (name, ", ".join(hits)))
+            raise ToolError("%s is ambiguous: %s" % (name, ", ".join(hits)))
         if hits:
             return hits[0]
         if name in self.asm:
             return name
-        die("no function %s in the image" % name)
+        raise ToolError("no function %s in the image" % name)
 
     def callees(self, title):
         if title in self.frames:
@@ -165,8 +167,8 @@ class Graph:
                 if target == "__indirect_call":
                     plain = self.plain(title)
                     if plain not in self.indirect:
-                        die("%s calls through a pointer: say where with --indirect %s=TARGET"
-                            % (plain, plain))
+                        raise ToolError("%s calls through a pointer: say where with --indirect "
+                                        "%s=TARGET" % (plain, plain))
                     out += [self.find(t) for t in self.indirect[plain]]
                 elif self.plain(target) in self.in_image:
                     out.append(self.resolve(ci, self.plain(target)))
@@ -179,16 +181,19 @@ class Graph:
         if title in self.frames:
             size, qual, _ = self.frames[title]
             if qual == "dynamic":
-                die("%s has a frame of unbounded size (alloca or a VLA)" % title)
+                raise ToolError("%s has a frame of unbounded size (alloca or a VLA)" % title,
+                                FAILED)
             return size
         if title in self.asm:
             return self.asm[title][0]
-        die("no stack information for %s (not in any call graph or the disassembly)" % title)
+        raise ToolError("no stack information for %s (not in any call graph or the disassembly)"
+                        % title, FAILED)
 
     def deepest(self, title, path=()):
         """(bytes, [(function, frame)...]) of the deepest path from title."""
         if title in path:
-            die("recursion: %s" % " -> ".join(self.plain(t) for t in path + (title,)))
+            raise ToolError("recursion: %s" % " -> ".join(self.plain(t) for t in path + (title,)),
+                            FAILED)
         if title in self.memo:
             return self.memo[title]
         own = self.frame(title)
@@ -200,6 +205,42 @@ class Graph:
         result = (own + best[0], [(self.plain(title), own)] + best[1])
         self.memo[title] = result
         return result
+
+
+def measure(elf, roots=(), indirect=None):
+    """({root: {bytes, frames, exception_entry, path}}, the lines that print it) for each
+    root; without roots, the robot image's interrupt nesting and its total, "all nested"."""
+    g = Graph(elf, indirect or {})
+    nesting = not roots
+    if nesting:
+        # Every interrupt handler the image defines (those that are not the weak default),
+        # in priority order as the board tables give it: the UART (lowest), the tick, the
+        # echo capture; then a fault, whose naked handler branches to cm_fault_report.
+        syms = Elf(elf).symbols
+        default = syms["cm_default_handler"][0] if "cm_default_handler" in syms else None
+        irqs = sorted(n for n, v in syms.items()
+                      if n.endswith("_IRQHandler") and v[0] != default)
+        uart = [n for n in irqs if "USART" in n or "UART" in n]
+        roots = (["Reset_Handler"] + uart + ["SysTick_Handler"] +
+                 [n for n in irqs if n not in uart] + ["cm_fault_report"])
+    result = {}
+    lines = []
+    total = 0
+    for root in roots:
+        title = g.find(root)
+        depth, path = g.deepest(title)
+        exc = 0 if root == "Reset_Handler" else EXC_FRAME
+        result[root] = {"bytes": depth + exc, "frames": depth, "exception_entry": exc,
+                        "path": path}
+        total += depth + exc
+        lines.append("%-20s %4d bytes = %s%s" % (
+            root, depth + exc, " + ".join("%s %d" % (f, n) for f, n in path),
+            " + exception entry %d" % exc if exc else ""))
+    if nesting:
+        lines.append("%-20s %4d bytes (each handler preempting the one above)"
+                     % ("all nested", total))
+        result["all nested"] = {"bytes": total}
+    return result, lines
 
 
 def main(argv):
@@ -214,8 +255,10 @@ def main(argv):
     out_json = None
     while args:
         opt = args.pop(0)
+        if opt not in ("--root", "--indirect", "--budget", "--json"):
+            raise ToolError("unknown option %s" % opt)
         if not args:
-            die("%s needs a value" % opt)
+            raise ToolError("%s needs a value" % opt)
         val = args.pop(0)
         if opt == "--root":
             roots.append(val)
@@ -224,49 +267,17 @@ def main(argv):
             indirect[caller] = [t for t in targets.split(",") if t]
         elif opt == "--budget":
             root, _, n = val.partition("=")
-            budgets[root] = int(n)
-        elif opt == "--json":
-            out_json = val
+            budgets[root] = link.parse_int(n, 0, None, "--budget " + root)
         else:
-            die("unknown option %s" % opt)
-    g = Graph(elf, indirect)
-    nesting = not roots
-    if nesting:
-        # Every interrupt handler the image defines (those that are not the weak default),
-        # in priority order as the board tables give it: the UART (lowest), the tick, the
-        # echo capture; then a fault, whose naked handler branches to cm_fault_report.
-        syms = Elf(elf).symbols
-        default = syms["cm_default_handler"][0] if "cm_default_handler" in syms else None
-        irqs = sorted(n for n, v in syms.items()
-                      if n.endswith("_IRQHandler") and v[0] != default)
-        uart = [n for n in irqs if "USART" in n or "UART" in n]
-        roots = (["Reset_Handler"] + uart + ["SysTick_Handler"] +
-                 [n for n in irqs if n not in uart] + ["cm_fault_report"])
-    result = {}
-    total = 0
-    failed = False
-    for root in roots:
-        title = g.find(root)
-        depth, path = g.deepest(title)
-        exc = 0 if root == "Reset_Handler" else EXC_FRAME
-        result[root] = {"bytes": depth + exc, "frames": depth, "exception_entry": exc,
-                        "path": path}
-        total += depth + exc
-        print("%-20s %4d bytes = %s%s" % (
-            root, depth + exc, " + ".join("%s %d" % (f, n) for f, n in path),
-            " + exception entry %d" % exc if exc else ""))
-        if root in budgets and depth + exc > budgets[root]:
-            print("stack_depth: %s needs %d bytes, over its budget of %d"
-                  % (root, depth + exc, budgets[root]), file=sys.stderr)
-            failed = True
-    if nesting:
-        print("%-20s %4d bytes (each handler preempting the one above)" % ("all nested", total))
-        result["all nested"] = {"bytes": total}
+            out_json = val
+    result, lines = measure(elf, roots, indirect)
+    for line in lines:
+        print(line)
+    over = ["%s needs %d bytes, over its budget of %d" % (r, result[r]["bytes"], n)
+            for r, n in sorted(budgets.items()) if r in result and result[r]["bytes"] > n]
     if out_json:
         with open(out_json, "w") as f:
             json.dump(result, f)
-    return 1 if failed else 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    if over:
+        raise ToolError("; ".join(over), FAILED)
+    return 0

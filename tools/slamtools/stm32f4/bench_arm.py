@@ -1,34 +1,34 @@
-#!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """The STM32F4 image measured, not timed: tick instructions, sizes, stack, against budgets.
 
-usage: tools/stm32f4/bench_arm.py [BUILD_DIR] [--static-only] [--image NAME]
+usage: tools/stm32f4.py bench [BUILD_DIR] [--static-only] [--image NAME]
        (BUILD_DIR defaults to build/stm32f4, made by `make firmware`; NAME is the robot
        image, sonarslam_stm32f4 by default, sonarslam_<board> for another board table)
 
 1. Instructions per robot_tick() over the self-test scenario, two ways: TIM2 under QEMU
    -icount (the self-test image's own measurement) and the image's functions run in
-   python3-unicorn with a code hook (tick_unicorn.py). The two must agree tick by tick.
+   python3-unicorn with a code hook (tools/stm32f4.py tick). The two must agree tick by tick.
 2. The real HAL calls of the tick, from the robot image in unicorn, and a bound on the tick
    with them: the worst firmware-only tick plus every HAL call a tick can make.
 3. .text/.data/.bss of the robot image (arm-none-eabi-size); RAM counts the stack reserve.
 4. The worst-case stack depth of the tick path and of all handlers nested
-   (tools/cortex_m/stack_depth.py, from -fcallgraph-info/-fstack-usage).
+   (tools/cortex_m.py stack-depth, from -fcallgraph-info/-fstack-usage).
 
 Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 8 KiB; flash <= 64 KiB;
-tick stack <= 512 bytes. Exit status 1 when one is exceeded. --static-only skips 1 and 2
-(no QEMU, no unicorn): what the ctest stm32f4_budgets checks, for every board's image.
+tick stack <= 512 bytes. Exit status 1 when one is exceeded or a measurement fails, 2 for
+a wrong command line or an image that is not there. --static-only skips 1 and 2 (no QEMU,
+no unicorn): what the ctest stm32f4_budgets checks, for every board's image.
 """
 import os
 import re
 import subprocess
-import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path[:0] = [HERE, os.path.join(HERE, "..", "cortex_m")]
-import stack_depth  # noqa: E402
-from elf32 import Elf  # noqa: E402
+from ..cortex_m import stack_depth
+from ..cortex_m.elf32 import Elf
+from ..errors import FAILED, ToolError
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 
 TICK_BUDGET = 1500
 READING_PLAN = 400  # instructions a reading was to cost the mapper when it mapped in the tick
@@ -36,38 +36,28 @@ FLASH_BUDGET = 64 * 1024  # half of a 128 KiB part: the rest for map storage and
 STACK_BUDGET = 512
 
 
-def die(msg):
-    print("bench_arm: " + msg, file=sys.stderr)
-    sys.exit(1)
-
-
 def sizes(elf):
     size = os.environ.get("SIZE", "arm-none-eabi-size")
-    out = subprocess.run([size, elf], stdout=subprocess.PIPE, text=True, check=True).stdout
-    text, data, bss = (int(x) for x in out.splitlines()[1].split()[:3])
+    try:
+        out = subprocess.run([size, elf], stdout=subprocess.PIPE, text=True, check=True).stdout
+        text, data, bss = (int(x) for x in out.splitlines()[1].split()[:3])
+    except (OSError, subprocess.CalledProcessError, IndexError, ValueError) as e:
+        raise ToolError("%s %s gave no sizes: %s" % (size, elf, e), FAILED) from None
     return text, data, bss
 
 
 def stack(elf):
-    import io
-    import contextlib
-    import json
-    with tempfile.NamedTemporaryFile(suffix=".json") as tmp:
-        buf = io.StringIO()
-        with contextlib.redirect_stdout(buf):
-            rc = stack_depth.main(["stack_depth", elf, "--indirect", "SysTick_Handler=tick",
-                                   "--json", tmp.name])
-        if rc != 0:
-            die("stack_depth failed:\n" + buf.getvalue())
-        return json.load(open(tmp.name)), buf.getvalue()
+    """The image's interrupt nesting, its tick through main.c's tick(): ({root: ...}, text)."""
+    result, lines = stack_depth.measure(elf, indirect={"SysTick_Handler": ["tick"]})
+    return result, "\n".join(lines)
 
 
 def qemu_costs(selftest_elf):
-    import qemu
+    from . import qemu
     with tempfile.TemporaryDirectory(prefix="slam-bench-") as tmp:
         status, text = qemu.run_selftest_image(selftest_elf, tmp)
     if status != 0:
-        die("the self-test image exited with %d" % status)
+        raise ToolError("the self-test image exited with %d" % status, FAILED)
     _, _, info, costs, summary = qemu.parse_report(text, "MCU")
     return costs, summary
 
@@ -80,19 +70,21 @@ def main(argv):
     if "--image" in args:
         i = args.index("--image")
         if i + 1 >= len(args):
-            die("--image needs the name of a robot image")
+            raise ToolError("--image needs the name of a robot image")
         image = args[i + 1]
         del args[i:i + 2]
     if args and args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0
+    if len(args) > 1 or (args and args[0].startswith("-")):
+        raise ToolError("unknown argument %r (--help)" % args[-1])
     build = args[0] if args else "build/stm32f4"
     img_dir = os.path.join(build, "hal", "stm32f4")
     robot_elf = os.path.join(img_dir, image + ".elf")
     selftest_elf = os.path.join(img_dir, "sonarslam_selftest.elf")
     for p in (robot_elf,) if static_only else (robot_elf, selftest_elf):
         if not os.path.exists(p):
-            die("%s is missing: build the stm32f4 preset first (make firmware)" % p)
+            raise ToolError("%s is missing: build the stm32f4 preset first (make firmware)" % p)
 
     verdicts = []
 
@@ -103,14 +95,16 @@ def main(argv):
                                                      "ok" if ok else "OVER BUDGET"))
 
     robot = Elf(robot_elf)
+    if "robot" not in robot.symbols:
+        raise ToolError("%s has no object robot: not a robot image" % robot_elf)
     grid = robot.symbols["robot"][1]
     text, data, bss = sizes(robot_elf)
     stack_reserve = robot.symbols["_stack_size"][0] if "_stack_size" in robot.symbols else 0
     # OM + TM: 2*A*B cells, A and B from the grid header (compile-time constants).
     m = re.search(r"SLAM_GRID_A (\d+)u.*?SLAM_GRID_B (\d+)u", open(os.path.join(
-        HERE, "..", "..", "firmware", "include", "slam", "grid.h")).read(), re.S)
+        ROOT, "firmware", "include", "slam", "grid.h")).read(), re.S)
     if m is None:
-        die("cannot read SLAM_GRID_A/B from firmware/include/slam/grid.h")
+        raise ToolError("cannot read SLAM_GRID_A/B from firmware/include/slam/grid.h", FAILED)
     om_tm = 2 * int(m.group(1)) * int(m.group(2))
     ram_budget = om_tm + 8 * 1024
 
@@ -122,7 +116,7 @@ def main(argv):
         print("  stack: " + line)
 
     if not static_only:
-        import tick_unicorn
+        from . import tick_unicorn
         costs, summary = qemu_costs(selftest_elf)
         n = summary["ticks"]
         print("  robot_tick() over the self-test scenario (%d ticks):" % n)
@@ -177,8 +171,4 @@ def main(argv):
            "bytes")
     budget("all handlers nested, within the reserve", st["all nested"]["bytes"], stack_reserve,
            "bytes")
-    return 0 if all(verdicts) else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    return 0 if all(verdicts) else FAILED
