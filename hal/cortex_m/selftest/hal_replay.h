@@ -13,7 +13,7 @@
  * (nothing received, no storage: HAL_ENOSYS, no switches), so a program links this file
  * with hal_unsupported. A trace records the paper's servo and sonar (instance 0): the
  * replay has one of each, and answers HAL_EINVAL for any other instance. A scenario
- * is a trace turned into C data by tools/cortex_m/trace2c.py; its byte stream, per tick:
+ * is a trace turned into C data by tools/cortex_m.py trace2c; its byte stream, per tick:
  *
  *   byte     bits 0-2 poll ('-' 'i' 'b' 'e' 't' = 0..4), bits 3-4 trigger ('-' 'o' 'b'
  *            = 0..2), bit 5: an output changed; bits 6-7 zero

@@ -10,7 +10,7 @@
 
 #define COSTS_MAX 16384u
 
-/* tools/cortex_m/unicorn_run.py calls into the image with these two by name. */
+/* tools/slamtools/cortex_m/unicorn_run.py calls into the image with these two by name. */
 static robot_t robot;
 static selftest_t st;
 static uint16_t costs[COSTS_MAX];
