@@ -17,7 +17,7 @@ import re
 import subprocess
 import sys
 
-from slamtools.errors import FAILED, ToolError, main
+from slamtools.errors import FAILED, ToolError, main as tool_main
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FOLDERS = ("firmware", "hal", "host_sim", "tests", "tools")
@@ -83,4 +83,4 @@ def check(argv):
 
 
 if __name__ == "__main__":
-    main(check, sys.argv[1:])
+    tool_main(check, sys.argv[1:])

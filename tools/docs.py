@@ -127,7 +127,7 @@ def corpus(host_sim, work):
                         "--out", os.path.join(work, "corpus")], cwd=SRC,
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        raise Failed("tools/corpus_report.py exited %d:\n%s" % (p.returncode, p.stderr))
+        raise ToolError("tools/corpus_report.py exited %d:\n%s" % (p.returncode, p.stderr), FAILED)
     text = re.sub(r"^### ", "#### ", p.stdout.strip(), flags=re.M)
     return {"host_sim/README.md": "\n" + text + "\n\n"}, {}
 
