@@ -63,17 +63,28 @@ static sweep_echo_t poll_sonar(const sweep_t *s, uint32_t *echo_us)
     }
 }
 
-/* Whether any of the board's n bump switches is closed; a switch that cannot be read
- * counts as open (the wheels' stall still tells). */
-static bool bump_closed(uint8_t n)
+/*
+ * Whether a bump switch has closed since the exploration last took a stall: the body is
+ * against something, told at once where stalled wheels tell it a few ticks later. Only
+ * a closing counts (a switch stays closed while the robot backs away); a tick that maps a
+ * reading leaves it to the next, as it leaves stalls. A switch that cannot be read counts
+ * as open (the wheels still tell).
+ */
+static bool bump_news(robot_t *r)
 {
-    for (uint8_t b = 0; b < n; b++) {
+    bool closed = false;
+    for (uint8_t b = 0; b < r->bumps && !closed; b++) {
         bool pressed = false;
-        if (hal_bump_read(b, &pressed) == HAL_OK && pressed) {
-            return true;
-        }
+        closed = hal_bump_read(b, &pressed) == HAL_OK && pressed;
     }
-    return false;
+    if (closed && !r->bump_closed) {
+        r->bump_news = true;
+        r->bumped++;
+    }
+    r->bump_closed = closed;
+    bool news = r->bump_news;
+    r->bump_news = news && r->last.reading_ready;
+    return news;
 }
 
 void robot_tick(robot_t *r)
@@ -156,21 +167,14 @@ void robot_tick(robot_t *r)
             r->pose = r->umbmark.start;
         }
     } else {
-        /* A bump switch closing says at once what stalled wheels say a few ticks later: the
-         * body is against something. Only its closing counts: it stays closed while the
-         * robot backs away. */
-        bool closed = r->bumps != 0u && bump_closed(r->bumps);
-        if (closed && !r->bump_closed) {
-            r->bump_news = true;
-            r->bumped++;
+        bool stalled = motion_stalled(&r->motion);
+        r->explore.moves.one_wheel = stalled && motion_one_wheel(&r->motion);
+        if (r->bumps != 0u && bump_news(r)) {
+            stalled = true;
+            r->explore.moves.one_wheel = false;
         }
-        r->bump_closed = closed;
-        bool stalled = r->bump_news || motion_stalled(&r->motion);
-        r->explore.moves.one_wheel = !r->bump_news && stalled && motion_one_wheel(&r->motion);
         explore_step(&r->explore, &r->pose, &r->last, &r->mapper, &r->grid, r->loc.tick.ahead,
                      stalled, target_mm_s);
-        /* A tick that maps a reading leaves stalls to the next. */
-        r->bump_news = r->bump_news && r->last.reading_ready;
     }
     motion_set_target(&r->motion, target_mm_s[ODOM_LEFT], target_mm_s[ODOM_RIGHT]);
     int16_t duty[2];
