@@ -6,7 +6,8 @@ usage: tools/docs.py HOST_SIM [--check]
 
 A generated block of a Markdown page lies between `<!-- figures: NAME -->` and
 `<!-- /figures -->`; each NAME has a generator below that runs the simulator and returns
-the block's text and the pictures it draws. Without --check the blocks and pictures are
+the block's text and the pictures it draws (sim-report fills several blocks, one a
+section of tools/sim_report.py). Without --check the blocks and pictures are
 rewritten in place. With --check they are made in a temporary folder and compared with
 the committed ones: text exactly, except the line of wall time and speed, which follows
 the machine; pictures byte for byte (tools/plot_run.py renders with matplotlib's Agg
@@ -21,6 +22,9 @@ Generators:
              ten minutes, at the default (typical) sonar (180 runs, under a minute)
   corpus     host_sim/README.md: the corpus tables, what `make corpus` prints
              (tools/corpus_report.py, 344 runs, about a minute)
+  sim-report host_sim/README.md: the tables of "What the simulator shows" that
+             tools/sim_report.py prints (make report), one block a section
+             (sim-report-cell-size, ...; about half a minute)
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;
 2 bad options.
 """
@@ -132,7 +136,46 @@ def corpus(host_sim, work):
     return {"host_sim/README.md": "\n" + text + "\n\n"}, {}
 
 
-GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus}
+# tools/sim_report.py's sections (how each heading begins) and the block each fills.
+SIM_REPORT_BLOCKS = (
+    ("Post-processing, the paper's method", "sim-report-post-paper"),
+    ("Post-processing, the evidence map", "sim-report-post-evidence"),
+    ("Acceleration and odometry", "sim-report-acceleration"),
+    ("Perfect odometry", "sim-report-perfect-odometry"),
+    ("Cell size", "sim-report-cell-size"),
+    ("Exploration", "sim-report-exploration"),
+    ("Wall coverage per room", "sim-report-wall-coverage"),
+    ("Visiting the free cells", "sim-report-free-cells"),
+    ("Building maps", "sim-report-building-maps"),
+    ("Faults", "sim-report-faults"),
+    ("Sonar realism levels", "sim-report-sonar-levels"),
+)
+
+
+def sim_report(host_sim, work):
+    """host_sim/README.md's tables of tools/sim_report.py, a block a section: the runs the
+    section's heading describes, then its tables."""
+    p = subprocess.run([os.path.join(SRC, "tools", "sim_report.py"), "--host-sim", host_sim,
+                        "--out", os.path.join(work, "sim_report")], cwd=SRC,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise ToolError("tools/sim_report.py exited %d:\n%s" % (p.returncode, p.stderr), FAILED)
+    sections = re.split(r"^### ", p.stdout, flags=re.M)[1:]
+    blocks = {}
+    for begins, name in SIM_REPORT_BLOCKS:
+        found = [s for s in sections if s.startswith(begins)]
+        if len(found) != 1:
+            raise ToolError("tools/sim_report.py printed %d sections that begin %r"
+                            % (len(found), begins), FAILED)
+        heading, body = found[0].split("\n", 1)
+        runs = re.search(r"\(([^()]*(?:`[^`]*`[^()]*)*)\)$", heading.strip())
+        said = "`make report` (%s):" % runs.group(1) if runs else "`make report`:"
+        blocks[("host_sim/README.md", name)] = "%s\n\n%s\n\n" % (said, body.strip())
+    return blocks, {}
+
+
+GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus,
+              "sim-report": sim_report}
 
 
 def blocks_of(page):
@@ -156,8 +199,9 @@ def main(argv):
         texts, pictures = {}, {}
         for name, gen in GENERATORS.items():
             t, pics = gen(host_sim, work)
-            for page, block in t.items():
-                texts[(page, name)] = block
+            # A generator names its page, or its page and block when it fills several.
+            for key, block in t.items():
+                texts[key if isinstance(key, tuple) else (key, name)] = block
             pictures.update(pics)
         pages = sorted({page for page, _ in texts})
         for page in pages:
