@@ -6,8 +6,8 @@ usage: tools/docs.py HOST_SIM [--check]
 
 A generated block of a Markdown page lies between `<!-- figures: NAME -->` and
 `<!-- /figures -->`; each NAME has a generator below that runs the simulator and returns
-the block's text and the pictures it draws (sim-report fills several blocks, one a
-section of tools/sim_report.py). Without --check the blocks and pictures are
+the block's text and the pictures it draws (sim-report and pose-report fill several
+blocks, one a section of their report). Without --check the blocks and pictures are
 rewritten in place. With --check they are made in a temporary folder and compared with
 the committed ones: text exactly, except the line of wall time and speed, which follows
 the machine; pictures byte for byte (tools/plot_run.py renders with matplotlib's Agg
@@ -25,6 +25,9 @@ Generators:
   sim-report host_sim/README.md: the tables of "What the simulator shows" that
              tools/sim_report.py prints (make report), one block a section
              (sim-report-cell-size, ...; about half a minute)
+  pose-report host_sim/README.md: tools/pose_report.py's tables without its ten-hour
+             runs (pose-report-on-off, -work, -by-room), and
+             host_sim/figures/pose_correction.png from its one-hour runs of seed 1
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;
 2 bad options.
 """
@@ -152,30 +155,55 @@ SIM_REPORT_BLOCKS = (
 )
 
 
-def sim_report(host_sim, work):
-    """host_sim/README.md's tables of tools/sim_report.py, a block a section: the runs the
-    section's heading describes, then its tables."""
-    p = subprocess.run([os.path.join(SRC, "tools", "sim_report.py"), "--host-sim", host_sim,
-                        "--out", os.path.join(work, "sim_report")], cwd=SRC,
+def report_blocks(script, args, mapping):
+    """Runs a report of tools/ and cuts its Markdown into blocks of host_sim/README.md, one
+    a section: `make report` and the runs its heading describes, then its tables."""
+    p = subprocess.run([os.path.join(SRC, "tools", script)] + args, cwd=SRC,
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
-        raise ToolError("tools/sim_report.py exited %d:\n%s" % (p.returncode, p.stderr), FAILED)
+        raise ToolError("tools/%s exited %d:\n%s" % (script, p.returncode, p.stderr), FAILED)
     sections = re.split(r"^### ", p.stdout, flags=re.M)[1:]
     blocks = {}
-    for begins, name in SIM_REPORT_BLOCKS:
+    for begins, name in mapping:
         found = [s for s in sections if s.startswith(begins)]
         if len(found) != 1:
-            raise ToolError("tools/sim_report.py printed %d sections that begin %r"
-                            % (len(found), begins), FAILED)
+            raise ToolError("tools/%s printed %d sections that begin %r"
+                            % (script, len(found), begins), FAILED)
         heading, body = found[0].split("\n", 1)
         runs = re.search(r"\(([^()]*(?:`[^`]*`[^()]*)*)\)$", heading.strip())
         said = "`make report` (%s):" % runs.group(1) if runs else "`make report`:"
         blocks[("host_sim/README.md", name)] = "%s\n\n%s\n\n" % (said, body.strip())
-    return blocks, {}
+    return blocks
+
+
+def sim_report(host_sim, work):
+    """host_sim/README.md's tables of tools/sim_report.py, a block a section."""
+    return report_blocks("sim_report.py", ["--host-sim", host_sim, "--out",
+                                           os.path.join(work, "sim_report")],
+                         SIM_REPORT_BLOCKS), {}
+
+
+# tools/pose_report.py's sections and their blocks; its long runs are not among them (ten
+# hours, twelve seeds: tools/pose_report.py alone, host_sim/experiments.md).
+POSE_REPORT_BLOCKS = (
+    ("Pose correction on and off", "pose-report-on-off"),
+    ("The correction's work", "pose-report-work"),
+    ("What the correction changes", "pose-report-by-room"),
+)
+
+
+def pose_report(host_sim, work):
+    """host_sim/README.md's tables of tools/pose_report.py without its ten-hour runs, and
+    the picture of the one-hour runs of seed 1 (both READMEs show it)."""
+    png = os.path.join(work, "pose_correction.png")
+    blocks = report_blocks("pose_report.py", [
+        "--host-sim", host_sim, "--out", os.path.join(work, "pose_report"),
+        "--long-durations", "3600", "--long-seeds", "1", "--figure", png], POSE_REPORT_BLOCKS)
+    return blocks, {"host_sim/figures/pose_correction.png": png}
 
 
 GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus,
-              "sim-report": sim_report}
+              "sim-report": sim_report, "pose-report": pose_report}
 
 
 def blocks_of(page):

@@ -3,13 +3,14 @@
 """The pose correction measured: maps and pose error with it on and off, every shipped room.
 
 usage: tools/pose_report.py [--host-sim BIN] [--seeds N] [--out DIR] [--jobs N]
-                            [--quick] [--no-long] [--long-seeds N] [--host-arg ARG]...
+                            [--quick] [--no-long] [--long-seeds N] [--long-durations S,S]
+                            [--host-arg ARG]...
                             [--perfect-odometry] [--figure PNG] [--keep]
 
 Runs host_sim in every shipped room (host_sim/rooms/*.room) for seeds 1..N, 10 simulated
 minutes each, once with the pose correction (the default, `localize = 1`) and once
 without it (`localize = 0`: the paper's odometry alone), then 1-hour and 10-hour runs
-of the default room both ways, seeds 1..12 (--long-seeds): where a ten-hour run ends turns
+(--long-durations) of the default room both ways, seeds 1..12 (--long-seeds): where a ten-hour run ends turns
 on small differences early on, so the table gives medians and how many runs met the goal.
 Prints Markdown tables (the ones in the README): mean raw and final F1 of OM built from
 the firmware's own pose and from the true poses, the gap between them, median and worst
@@ -37,7 +38,7 @@ from slamtools.errors import ToolError, main as tool_main
 from slamtools.runs import ROOMS, SRC, add_host_arg, cores, mean, median, run_all
 
 MODES = (("off", "0"), ("on", "1"))
-LONG = (3600, 36000)  # s: the issue's 1-hour and 10-hour runs
+LONG = (3600, 36000)  # s: the 1-hour and 10-hour runs (--long-durations)
 LONG_SEEDS = 12  # a ten-hour run's outcome turns on small differences: one seed says little
 # Odometry without an error of any kind, systematic or not (--perfect-odometry).
 PERFECT_ODOMETRY = ["--error", "ed=1", "--error", "eb=1", "--error", "noise=0",
@@ -59,7 +60,7 @@ def jobs_for(args):
                 jobs["%s-%s-%d" % (room, mode, s)] = [
                     "--room", os.path.join(ROOMS, room + ".room"), "--seed", s,
                     "--duration", dur, "--set", "localize=" + val] + extra
-    for dur_l in () if args.no_long else LONG if not args.quick else (600,):
+    for dur_l in () if args.no_long else args.long_durations if not args.quick else (600,):
         for s in range(1, args.long_seeds + 1):
             for mode, val in MODES:
                 jobs["long%d-%s-%d" % (dur_l, mode, s)] = [
@@ -124,7 +125,7 @@ def report(args):
     total = len(jobs)
     print("pose_report: %d runs of host_sim into %s" % (total, base), file=sys.stderr)
     # A figure draws the first seed's one-hour runs: their maps and trajectories stay.
-    first_long = "long%d-" % (600 if args.quick else LONG[0])
+    first_long = "long%d-" % (600 if args.quick else args.long_durations[0])
     res = run_all(args.host_sim, base, jobs, args.jobs, "pose_report",
                   keep=lambda n: args.keep or bool(args.figure) and n.startswith(first_long)
                   and n.endswith("-1"))
@@ -248,7 +249,7 @@ def figure(args, base, name):
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(args.figure, dpi=72, metadata={"Software": None})
-    print("(figure: %s)" % args.figure)
+    print("(figure: %s)" % args.figure, file=sys.stderr)
 
 
 def main():
@@ -263,6 +264,9 @@ def main():
     ap.add_argument("--no-long", action="store_true", help="leave out the 1-hour and 10-hour runs")
     ap.add_argument("--long-seeds", type=int, default=LONG_SEEDS, metavar="N",
                     help="seeds 1..N of the 1-hour and 10-hour runs (default %d)" % LONG_SEEDS)
+    ap.add_argument("--long-durations", default=",".join(str(s) for s in LONG), metavar="S,S",
+                    help="the long runs' durations in s, the figure's first (default %s)"
+                    % ",".join(str(s) for s in LONG))
     add_host_arg(ap, "--host-arg=--error --host-arg=eb=1.0")
     ap.add_argument("--perfect-odometry", action="store_true",
                     help="odometry without any error in every run: the gap that is left is "
@@ -274,6 +278,13 @@ def main():
     args = ap.parse_args()
     if args.seeds < 1 or args.jobs < 1:
         ap.error("--seeds and --jobs need at least 1")
+    given = args.long_durations
+    try:
+        args.long_durations = tuple(int(s) for s in given.split(","))
+    except ValueError:
+        args.long_durations = ()
+    if not args.long_durations or min(args.long_durations) < 1:
+        ap.error("--long-durations: %r is not whole seconds, comma-separated" % given)
     if not os.path.exists(args.host_sim):
         raise ToolError("%s not found: build it first (make sim)" % args.host_sim)
     report(args)
