@@ -63,13 +63,11 @@ _Static_assert(RULE_CORRIDOR < 64, "a rule fits the six bits above a field's sto
 #define CFG_CTYPE_U32 uint32_t
 #define CFG_CTYPE_I32 int32_t
 #define CFG_CTYPE_Q30 q1_30_t
+/* clang-format off */
 #define CFG_MEMBER_TYPE(name)                                                                      \
-    _Generic(((const slam_config_t *)NULL)->name, uint8_t                                          \
-             : CFG_U8, uint16_t                                                                    \
-             : CFG_U16, uint32_t                                                                   \
-             : CFG_U32, int32_t                                                                    \
-             : CFG_I32, default                                                                    \
-             : -1)
+    _Generic(((const slam_config_t *)NULL)->name, uint8_t: CFG_U8, uint16_t: CFG_U16,             \
+             uint32_t: CFG_U32, int32_t: CFG_I32, default: -1)
+/* clang-format on */
 #define CFG_SIGNED_I32 1
 #define CFG_SIGNED_Q30 1
 #define CFG_SIGNED_U8 0
