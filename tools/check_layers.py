@@ -20,6 +20,7 @@ import os
 import subprocess
 import sys
 
+from slamtools.commands import take_value
 from slamtools.errors import ToolError, main as tool_main
 
 
@@ -133,13 +134,7 @@ def main(argv):
     if not args or args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0 if args else 2
-    nm = os.environ.get("NM", "nm")
-    if "--nm" in args:
-        i = args.index("--nm")
-        if i + 1 >= len(args):
-            raise ToolError("--nm needs a program")
-        nm = args[i + 1]
-        del args[i:i + 2]
+    nm = take_value(args, "--nm", "a program", os.environ.get("NM", "nm"))
     if len(args) != 2:
         raise ToolError("give SRC_DIR and OBJECTS (see --help)")
     src, objs = args

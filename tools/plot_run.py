@@ -29,6 +29,7 @@ import sys
 import zlib
 
 from slamtools import link as slamlink, pgm
+from slamtools.commands import take_value
 from slamtools.errors import ToolError, main as tool_main
 
 MAGIC = 0x4D414C53  # "SLAM": mapstore.h
@@ -186,13 +187,7 @@ def figure_of_maps(panels, title, plt):
 def main(argv):
     args = [a for a in argv[1:] if a not in ("--quiet",)]
     quiet = "--quiet" in argv[1:]
-    out_png = None
-    if "--out" in args:
-        i = args.index("--out")
-        if i + 1 >= len(args):
-            raise ToolError("--out needs a file name")
-        out_png = args[i + 1]
-        del args[i:i + 2]
+    out_png = take_value(args, "--out", "a file name")
     if len(args) != 1 or args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0 if args and args[0] in ("-h", "--help") else 2

@@ -23,3 +23,16 @@ def run(doc, commands, argv):
     except errors.ToolError as e:
         e.prog = e.prog or label
         raise
+
+
+def take_value(args, flag, what, default=None):
+    """Removes `flag VALUE` from the list args and returns VALUE (default when the flag is
+    not given); a flag without its value is bad input, `flag needs WHAT`."""
+    if flag not in args:
+        return default
+    i = args.index(flag)
+    if i + 1 >= len(args):
+        raise errors.ToolError("%s needs %s" % (flag, what))
+    value = args[i + 1]
+    del args[i:i + 2]
+    return value

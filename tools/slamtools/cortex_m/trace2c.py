@@ -12,6 +12,7 @@ does; a bad one is refused with FILE:LINE: and the reason, exit status 2.
 import os
 import re
 
+from ..commands import take_value
 from ..errors import FAILED, ToolError
 
 POLL = "-ibet"
@@ -171,13 +172,7 @@ def write_c(out_path, trace_path, name, config, ticks, stream):
 
 def main(argv):
     args = argv[1:]
-    name = None
-    if "--name" in args:
-        i = args.index("--name")
-        if i + 1 >= len(args):
-            raise ToolError("--name needs a value")
-        name = args[i + 1]
-        del args[i:i + 2]
+    name = take_value(args, "--name", "a value")
     if len(args) != 2 or args[0].startswith("-"):
         raise ToolError(__doc__.strip())
     trace_path, out_path = args

@@ -26,6 +26,7 @@ import tempfile
 
 from ..cortex_m import stack_depth
 from ..cortex_m.elf32 import Elf
+from ..commands import take_value
 from ..errors import FAILED, ToolError
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
@@ -66,13 +67,7 @@ def main(argv):
     args = argv[1:]
     static_only = "--static-only" in args
     args = [a for a in args if a != "--static-only"]
-    image = "sonarslam_stm32f4"
-    if "--image" in args:
-        i = args.index("--image")
-        if i + 1 >= len(args):
-            raise ToolError("--image needs the name of a robot image")
-        image = args[i + 1]
-        del args[i:i + 2]
+    image = take_value(args, "--image", "the name of a robot image", "sonarslam_stm32f4")
     if args and args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0

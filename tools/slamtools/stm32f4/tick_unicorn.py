@@ -18,6 +18,7 @@ import json
 from ..cortex_m import unicorn_run
 from ..cortex_m.elf32 import Elf
 from ..cortex_m.unicorn_run import RETURN, Counter, summarize, unicorn  # noqa: F401  (the API)
+from ..commands import take_value
 from ..errors import FAILED, ToolError
 
 
@@ -84,13 +85,7 @@ def measure_hal(path):
 
 def main(argv):
     args = argv[1:]
-    out_json = None
-    if "--json" in args:
-        i = args.index("--json")
-        if i + 1 >= len(args):
-            raise ToolError("--json needs a file")
-        out_json = args[i + 1]
-        del args[i:i + 2]
+    out_json = take_value(args, "--json", "a file")
     if not args or args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0 if args else 2
