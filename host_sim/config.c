@@ -232,7 +232,7 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
         by_a != NULL ? (long)cfg->start_cell_a : (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
     long b0 =
         by_b != NULL ? (long)cfg->start_cell_b : (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
-    double ox = sx - (double)a0 * cell - cell / 2.0;
+    double ox = sx - (double)a0 * cell - cell / 2.0; /* grid_origin_um() */
     double oy = sy - (double)b0 * cell - cell / 2.0;
     bool fits_x = a0 >= 0 && a0 < (long)SLAM_GRID_A && ox <= room->min_x &&
                   ox + SLAM_GRID_A * cell >= room->max_x;

@@ -103,12 +103,9 @@ static int check_closed(const options_t *o, const scenario_t *sc)
     const uint32_t B = SLAM_GRID_B;
     const size_t n = (size_t)A * B;
     const double cell = cfg->cell_um * 1e-6;
-    /* The grid's origin as grid_init() puts it: the start at the centre of its cell. */
-    const int64_t half = (int64_t)cfg->cell_um / 2;
-    const double ox =
-        (double)(cfg->start_x_um - (int64_t)cfg->start_cell_a * cfg->cell_um - half) * 1e-6;
-    const double oy =
-        (double)(cfg->start_y_um - (int64_t)cfg->start_cell_b * cfg->cell_um - half) * 1e-6;
+    /* The grid's origin as grid_init() puts it. */
+    const double ox = grid_origin_um(cfg->start_x_um, cfg->start_cell_a, cfg->cell_um) * 1e-6;
+    const double oy = grid_origin_um(cfg->start_y_um, cfg->start_cell_b, cfg->cell_um) * 1e-6;
     sim_params_t params;
     sim_params_default(&params);
     uint8_t *wall = calloc(n, 1u);

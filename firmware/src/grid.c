@@ -10,10 +10,8 @@
 
 void grid_init(grid_t *g, const slam_config_t *cfg)
 {
-    int64_t half = (int64_t)cfg->cell_um / 2;
-    /* The start pose sits at the centre of the start cell. */
-    g->origin_x_um = (int32_t)(cfg->start_x_um - (int64_t)cfg->start_cell_a * cfg->cell_um - half);
-    g->origin_y_um = (int32_t)(cfg->start_y_um - (int64_t)cfg->start_cell_b * cfg->cell_um - half);
+    g->origin_x_um = grid_origin_um(cfg->start_x_um, cfg->start_cell_a, cfg->cell_um);
+    g->origin_y_um = grid_origin_um(cfg->start_y_um, cfg->start_cell_b, cfg->cell_um);
     g->cell_um = cfg->cell_um;
     g->om_max = cfg->om_max;
     g->tm_max = cfg->tm_max;

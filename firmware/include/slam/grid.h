@@ -72,6 +72,17 @@ typedef struct {
 } grid_t;
 
 /**
+ * World coordinate of the grid's lower-left corner along one axis: the start pose sits at
+ * the centre of the start cell. (At its corner the grid lines would lie on whole multiples
+ * of L from the start, and an exported map's origin would too; host_sim/experiments.md
+ * has what that did to the maps.)
+ */
+static inline int32_t grid_origin_um(int32_t start_um, uint16_t start_cell, uint32_t cell_um)
+{
+    return (int32_t)(start_um - (int64_t)start_cell * cell_um - (int64_t)(cell_um / 2u));
+}
+
+/**
  * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the
  * configuration (L, start pose, start cell, OMmax, TMmax). The configuration must have passed
  * slam_config_check().
