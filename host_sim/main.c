@@ -435,6 +435,22 @@ static int write_timing(const options_t *o, const outcome_t *out)
     return close_out(tf, o->out, "timing.json");
 }
 
+/* A home that does not fit is said at the end, never only clipped: the points the grid
+ * rejected (hits, and cells the robot stood on) are missing from every map written. */
+static void warn_outside(const grid_t *g, uint32_t hits)
+{
+    if (g->rejected == 0u) {
+        return;
+    }
+    double cell = g->cell_um * 1e-6;
+    fprintf(stderr,
+            "host_sim: warning: the home does not fit the grid: %u point%s fell outside its "
+            "%u x %u cells of %.0f mm (%.2f m x %.2f m), %u of them sonar hits, and are missing "
+            "from the map (metrics.json: robot.outside_grid)\n",
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A, (unsigned)SLAM_GRID_B, cell * 1e3,
+            SLAM_GRID_A * cell, SLAM_GRID_B * cell, (unsigned)hits);
+}
+
 /* The end of a run: the held-back hits mapped, the maps scored and exported, the metrics,
  * the storage slots and the timing written, then all committed at once; the summary, the
  * figure. 0, or 1. Never inlined: tools/bench.py measures the end of a run from its entry. */
@@ -488,6 +504,7 @@ __attribute__((noinline)) static int finish(const options_t *o, held_t *h, const
         fprintf(stderr, "host_sim: %s: %zu command bytes found the UART full and were lost\n",
                 o->commands, sc->commands.dropped);
     }
+    warn_outside(&fw.robot.grid, fw.robot.mapper.outside);
     return 0;
 }
 

@@ -235,7 +235,7 @@ static void test_decoder_checks_lengths(void **state)
     telem_init(&t);
     static grid_t g;
     grid_init(&g, &cfg);
-    telem_status_t st = {7u, 6u, 5u, 4u, 3u, 2u, 1u, 2u, 0u};
+    telem_status_t st = {7u, 6u, 5u, 4u, 3u, 2u, 1u, 2u, 0u, 0u};
     odom_pose_t p = {-5, 6, 0x80000000u};
     telem_post_pose(&t, 9u, &p);
     telem_post_reading(&t, 10u, 2u, 1u, -155000, 123456u, &p);
@@ -298,6 +298,61 @@ static void test_decoder_checks_lengths(void **state)
         bad = 0;
         assert_true(next_frame(buf, n, &pos, &f, &bad));
         assert_int_equal(tdec_decode(&f, &m), cases[i].rc);
+    }
+}
+
+/* A home that does not fit is told over the link: once a point has fallen outside the
+ * grid, the robot's STATUS carries the count (46 bytes); before, it is the 42 bytes it
+ * always was. */
+static void test_status_tells_points_outside_the_grid(void **state)
+{
+    (void)state;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    uint32_t statuses[2] = {0, 0};
+    uint32_t outside = 0;
+    for (int round = 0; round < 2; round++) {
+        if (round == 1) {
+            /* A wall far beyond the grid's edge, as a hit the mapper places. */
+            int32_t far = robot.grid.origin_x_um - (int32_t)robot.grid.cell_um;
+            assert_int_equal(grid_om_hit(&robot.grid, far, 0), SLAM_EOUTSIDE);
+            assert_int_equal(grid_om_hit(&robot.grid, 0, far), SLAM_EOUTSIDE);
+        }
+        fake_hal.uart_len = 0;
+        for (uint32_t t = 0; t < 200u; t++) { /* two seconds: a STATUS every one */
+            robot_tick(&robot);
+            robot_idle(&robot);
+        }
+        size_t pos = 0;
+        frame_t f;
+        tdec_msg_t m;
+        unsigned bad = 0;
+        while (next_frame(fake_hal.uart, fake_hal.uart_len, &pos, &f, &bad)) {
+            if (f.type == TELEM_STATUS) {
+                assert_int_equal(f.len, round == 0 ? 42u : 46u);
+                assert_int_equal(tdec_decode(&f, &m), 0);
+                statuses[round]++;
+                outside = m.outside;
+            }
+        }
+        assert_int_equal(outside, round == 0 ? 0u : 2u);
+    }
+    assert_true(statuses[0] > 0u && statuses[1] > 0u);
+
+    /* The decoder takes both forms and no other length near them. */
+    uint8_t buf[TELEM_FRAME_MAX];
+    uint8_t pl[46] = {0};
+    pl[42] = 7u;
+    for (uint8_t len = 40u; len <= 46u; len++) {
+        size_t n = telem_frame(buf, TELEM_STATUS, pl, len);
+        size_t pos = 0;
+        frame_t f;
+        tdec_msg_t m;
+        unsigned bad = 0;
+        assert_true(next_frame(buf, n, &pos, &f, &bad));
+        assert_int_equal(tdec_decode(&f, &m), len == 42u || len == 46u ? 0 : -2);
+        if (len == 46u) {
+            assert_int_equal(m.outside, 7u);
+        }
     }
 }
 
@@ -625,6 +680,7 @@ int main(void)
         cmocka_unit_test_setup(test_short_writes_are_counted_and_resynchronised, setup),
         cmocka_unit_test_setup(test_no_reader_counts_the_frames_it_skips, setup),
         cmocka_unit_test_setup(test_decoder_checks_lengths, setup),
+        cmocka_unit_test_setup(test_status_tells_points_outside_the_grid, setup),
         cmocka_unit_test_setup(test_every_command_parses, setup),
         cmocka_unit_test_setup(test_malformed_commands_are_refused, setup),
         cmocka_unit_test_setup(test_noise_never_makes_a_command, setup),

@@ -195,6 +195,9 @@ def draw(fig, axes, m):
     t = m.status.get("ticks", 0) * slamlink.TICK_S
     titles = ("OM, obstacle map: black occupied, white free, grey unknown (%d hits)"
               % m.status.get("om_hits", 0), "TM, trajectory map: visits")
+    if m.status.get("outside"):
+        titles = (titles[0] + "\nTHE HOME DOES NOT FIT THE GRID: %d points fell outside it"
+                  % m.status["outside"], titles[1])
     images = (slamlink.trinary(g["om_mode"], m.maps[0], m.maps[1]),
               slamlink.counts_image(m.maps[1], g["tm_max"]))
     for ax, img, title in zip(axes, images, titles):

@@ -208,6 +208,7 @@ void robot_idle(robot_t *r)
         .explore_mode = r->cfg.explore_mode,
         .flags = (uint8_t)(((r->hold & ROBOT_HOLD_STOP) != 0u ? TELEM_FLAG_STOPPED : 0u) |
                            (r->pending != 0u ? TELEM_FLAG_PENDING : 0u)),
+        .outside = r->grid.rejected,
     };
     telem_idle(&r->telem, &r->grid, &r->cfg, &st, ticks);
 }

@@ -192,6 +192,10 @@ static void send_status(telem_t *t, uint8_t *frame, const telem_status_t *st)
     }
     p = put8(p, st->explore_mode);
     p = put8(p, st->flags);
+    /* Only when there is something to say: a home that fits sends what it always sent. */
+    if (st->outside != 0u) {
+        p = put32(p, st->outside);
+    }
     send(t, frame, TELEM_STATUS, (size_t)(p - PAYLOAD(frame)));
 }
 

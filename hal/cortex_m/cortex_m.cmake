@@ -29,22 +29,28 @@ function(cortex_m_runtime target)
     target_include_directories(${target} PUBLIC ${dir})
 endfunction()
 
-# cortex_m_image(<target> LINKER_SCRIPT <file> STACK_BYTES <n>): link with the chip's
-# linker script and a main stack of n bytes, then write .bin, .hex, the map file and the
-# size report, and refuse soft-float helpers and the heap (check_image.cmake).
+# cortex_m_image(<target> LINKER_SCRIPT <file> STACK_BYTES <n> GRID <A> <B>): link with the
+# chip's linker script and a main stack of n bytes, then write .bin, .hex, the map file and
+# the size report, and refuse soft-float helpers and the heap (check_image.cmake). The
+# image's grid, A x B cells, becomes the absolute symbols _grid_a and _grid_b (no byte of
+# flash or RAM), so a tool reading the image knows the map its RAM budget is for.
 function(cortex_m_image target)
     set(dir ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
-    cmake_parse_arguments(I "" "LINKER_SCRIPT;STACK_BYTES" "" ${ARGN})
-    if(NOT I_LINKER_SCRIPT OR NOT I_STACK_BYTES)
-        message(FATAL_ERROR "cortex_m_image(${target}) needs LINKER_SCRIPT and STACK_BYTES")
+    cmake_parse_arguments(I "" "LINKER_SCRIPT;STACK_BYTES" "GRID" ${ARGN})
+    list(LENGTH I_GRID _n)
+    if(NOT I_LINKER_SCRIPT OR NOT I_STACK_BYTES OR NOT _n EQUAL 2)
+        message(FATAL_ERROR "cortex_m_image(${target}) needs LINKER_SCRIPT, STACK_BYTES and GRID A B")
     endif()
+    list(GET I_GRID 0 _a)
+    list(GET I_GRID 1 _b)
     set_target_properties(${target} PROPERTIES SUFFIX ".elf"
                           LINK_DEPENDS "${I_LINKER_SCRIPT};${dir}/cm_sections.ld")
     target_link_options(${target} PRIVATE
         -T${I_LINKER_SCRIPT}
         -L${dir}
         -Wl,-Map=$<TARGET_FILE_DIR:${target}>/${target}.map
-        -Wl,--defsym=_stack_size=${I_STACK_BYTES})
+        -Wl,--defsym=_stack_size=${I_STACK_BYTES}
+        -Wl,--defsym=_grid_a=${_a} -Wl,--defsym=_grid_b=${_b})
     slam_target_warnings(${target})
     add_custom_command(TARGET ${target} POST_BUILD
         COMMAND ${CMAKE_COMMAND} -DELF=$<TARGET_FILE:${target}> -DNM=${CMAKE_NM}
@@ -58,14 +64,19 @@ endfunction()
 set(SLAM_SELFTEST_TRACE "" CACHE FILEPATH "A HAL trace for the self-test (empty: the shipped one)")
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
-# cortex_m_selftest(<target> SOURCES <chip sources>...): the self-test image, the firmware
-# over the replay HAL and the recorded scenario (selftest/), with the chip's selftest_port.c
-# among the sources; link it with the chip's own image function, which calls
-# cortex_m_image(). The scenario is -DSLAM_SELFTEST_TRACE=FILE, or the trace the tests ship
-# (not cached, so a new default reaches existing build trees).
+# cortex_m_selftest(<target> SOURCES <chip sources>... [CORE <core>]): the self-test image,
+# the firmware over the replay HAL and the recorded scenario (selftest/), with the chip's
+# selftest_port.c among the sources; link it with the chip's own image function, which calls
+# cortex_m_image(). CORE is the core variant of the board's grid (slam_add_core; slam_core
+# by default): the host half of the self-test must be built with the same grid. The
+# scenario is -DSLAM_SELFTEST_TRACE=FILE, or the trace the tests ship (not cached, so a new
+# default reaches existing build trees).
 function(cortex_m_selftest target)
     set(dir ${CMAKE_CURRENT_FUNCTION_LIST_DIR})
-    cmake_parse_arguments(S "" "" "SOURCES" ${ARGN})
+    cmake_parse_arguments(S "" "CORE" "SOURCES" ${ARGN})
+    if(NOT S_CORE)
+        set(S_CORE slam_core)
+    endif()
     if(SLAM_SELFTEST_TRACE)
         set(trace ${SLAM_SELFTEST_TRACE})
     else()
@@ -82,5 +93,5 @@ function(cortex_m_selftest target)
     add_executable(${target} ${st}/selftest_main.c ${st}/selftest.c ${st}/hal_replay.c
                              ${st}/semihost.c ${S_SOURCES} ${scenario})
     target_include_directories(${target} PRIVATE ${st} ${PROJECT_SOURCE_DIR}/hal/common/include)
-    target_link_libraries(${target} PRIVATE slam_core hal_unsupported)
+    target_link_libraries(${target} PRIVATE ${S_CORE} hal_unsupported)
 endfunction()

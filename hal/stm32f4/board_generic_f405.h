@@ -51,6 +51,16 @@
 /** Regulator scale 1, needed above 144 MHz. */
 #define BOARD_PWR_VOS STM32_PWR_CR_VOS_F405_SCALE1
 
+/* ---- map ------------------------------------------------------------------------------- */
+
+/** The grid this board holds, A x B cells (12 m x 12 m at the default 50 mm): OM and TM take
+ *  2·A·B = 115 200 bytes of the 128 KiB SRAM, leaving 15.5 KiB for the robot's other state
+ *  and the stack (6.6 KiB of it used, the 2 KiB stack reserve included). About 248 x 248 is
+ *  the most that fits. A record (header, OM, TM) must fit one storage slot (storage.c checks
+ *  at build time). The build reads both numbers from these lines: keep them plain decimal. */
+#define BOARD_GRID_A 240u
+#define BOARD_GRID_B 240u
+
 /* ---- pins ----------------------------------------------------------------------------- */
 
 #define BOARD_PORT_A 0u

@@ -5,7 +5,17 @@
 #include "board.h"
 #include "cortex_m.h"
 #include "hal/hal.h"
+#include "slam/mapstore.h"
 #include "stm32f4_port.h"
+
+/* The board's grid is the one the core was built with (the build reads it from the table),
+ * and a slot holds a whole record of it: else saves would be refused at run time. */
+_Static_assert(BOARD_GRID_A == SLAM_GRID_A && BOARD_GRID_B == SLAM_GRID_B,
+               "the board table's BOARD_GRID_A/B differ from the core's SLAM_GRID_A/B: "
+               "link the image with the board's core (stm32f4_board_core)");
+_Static_assert(sizeof(mapstore_header_t) + 2u * (uint64_t)SLAM_GRID_CELLS <= BOARD_STORAGE_BYTES,
+               "a map record (header + OM + TM of BOARD_GRID_A x BOARD_GRID_B) does not fit "
+               "BOARD_STORAGE_BYTES: make the board's grid smaller or its storage slots larger");
 
 /*
  * Erasing or programming the flash stalls every read of it, so the CPU stops for as long

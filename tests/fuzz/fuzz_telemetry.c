@@ -122,8 +122,9 @@ static void round_trip(const uint8_t *data, size_t size)
     grid.origin_y_um = (int32_t)take32(&p, end);
     cfg.confidence_radius_um = take32(&p, end);
     cfg.mount_yaw_mdeg = (int32_t)take32(&p, end);
-    telem_status_t st = {take32(&p, end), take32(&p, end), 0u, 0u, 0u, 0u, 0u, 0u, 0u};
+    telem_status_t st = {take32(&p, end), take32(&p, end), 0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u};
     st.explore_mode = p < end ? *p++ : 0u;
+    st.outside = p < end ? *p++ : 0u; /* 0: the 42-byte STATUS, else the 46-byte one */
     telem_t t;
     telem_init(&t);
     telem_event_t posted[TELEM_RING];
@@ -174,7 +175,7 @@ static void round_trip(const uint8_t *data, size_t size)
             others++;
         } else if (m.type == TELEM_STATUS) {
             FUZZ_CHECK(m.status[0] == st.ticks && m.status[1] == st.pings &&
-                       m.explore_mode == st.explore_mode);
+                       m.explore_mode == st.explore_mode && m.outside == st.outside);
             others++;
         } else {
             FUZZ_CHECK(m.type == TELEM_MAP_ROW && m.row < SLAM_GRID_B &&

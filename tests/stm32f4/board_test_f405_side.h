@@ -21,9 +21,13 @@
 #undef BOARD_NAME
 #define BOARD_NAME "test-f405-side"
 
-/* The build reads the linker script's name from this file's own line. */
+/* The build reads the linker script's name and the grid from this file's own lines. */
 #undef BOARD_LINKER_SCRIPT
 #define BOARD_LINKER_SCRIPT "stm32f405rg.ld"
+#undef BOARD_GRID_A
+#define BOARD_GRID_A 240u
+#undef BOARD_GRID_B
+#define BOARD_GRID_B 240u
 
 #undef BOARD_SONARS
 #define BOARD_SONARS(X)                                                                            \

@@ -50,7 +50,8 @@ int tdec_decode(const frame_t *f, tdec_msg_t *m)
     if (want == 0u) {
         return -1;
     }
-    if (f->len != want) {
+    /* A STATUS carries the points outside the grid in 4 bytes more once there are any. */
+    if (f->len != want && !(f->type == TELEM_STATUS && f->len == want + 4u)) {
         return -2;
     }
     switch (f->type) {
@@ -95,6 +96,7 @@ int tdec_decode(const frame_t *f, tdec_msg_t *m)
         }
         m->explore_mode = p[40];
         m->flags = p[41];
+        m->outside = f->len > 42u ? get32(p + 42) : 0u;
         return 0;
     case TELEM_ACK:
         m->command = p[0];

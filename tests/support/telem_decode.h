@@ -32,9 +32,11 @@ typedef struct {
     uint8_t ncells;
     const uint8_t *cells;
     /* STATUS: ticks, pings, echoes, timeouts, om_hits, overruns, saves, drops, commands
-     * taken, commands refused; then the explore mode and the flags */
+     * taken, commands refused; then the explore mode and the flags, and the points
+     * outside the grid (0 when the frame has none) */
     uint32_t status[10];
     uint8_t explore_mode, flags;
+    uint32_t outside;
     /* ACK, ERROR, CONFIG */
     uint8_t command, code, key;
     uint32_t value;

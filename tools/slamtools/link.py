@@ -507,11 +507,14 @@ def decode(ftype, p):
         if row >= GRID_SIDE_MAX or first + n - 5 > GRID_SIDE_MAX:
             return None
         return dict(type="map_row", map=which, row=row, first=first, cells=bytes(p[5:]))
-    if ftype == STATUS and n in (32, 42):
-        d = dict(zip(_STATUS_NAMES, struct.unpack("<%dI" % (n // 4), p[:n // 4 * 4])))
+    if ftype == STATUS and n in (32, 42, 46):
+        words = min(n // 4, 10)
+        d = dict(zip(_STATUS_NAMES, struct.unpack("<%dI" % words, p[:words * 4])))
         d["type"] = "status"
-        if n == 42:
+        if n >= 42:
             d["explore_mode"], d["flags"] = p[40], p[41]
+        # Points outside the grid (the home does not fit), sent once there are any.
+        d["outside"] = struct.unpack("<I", p[42:46])[0] if n == 46 else 0
         return d
     if ftype == ACK and n == 1:
         return dict(type="ack", command=p[0])
@@ -584,6 +587,8 @@ def describe(fr):
             mode = MODES[fr["explore_mode"]] if fr["explore_mode"] < len(MODES) else fr["explore_mode"]
             line += " mode=%s stopped=%d pending=%d" % (mode, bool(fr["flags"] & FLAG_STOPPED),
                                                         bool(fr["flags"] & FLAG_PENDING))
+        if fr.get("outside"):
+            line += " outside=%d" % fr["outside"]
         return line
     if t == "ack":
         return "ack command=%s" % COMMAND_NAMES.get(fr["command"], fr["command"])

@@ -185,16 +185,18 @@
       }
       return {type: "map_row", map: p[0], row: u16(1), first: u16(3), cells: p.subarray(5)};
     }
-    if (type === STATUS && (n === 32 || n === 42)) {
+    if (type === STATUS && (n === 32 || n === 42 || n === 46)) {
       const d = {};
-      for (let k = 0; k < n >> 2; k++) {
+      for (let k = 0; k < Math.min(n >> 2, 10); k++) {
         d[STATUS_NAMES[k]] = u32(4 * k);
       }
       d.type = "status";
-      if (n === 42) {
+      if (n >= 42) {
         d.explore_mode = p[40];
         d.flags = p[41];
       }
+      // Points outside the grid (the home does not fit), sent once there are any.
+      d.outside = n === 46 ? u32(42) : 0;
       return d;
     }
     if (type === ACK && n === 1) {

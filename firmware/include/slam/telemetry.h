@@ -24,6 +24,8 @@
  *   STATUS  5: ticks, pings, echoes, timeouts, om_hits, tick_overruns, saves,
  *              telemetry drops, commands taken, commands refused, each u32; then
  *              explore_mode u8, flags u8 (TELEM_FLAG_*)                 (42 bytes)
+ *              and, once any point has fallen outside the grid (the home does not
+ *              fit: grid_t.rejected), that count, outside u32           (46 bytes)
  *   ACK     6: command u8: a command was taken                          (1 byte)
  *   ERROR   7: command u8 (the type received), code u8 (telem_error_t), key u8 (GET and
  *              SET; else 0): a command was refused and changed nothing  (3 bytes)
@@ -173,7 +175,8 @@ typedef struct {
 typedef struct {
     uint32_t ticks, pings, echoes, timeouts, om_hits, overruns, saves;
     uint8_t explore_mode;
-    uint8_t flags; /**< TELEM_FLAG_* */
+    uint8_t flags;    /**< TELEM_FLAG_* */
+    uint32_t outside; /**< points that fell outside the grid (grid_t.rejected) */
 } telem_status_t;
 
 void telem_init(telem_t *t);

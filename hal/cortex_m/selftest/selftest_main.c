@@ -8,12 +8,15 @@
 #include "semihost.h"
 #include "text.h"
 
-#define COSTS_MAX 16384u
-
 /* tools/slamtools/cortex_m/unicorn_run.py calls into the image with these two by name. */
 static robot_t robot;
 static selftest_t st;
-static uint16_t costs[COSTS_MAX];
+
+/* Each tick's cost is kept in the RAM the image leaves free, between the end of .bss and
+ * the end of RAM (cm_sections.ld): with a board's largest map that holds the first few
+ * thousand ticks, not the whole scenario; the report's sum and worst cover every tick. */
+extern uint32_t _ebss[];
+extern uint32_t _eram[];
 
 void selftest_print(const char *s)
 {
@@ -36,7 +39,8 @@ int main(void)
 {
     selftest_port_init();
 
-    if (selftest_begin(&st, &robot, costs, COSTS_MAX) != 0) {
+    uint32_t costs_max = (uint32_t)((uintptr_t)_eram - (uintptr_t)_ebss) / sizeof(uint16_t);
+    if (selftest_begin(&st, &robot, (uint16_t *)(void *)_ebss, costs_max) != 0) {
         selftest_report(&st, false);
         semihost_exit(2u);
     }

@@ -109,6 +109,23 @@ static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
     return 0;
 }
 
+/* A home that does not fit is said at the end, never only clipped: the points the grid
+ * rejected (hits, and cells the robot stood on) are missing from the maps written. */
+static void app_warn_outside(const grid_t *g, uint32_t hits, FILE *err)
+{
+    if (g->rejected == 0u) {
+        return;
+    }
+    uint32_t cell_mm = g->cell_um / 1000u;
+    fprintf(err,
+            APP_NAME ": warning: the home does not fit the grid: %u point%s fell outside its "
+                     "%u x %u cells of %u mm (%u mm x %u mm), %u of them sonar hits, and are "
+                     "missing from the maps\n",
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A, (unsigned)SLAM_GRID_B,
+            (unsigned)cell_mm, (unsigned)(SLAM_GRID_A * cell_mm), (unsigned)(SLAM_GRID_B * cell_mm),
+            (unsigned)hits);
+}
+
 static void app_signals(bool install, struct sigaction old[], const int *sigs, size_t n)
 {
     for (size_t i = 0u; i < n; i++) {
@@ -210,6 +227,7 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     if (app_write_maps(lc, out, err) != 0 && status == APP_EXIT_OK) {
         status = APP_EXIT_HARDWARE;
     }
+    app_warn_outside(&app_robot.grid, app_robot.mapper.outside, err);
     return status;
 }
 

@@ -101,9 +101,11 @@ class Counter:
         self.reading_at = m.elf.addr("telem_post_reading") if "telem_post_reading" in m.elf.symbols else None
         self.reading = False
         self.h_code = m.uc.hook_add(unicorn.UC_HOOK_CODE, self._code)
-        # Only writes to the call stack (which starts at STACK_TOP) tell its depth.
+        # Only writes to the call stack (which starts at STACK_TOP) tell its depth; the
+        # image's own data, up to _ebss (a board's map may reach close to STACK_TOP), not.
+        low = max(m.STACK_TOP - 0x4000, m.elf.symbols.get("_ebss", (0,))[0])
         self.h_mem = m.uc.hook_add(unicorn.UC_HOOK_MEM_WRITE, self._mem,
-                                   begin=m.STACK_TOP - 0x4000, end=m.STACK_TOP - 1)
+                                   begin=low, end=m.STACK_TOP - 1)
         # Code translated before the hook existed would run without calling it.
         m.uc.ctl_flush_tb()
 

@@ -14,13 +14,13 @@ usage: tools/stm32f4.py bench [BUILD_DIR] [--static-only] [--image NAME]
 4. The worst-case stack depth of the tick path and of all handlers nested
    (tools/cortex_m.py stack-depth, from -fcallgraph-info/-fstack-usage).
 
-Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 8 KiB; flash <= 64 KiB;
-tick stack <= 512 bytes. Exit status 1 when one is exceeded or a measurement fails, 2 for
+Budgets: worst tick <= 1500 instructions; RAM <= 2*A*B + 8 KiB (A x B the image's grid,
+its symbols _grid_a and _grid_b); flash <= 64 KiB; tick stack <= 512 bytes; and a grid of
+at least 240 x 240 cells. Exit status 1 when one is exceeded or a measurement fails, 2 for
 a wrong command line or an image that is not there. --static-only skips 1 and 2 (no QEMU,
 no unicorn): what the ctest stm32f4_budgets checks, for every board's image.
 """
 import os
-import re
 import subprocess
 import tempfile
 
@@ -29,12 +29,12 @@ from ..cortex_m.elf32 import Elf
 from ..commands import take_value
 from ..errors import FAILED, ToolError
 
-ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..")
 
 TICK_BUDGET = 1500
 READING_PLAN = 400  # instructions a reading was to cost the mapper when it mapped in the tick
 FLASH_BUDGET = 64 * 1024  # half of a 128 KiB part: the rest for map storage and a bootloader
 STACK_BUDGET = 512
+GRID_MIN = (240, 240)  # the least map an STM32F4 board holds: 12 m x 12 m at 50 mm
 
 
 def sizes(elf):
@@ -95,15 +95,14 @@ def main(argv):
     grid = robot.symbols["robot"][1]
     text, data, bss = sizes(robot_elf)
     stack_reserve = robot.symbols["_stack_size"][0] if "_stack_size" in robot.symbols else 0
-    # OM + TM: 2*A*B cells, A and B from the grid header (compile-time constants).
-    m = re.search(r"SLAM_GRID_A (\d+)u.*?SLAM_GRID_B (\d+)u", open(os.path.join(
-        ROOT, "firmware", "include", "slam", "grid.h")).read(), re.S)
-    if m is None:
-        raise ToolError("cannot read SLAM_GRID_A/B from firmware/include/slam/grid.h", FAILED)
-    om_tm = 2 * int(m.group(1)) * int(m.group(2))
-    ram_budget = om_tm + 8 * 1024
+    # OM + TM: 2*A*B cells, A and B the image's own (its board's, as absolute symbols).
+    if "_grid_a" not in robot.symbols or "_grid_b" not in robot.symbols:
+        raise ToolError("%s has no _grid_a/_grid_b: link it with cortex_m_image(... GRID A B)"
+                        % robot_elf, FAILED)
+    grid_a, grid_b = robot.symbols["_grid_a"][0], robot.symbols["_grid_b"][0]
+    ram_budget = 2 * grid_a * grid_b + 8 * 1024
 
-    print("sonarslam STM32F4 image (%s)" % robot_elf)
+    print("sonarslam STM32F4 image (%s), grid %d x %d cells" % (robot_elf, grid_a, grid_b))
     print("  sizes (arm-none-eabi-size): .text %d  .data %d  .bss %d (of which stack %d, robot_t %d)"
           % (text, data, bss, stack_reserve, grid))
     st, st_text = stack(robot_elf)
@@ -121,9 +120,17 @@ def main(argv):
         u = tick_unicorn.summarize(per_tick)
         print("    unicorn, code hook:               mean %.1f, worst %d instructions (tick %d)"
               % (u["mean"], u["worst"], u["worst_tick"]))
+        # The image keeps each tick's cost only as far as the RAM its map leaves allows
+        # (selftest_main.c); its sum and worst cover every tick.
+        kept = min(n, len(per_tick))
         same = sum(1 for (t, _, _, _), q in zip(per_tick, costs) if t == q)
-        print("    cross-check: %d of %d ticks identical in both" % (same, len(costs)))
-        if same != len(costs) or len(per_tick) != len(costs):
+        print("    cross-check: %d of the %d ticks the image kept identical in both; sum and "
+              "worst of all %d ticks %s" % (same, len(costs), n, "identical"
+                                            if (sum(t[0] for t in per_tick), u["worst"])
+                                            == (summary["sum"], summary["worst"])
+                                            else "DIFFERENT"))
+        if (same != len(costs) or len(costs) > kept or len(per_tick) != n
+                or sum(t[0] for t in per_tick) != summary["sum"] or u["worst"] != summary["worst"]):
             verdicts.append(False)
             print("    CROSS-CHECK FAILED")
         print("    firmware only (replay HAL excluded): mean %.1f, worst %d; dynamic stack %d bytes"
@@ -160,6 +167,12 @@ def main(argv):
               % ("worst reading mapped, background loop", summary["reading_worst"], READING_PLAN))
     else:
         print("  budgets:")
+    # Not over a budget but under a floor: the map the board promises (DESIGN.md).
+    ok = grid_a >= GRID_MIN[0] and grid_b >= GRID_MIN[1]
+    verdicts.append(ok)
+    print("  %-44s %7s %-12s least %6s  %s" % ("grid A x B (12 m x 12 m at 50 mm)",
+                                               "%dx%d" % (grid_a, grid_b), "cells",
+                                               "%dx%d" % GRID_MIN, "ok" if ok else "TOO SMALL"))
     budget("RAM: .data + .bss incl. stack (2*A*B + 8 KiB)", data + bss, ram_budget, "bytes")
     budget("flash: .text + .data", text + data, FLASH_BUDGET, "bytes")
     budget("tick stack (SysTick_Handler, static)", st["SysTick_Handler"]["bytes"], STACK_BUDGET,
