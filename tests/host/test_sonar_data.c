@@ -61,7 +61,7 @@ static const limits_t beam[] = {
 };
 
 #define CARD_M 0.00076 /* a credit card's thickness (ISO/IEC 7810 ID-1) */
-#define SX 1.0            /* the sensor, facing +x */
+#define SX 1.0         /* the sensor, facing +x */
 #define SY 0.7
 #define LEVELS 3
 
@@ -85,8 +85,7 @@ static reading_t ping_turned(sim_sonar_level_t level, double d, double w, double
     snprintf(text, sizeof text,
              "wall -0.5 0 3.5 0\nwall 3.5 0 3.5 3\nwall 3.5 3 -0.5 3\nwall -0.5 3 -0.5 0\n"
              "poly %.12f %.12f %.12f %.12f %.12f %.12f %.12f %.12f\nstart %.12f %.12f 0\n",
-             x1 - tx, y1 - ty, x2 - tx, y2 - ty, x2 + tx, y2 + ty, x1 + tx, y1 + ty, SX - 0.10,
-             SY);
+             x1 - tx, y1 - ty, x2 - tx, y2 - ty, x2 + tx, y2 + ty, x1 + tx, y1 + ty, SX - 0.10, SY);
     room_t r;
     test_room(&r, text);
     sim_params_t p;
