@@ -329,6 +329,34 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
     return 0;
 }
 
+/* A segment's free end (one that no other segment meets within 1 mm) stands for the end of
+ * a real screen or partition, which has a thickness: it becomes a circle of
+ * ROOM_WALL_END_M, which the sonar answers from and the body meets. Joined ends (a room's
+ * corners, a box's or polygon's) get none. */
+static int add_wall_ends(room_build_t *b)
+{
+    const room_segment_t *segs = b->segs.v;
+    size_t n = b->segs.n;
+    for (size_t i = 0; i < n; i++) {
+        for (int e = 0; e < 2; e++) {
+            double x = e == 0 ? segs[i].x1 : segs[i].x2;
+            double y = e == 0 ? segs[i].y1 : segs[i].y2;
+            bool joined = false;
+            for (size_t j = 0; j < n && !joined; j++) {
+                joined = j != i && room_seg_dist2(&segs[j], x, y) < 1e-6;
+            }
+            if (!joined) {
+                room_circle_t c = {x, y, ROOM_WALL_END_M};
+                if (vec_push(&b->circles, &c, sizeof c) != 0) {
+                    return -1;
+                }
+                segs = b->segs.v;
+            }
+        }
+    }
+    return 0;
+}
+
 int room_parse(room_t *out, const char *path, const char *text, size_t len, char *err,
                size_t errlen)
 {
@@ -351,6 +379,10 @@ int room_parse(room_t *out, const char *path, const char *text, size_t len, char
     }
     if (rc == 0 && !r.has_start) {
         room_fail(err, errlen, path, 0u, "no start pose (add a line 'start x y theta_deg')");
+        rc = -1;
+    }
+    if (rc == 0 && add_wall_ends(&b) != 0) {
+        room_fail(err, errlen, path, 0u, "out of memory");
         rc = -1;
     }
     if (rc == 0) {

@@ -170,13 +170,14 @@ static void test_clearance(void **state)
     (void)state;
     room_t r;
     test_room(&r, "wall 0 0 4 0\nbox 2 2 1 1\ncircle 0 3 0.5\nstart 1 1 0\n");
-    assert_true(fabs(room_clearance(&r, 1.0, 1.0, 10.0) - 1.0) < 1e-12);         /* the wall */
-    assert_true(fabs(room_clearance(&r, 5.0, -3.0, 10.0) - sqrt(10.0)) < 1e-12); /* its end */
-    assert_true(fabs(room_clearance(&r, 1.5, 2.5, 10.0) - 0.5) < 1e-12);         /* the box */
-    assert_true(fabs(room_clearance(&r, 0.0, 2.2, 10.0) - 0.3) < 1e-12);         /* the circle */
-    assert_true(room_clearance(&r, 2.5, 2.5, 10.0) == 0.0);  /* inside the box */
-    assert_true(room_clearance(&r, 0.1, 3.1, 10.0) == 0.0);  /* in the circle */
-    assert_true(room_clearance(&r, 1.0, 1.0, 0.25) == 0.25); /* capped */
+    assert_true(fabs(room_clearance(&r, 1.0, 1.0, 10.0) - 1.0) < 1e-12); /* the wall */
+    assert_true(fabs(room_clearance(&r, 5.0, -3.0, 10.0) - (sqrt(10.0) - ROOM_WALL_END_M)) <
+                1e-12);                                                  /* its round end */
+    assert_true(fabs(room_clearance(&r, 1.5, 2.5, 10.0) - 0.5) < 1e-12); /* the box */
+    assert_true(fabs(room_clearance(&r, 0.0, 2.2, 10.0) - 0.3) < 1e-12); /* the circle */
+    assert_true(room_clearance(&r, 2.5, 2.5, 10.0) == 0.0);              /* inside the box */
+    assert_true(room_clearance(&r, 0.1, 3.1, 10.0) == 0.0);              /* in the circle */
+    assert_true(room_clearance(&r, 1.0, 1.0, 0.25) == 0.25);             /* capped */
     assert_true(room_disc_free(&r, 1.0, 1.0, 0.99));
     assert_true(room_disc_free(&r, 1.0, 1.0, 1.0)); /* touching exactly is free */
     assert_false(room_disc_free(&r, 1.0, 1.0, 1.01));

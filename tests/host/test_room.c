@@ -19,7 +19,7 @@ static void test_every_shape(void **state)
                   "start 2 2.5 90\n");
     assert_int_equal(r.nsegs, 1u + 4u + 3u);
     assert_int_equal(r.nboxes, 1u);
-    assert_int_equal(r.ncircles, 1u);
+    assert_int_equal(r.ncircles, 1u + 2u); /* the circle, the lone wall's two free ends */
     assert_null(r.occ);
     /* The box's four edges, counter-clockwise from its lower-left corner. */
     assert_true(r.segs[1].x1 == 1.0 && r.segs[1].y1 == 1.0 && r.segs[1].x2 == 1.5);
@@ -32,11 +32,32 @@ static void test_every_shape(void **state)
     assert_true(r.has_start);
     assert_true(r.start_x == 2.0 && r.start_y == 2.5);
     assert_true(fabs(r.start_th - TEST_PI / 2.0) < 1e-12);
-    assert_true(r.min_x == 0.0 && r.min_y == 0.0);
-    assert_true(fabs(r.max_x - 6.0) < 1e-12 && fabs(r.max_y - 4.0) < 1e-12);
+    /* The bounds take in the lone wall's round ends. */
+    assert_true(r.min_x == -ROOM_WALL_END_M && r.min_y == -ROOM_WALL_END_M);
+    assert_true(fabs(r.max_x - (6.0 + ROOM_WALL_END_M)) < 1e-12 && fabs(r.max_y - 4.0) < 1e-12);
     room_free(&r);
     assert_null(r.segs);
     assert_int_equal(r.nsegs, 0u);
+}
+
+/* A wall's free end is a small circle (a real screen's end has a face); ends that meet
+ * another wall, a box or a polygon, at an end or along it, are not. */
+static void test_free_wall_ends_are_round(void **state)
+{
+    (void)state;
+    room_t r;
+    test_room(&r, "wall 0 0 6 0\nwall 6 0 6 4\nwall 6 4 0 4\nwall 0 4 0 0\n"
+                  "wall 2 1 3 1        # a screen: two free ends\n"
+                  "wall 4 0 4 1.5      # from the south wall: one free end\n"
+                  "wall 0 3 2 3\nbox 2 2.5 0.5 1   # a wall that meets a box's edge\n"
+                  "start 1 1 0\n");
+    assert_int_equal(r.ncircles, 3u);
+    const double want[3][2] = {{2.0, 1.0}, {3.0, 1.0}, {4.0, 1.5}};
+    for (size_t i = 0; i < 3u; i++) {
+        assert_true(r.circles[i].cx == want[i][0] && r.circles[i].cy == want[i][1]);
+        assert_true(r.circles[i].r == ROOM_WALL_END_M);
+    }
+    room_free(&r);
 }
 
 static void test_crlf_and_angles(void **state)
@@ -519,6 +540,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_shape),
+        cmocka_unit_test(test_free_wall_ends_are_round),
         cmocka_unit_test(test_crlf_and_angles),
         cmocka_unit_test(test_errors_name_file_and_line),
         cmocka_unit_test(test_start_just_clear_is_accepted),

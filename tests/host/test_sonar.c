@@ -81,6 +81,24 @@ static void test_head_on_range(void **state)
     room_free(&r);
 }
 
+/* A screen met end-on: its free end answers (a wall's end is round, ROOM_WALL_END_M), even
+ * at a narrow incidence limit, where a line of no thickness would give nothing. */
+static void test_a_screen_end_on_answers(void **state)
+{
+    (void)state;
+    room_t r;
+    test_room(&r, HALL "wall 3 0 5 0\nstart 0 0 0\n");
+    sim_t *s = ideal_with(&r, 5.0);
+    assert_int_equal(sim_place(s, 1.0, 0.0, 0.0), 0);
+    uint32_t w = 0;
+    assert_int_equal(ping(s, &w, NULL), HAL_SONAR_ECHO);
+    sim_ping_t p = sim_last_ping(s);
+    assert_int_equal(p.kind, SIM_PING_ECHO);
+    assert_true(fabs(p.range_m - (3.0 - ROOM_WALL_END_M - 1.05)) < 1e-9);
+    sim_destroy(s);
+    room_free(&r);
+}
+
 static void test_echo_waits_for_time_of_flight(void **state)
 {
     (void)state;
@@ -659,6 +677,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_head_on_range),
+        cmocka_unit_test(test_a_screen_end_on_answers),
         cmocka_unit_test(test_echo_waits_for_time_of_flight),
         cmocka_unit_test(test_timeout_after_38_ms),
         cmocka_unit_test(test_late_echo_when_triggers_come_sooner),

@@ -60,7 +60,8 @@ static const limits_t beam[] = {
     {0.90, 3, {15.7, 23.6, 10.0}}, {1.10, 3, {11.0, 22.7, 10.0}},
 };
 
-#define SX 1.0 /* the sensor, facing +x */
+#define CARD_M 0.00076 /* a credit card's thickness (ISO/IEC 7810 ID-1) */
+#define SX 1.0         /* the sensor, facing +x */
 #define SY 0.7
 #define LEVELS 3
 
@@ -72,11 +73,19 @@ static reading_t ping_turned(sim_sonar_level_t level, double d, double w, double
     double th = deg * TEST_PI / 180.0;
     double ux = -sin(th) * 0.5 * w;
     double uy = cos(th) * 0.5 * w;
+    /* The target is a plate of CARD_M, a polygon: its edges are as thin as a card's, where
+     * a wall's free end would be round (ROOM_WALL_END_M). */
+    double tx = cos(th) * 0.5 * CARD_M;
+    double ty = sin(th) * 0.5 * CARD_M;
+    double x1 = SX + d - ux;
+    double y1 = SY - uy;
+    double x2 = SX + d + ux;
+    double y2 = SY + uy;
     char text[1024];
     snprintf(text, sizeof text,
              "wall -0.5 0 3.5 0\nwall 3.5 0 3.5 3\nwall 3.5 3 -0.5 3\nwall -0.5 3 -0.5 0\n"
-             "wall %.12f %.12f %.12f %.12f\nstart %.12f %.12f 0\n",
-             SX + d - ux, SY - uy, SX + d + ux, SY + uy, SX - 0.10, SY);
+             "poly %.12f %.12f %.12f %.12f %.12f %.12f %.12f %.12f\nstart %.12f %.12f 0\n",
+             x1 - tx, y1 - ty, x2 - tx, y2 - ty, x2 + tx, y2 + ty, x1 + tx, y1 + ty, SX - 0.10, SY);
     room_t r;
     test_room(&r, text);
     sim_params_t p;

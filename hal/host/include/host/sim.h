@@ -32,6 +32,10 @@
 /** The robot body radius the start pose of a room file is checked against, m. */
 #define ROOM_BODY_RADIUS_M ((double)0.09)
 
+/** A wall's free end is round, of this radius, m: a panel 10 mm thick (hal/host/README.md,
+ *  Rooms). */
+#define ROOM_WALL_END_M ((double)0.005)
+
 /** Every coordinate of a room lies within this distance of the origin (10 km), m. */
 #define ROOM_MAX_COORD_M 10000.0
 
