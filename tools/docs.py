@@ -45,9 +45,10 @@ Generators:
              build/stm32f4), else its blocks are left as they are
   compare    tools/README.md and host_sim/README.md: the firmware's mapper beside OctoMap
              (tools/compare.py, what `make compare` runs: OctoMap from make compare's
-             build/compare); only with --compare, since it takes about N min: make docs
-             runs it, make docs-check only as `make docs-check DOCS_CHECK_ARGS=--compare`
-             (CI leaves it out; run it after a change to the mapper)
+             build/compare); only with --compare: make docs runs it, make docs-check
+             only as `make docs-check DOCS_CHECK_ARGS=--compare` (CI leaves it out: it
+             needs OctoMap, and on two cores it takes the whole check from under three
+             minutes to over four; run it after a change to the mapper or the sonar)
 --only NAME,... runs those generators alone (the others' blocks are left as they are).
 The generators run two at a time, the bench's beside the simulator's.
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;

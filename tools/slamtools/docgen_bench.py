@@ -136,6 +136,19 @@ def bench_world(host_sim, work):
     return {("hal/host/README.md", "bench-world"): "\n".join(lines) + "\n"}
 
 
+def build_compiler(build):
+    """The C compiler a CMake build folder was configured with (the ARM toolchain file
+    finds it as ARM_NONE_EABI_GCC)."""
+    try:
+        with open(os.path.join(build, "CMakeCache.txt"), encoding="utf-8") as f:
+            for line in f:
+                if line.startswith(("CMAKE_C_COMPILER:", "ARM_NONE_EABI_GCC:")):
+                    return line.split("=", 1)[1].strip()
+    except OSError:
+        pass
+    return "arm-none-eabi-gcc"
+
+
 def gcc_version(compiler):
     try:
         v = subprocess.run([compiler, "-dumpversion"], stdout=subprocess.PIPE, text=True,
@@ -186,7 +199,7 @@ def bench_stm32f4(build, work):
     ticks = t["ticks"]
     head = ("`make bench` runs `tools/stm32f4.py bench build/stm32f4` (arm-none-eabi-gcc %s "
             "`-O2`; the self-test's %s s of the default room, %s ticks):"
-            % (gcc_version(os.environ.get("CC_ARM", "arm-none-eabi-gcc")),
+            % (gcc_version(build_compiler(build)),
                grouped(ticks / 100.0), grouped(ticks)))
     lines = [wrap(head), "", "| figure | value | budget |", "|---|---|---|"]
     lines += [("| %s | %s | %s |" % r).replace("|  |", "| |") for r in rows]
