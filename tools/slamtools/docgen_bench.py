@@ -10,6 +10,7 @@ import json
 import os
 import re
 import subprocess
+import textwrap
 
 from .errors import FAILED, ToolError
 
@@ -226,6 +227,5 @@ def code_name(label):
 
 def wrap(text, width=90):
     """A paragraph broken as the READMEs break theirs."""
-    import textwrap
     return "\n".join(textwrap.wrap(text, width=width, break_on_hyphens=False,
                                    break_long_words=False))
