@@ -21,6 +21,7 @@ SIM_ARGS ?=
 CORPUS_ARGS ?=
 COMPARE_ARGS ?=
 FUZZ_SECONDS ?= 60
+DOCS_CHECK_ARGS ?=
 FUZZ_EXAMPLES ?= 100000
 
 .PHONY: help sim calibrate test docs docs-check bench fuzz fuzz-core report corpus compare trace deps deps-sim deps-firmware \
@@ -39,8 +40,10 @@ help:
 	@echo "make bench     instructions per robot_tick() (callgrind, and QEMU + unicorn on the"
 	@echo "               Cortex-M4), sizes, stack depth, the simulator's instructions per"
 	@echo "               control period, against the budgets"
-	@echo "make docs      the READMEs' generated figures and pictures, from this build"
-	@echo "               (make docs-check: which are out of date, changing nothing)"
+	@echo "make docs      the READMEs' generated figures and pictures, from this build: the"
+	@echo "               simulator's, the bench's (host and STM32F4) and make compare's"
+	@echo "               (make docs-check: which are out of date, changing nothing; all but"
+	@echo "               make compare's, unless DOCS_CHECK_ARGS=--compare)"
 	@echo "make report    the simulator's figures over several seeds (tools/sim_report.py),"
 	@echo "               the pose correction on and off in every room (tools/pose_report.py)"
 	@echo "               and the corpus (tools/corpus_report.py), with the time it took"
@@ -86,11 +89,18 @@ calibrate: deps-sim
 
 # The READMEs' generated figures (<!-- figures: NAME --> blocks and the pictures beside
 # them), made again from this build; docs-check says which differ, and changes nothing.
-docs: build-host
-	tools/docs.py build/host/host_sim/host_sim
+# make compare's figures take minutes more: docs-check leaves them out unless
+# DOCS_CHECK_ARGS=--compare (tools/docs.py --help).
+OCTOMAP_BUILD = tools/install-deps.sh compare && cmake -S tools/octomap -B build/compare \
+	&& cmake --build build/compare -j $(JOBS)
 
-docs-check: build-host
-	tools/docs.py build/host/host_sim/host_sim --check
+docs: build-host build-stm32f4
+	@$(OCTOMAP_BUILD)
+	tools/docs.py build/host/host_sim/host_sim --stm32f4 build/stm32f4 --compare
+
+docs-check: build-host build-stm32f4
+	@$(if $(findstring --compare,$(DOCS_CHECK_ARGS)),$(OCTOMAP_BUILD))
+	tools/docs.py build/host/host_sim/host_sim --stm32f4 build/stm32f4 --check $(DOCS_CHECK_ARGS)
 
 # Every report the READMEs quote, one after the other, and how long they took together
 # (about 15 min on a two-core machine is the budget).

@@ -17,8 +17,10 @@
    Exit status 1 when the simulator is over a budget or a measurement fails, 2 for a wrong
    command line or a build that lacks a program.
 
-usage: tools/bench.py [BUILD_DIR] [--sim-only]   (BUILD_DIR: build/host by default, made by
-       `make bench`; --sim-only: the simulator's part alone)
+usage: tools/bench.py [BUILD_DIR] [--sim-only | --core-only] [--json FILE]
+       (BUILD_DIR: build/host by default, made by `make bench`; --sim-only: the simulator's
+       part alone; --core-only: the tick benchmark and the sizes alone; FILE receives every
+       figure printed, for tools/docs.py's tables, the wall-clock speed apart under "wall")
 """
 import json
 import subprocess
@@ -27,6 +29,7 @@ import re
 import sys
 import tempfile
 
+from slamtools.commands import take_value
 from slamtools.errors import FAILED, ToolError, main as tool_main
 
 
@@ -70,20 +73,38 @@ def sizes(paths):
     return rows
 
 
+def write_json(path, figures):
+    if path is None:
+        return
+    try:
+        with open(path, "w") as f:
+            json.dump(figures, f, indent=1)
+    except OSError as e:
+        raise ToolError("cannot write %s: %s" % (path, e.strerror), FAILED) from None
+
+
 def main(argv):
-    args = [a for a in argv if a != "--sim-only"]
-    sim_only = len(args) < len(argv)
+    args = list(argv)
+    out_json = take_value(args, "--json", "a file")
+    sim_only = "--sim-only" in args
+    core_only = "--core-only" in args
+    args = [a for a in args if a not in ("--sim-only", "--core-only")]
     build = args[0] if args else "build/host"
     if build in ("-h", "--help"):
         print(__doc__.strip())
         return 0
     if len(args) > 1 or build.startswith("-"):
         raise ToolError("unknown argument %r (--help)" % args[-1])
+    if sim_only and core_only:
+        raise ToolError("--sim-only and --core-only exclude each other")
     sim = os.path.join(build, "host_sim", "host_sim")
+    figures = {}
     if sim_only:
         if not os.path.exists(sim):
             raise ToolError("%s is missing: build the host preset first (make bench)" % sim)
-        if not simulator(sim):
+        ok = simulator(sim, figures)
+        write_json(out_json, figures)
+        if not ok:
             raise ToolError("the simulator is over its budget", FAILED)
         return 0
     bench = os.path.join(build, "tools", "bench", "bench_tick")
@@ -118,8 +139,15 @@ def main(argv):
         print("    robot_t %d B = OM + TM %d B + state %d B; module statics %d B"
               % (robot_ram, 2 * a * b, robot_ram - 2 * a * b, core_data))
     print("  code of the core (host build): %d B" % core_text)
+    figures["core"] = {"ticks": len(counts), "mean": mean, "worst": worst,
+                       "worst_tick": counts.index(worst), "best": min(counts),
+                       "core_text": core_text, "core_data": core_data, "robot_t": robot_ram}
+    if grid:
+        figures["core"].update(grid_a=a, grid_b=b, om_tm=2 * a * b)
 
-    if os.path.exists(sim) and not simulator(sim):
+    ok = core_only or not os.path.exists(sim) or simulator(sim, figures)
+    write_json(out_json, figures)
+    if not ok:
         raise ToolError("the simulator is over its budget", FAILED)
     return 0
 
@@ -167,9 +195,10 @@ def inclusive(profile, names):
     return got
 
 
-def simulator(sim):
+def simulator(sim, figures):
     """Instructions per simulated control period of the default run, end of run included,
-    by part; then the wall-clock speed. False when over a budget."""
+    by part; then the wall-clock speed. False when over a budget. The figures go into
+    figures["sim"], the speed into figures["wall"] (it follows the machine's load)."""
     ticks = SIM_TICKS
     with tempfile.TemporaryDirectory(prefix="slam-bench-") as tmp:
         print("bench: running host_sim under callgrind twice (about 30 s) ...", file=sys.stderr)
@@ -211,6 +240,13 @@ def simulator(sim):
           % (per, SIM_BUDGET, "ok" if ok_per else "OVER"))
     print("  end of the run, share of the run     %5.1f %%  budget %4.0f %%  %s"
           % (100.0 * end_share, 100.0 * SIM_END_SHARE, "ok" if ok_end else "OVER"))
+    figures["sim"] = {"ticks": ticks, "total": total, "per_period": per,
+                      "parts": [[name, v / ticks] for name, v in rows + (
+                          ("start-up and the rest", rest),)],
+                      "idle": part["robot_idle"] / ticks, "end": part["finish"],
+                      "end_share": end_share, "budget": SIM_BUDGET,
+                      "end_budget": SIM_END_SHARE}
+    figures["wall"] = {"ticks_per_s": rates}
     return ok_per and ok_end
 
 

@@ -424,7 +424,8 @@ def main():
     rooms = [os.path.splitext(os.path.basename(r))[0] for r in a.rooms]
     with open(os.path.join(a.out, "compare.json"), "w") as f:
         json.dump({"octomap": {"setting": CHOSEN, "args": VARIANTS[0][1]}, "runs": results,
-                   "variant_instructions_per_reading": irs}, f, indent=1)
+                   "variant_instructions_per_reading": irs, "duration": a.duration,
+                   "seeds": a.seeds}, f, indent=1)
     counted = "every run" if a.count_all else "seed %d of each room" % a.seeds[0]
     text = ("%.0f s a run, seeds %s; instructions (callgrind, from the true poses) counted "
             "on %s.\nThe scorer reproduced host_sim's metrics.json on all %d runs. OctoMap: "

@@ -2,17 +2,20 @@
 # SPDX-License-Identifier: MIT
 """make docs, make docs-check: the READMEs' generated figures, made again from the build.
 
-usage: tools/docs.py HOST_SIM [--check]
+usage: tools/docs.py HOST_SIM [--check] [--stm32f4 BUILD] [--compare] [--only NAME,...]
 
 A generated block of a Markdown page lies between `<!-- figures: NAME -->` and
-`<!-- /figures -->`; each NAME has a generator below that runs the simulator and returns
-the block's text and the pictures it draws (sim-report and pose-report fill several
-blocks, one a section of their report). Without --check the blocks and pictures are
+`<!-- /figures -->`; each NAME has a generator below that runs the simulator or a tool
+that measures the build, and returns the block's text and the pictures it draws
+(sim-report, pose-report and the bench's fill several blocks, one a section of their
+report; the bench's and compare's are in slamtools/docgen_bench.py and docgen_compare.py). Without --check the blocks and pictures are
 rewritten in place. With --check they are made in a temporary folder and compared with
 the committed ones: text exactly, except the line of wall time and speed, which follows
 the machine; pictures byte for byte (tools/plot_run.py renders with matplotlib's Agg
 backend and no version in the file, so the same build on the same Debian draws the same
-bytes). The simulator is deterministic: the same build gives the same numbers.
+bytes). The simulator is deterministic and callgrind, QEMU -icount and unicorn count
+instructions exactly: the same build gives the same numbers. Wall-clock speeds, which do
+not repeat, are never in a block.
 
 Generators:
   make-sim   README.md: what `make sim` prints; host_sim/figures/default_room.png, its
@@ -28,6 +31,26 @@ Generators:
   pose-report host_sim/README.md: tools/pose_report.py's tables without its ten-hour
              runs (pose-report-on-off, -work, -by-room), and
              host_sim/figures/pose_correction.png from its one-hour runs of seed 1
+  calibrate  tools/README.md: what `make calibrate` prints (tools/calibrate_sim.py, a few
+             seconds; the calibration it writes is left in the temporary folder)
+  bench-core firmware/README.md: the tick on the host and the core's RAM
+             (tools/bench.py --core-only; callgrind, about 30 s)
+  bench-sim  host_sim/README.md: the default run's instructions per control period, by
+             part (tools/bench.py --sim-only, the wall-clock speed left out; about 20 s)
+  bench-world hal/host/README.md: bench_world's instructions per tick (its three
+             callgrind commands, a few seconds)
+  bench-stm32f4 hal/stm32f4/README.md: the table of `make bench` on the Cortex-M4 and the
+             HAL calls of the tick (tools/stm32f4.py bench BUILD --json: QEMU and unicorn,
+             about 2 min); only with --stm32f4 BUILD (make docs and make docs-check give
+             build/stm32f4), else its blocks are left as they are
+  compare    tools/README.md and host_sim/README.md: the firmware's mapper beside OctoMap
+             (tools/compare.py, what `make compare` runs: OctoMap from make compare's
+             build/compare); only with --compare: make docs runs it, make docs-check
+             only as `make docs-check DOCS_CHECK_ARGS=--compare` (CI leaves it out: it
+             needs OctoMap, and on two cores it takes the whole check from under three
+             minutes to over four; run it after a change to the mapper or the sonar)
+--only NAME,... runs those generators alone (the others' blocks are left as they are).
+The generators run two at a time, the bench's beside the simulator's.
 Exit status: 0 up to date (or rewritten); 1 --check found a difference, or a run failed;
 2 bad options.
 """
@@ -45,6 +68,8 @@ import tempfile
 import textwrap
 from concurrent.futures import ThreadPoolExecutor
 
+from slamtools import docgen_bench, docgen_compare
+from slamtools.commands import take_value
 from slamtools.errors import FAILED, ToolError, main as tool_main
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -202,8 +227,33 @@ def pose_report(host_sim, work):
     return blocks, {"host_sim/figures/pose_correction.png": png}
 
 
+def calibrate(host_sim, work):
+    """tools/README.md: what `make calibrate` prints, its runs' lines left out; the
+    calibration it writes goes to the temporary folder, not to host_sim/calibration."""
+    p = subprocess.run([os.path.join(SRC, "tools", "calibrate_sim.py"), host_sim, "--write",
+                        os.path.join(work, "calibration.conf"), "--out",
+                        os.path.join(work, "calibrate")], cwd=SRC, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0:
+        raise ToolError("tools/calibrate_sim.py exited %d:\n%s" % (p.returncode, p.stdout[-2000:]),
+                        FAILED)
+    lines = [ln for ln in p.stdout.splitlines()
+             if re.match(r"[123]/3 |  E_max,syst = |  seed ", ln)]
+    return {"tools/README.md": "```\n%s\n```\n" % "\n".join(lines)}, {}
+
+
+def only_texts(gen):
+    """A generator of blocks alone, no pictures."""
+    return lambda host_sim, work: (gen(host_sim, work), {})
+
+
+# Two chains run side by side: the simulator's runs (each a pool over every core) and the
+# measurements under callgrind, QEMU and unicorn (one process each).
 GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus,
-              "sim-report": sim_report, "pose-report": pose_report}
+              "sim-report": sim_report, "pose-report": pose_report, "calibrate": calibrate}
+BENCH_GENERATORS = {"bench-core": only_texts(docgen_bench.bench_core),
+                    "bench-sim": only_texts(docgen_bench.bench_sim),
+                    "bench-world": only_texts(docgen_bench.bench_world)}
 
 
 def blocks_of(page):
@@ -211,25 +261,72 @@ def blocks_of(page):
         return f.read()
 
 
+USAGE = ("usage: tools/docs.py HOST_SIM [--check] [--stm32f4 BUILD] [--compare] "
+         "[--only NAME,...] (--help)")
+
+
+def chains(host_sim, stm32f4, compare):
+    """The generators to run, in two chains: {name: generator} each."""
+    sims = dict(GENERATORS)
+    bench = dict(BENCH_GENERATORS)
+    if stm32f4:
+        bench["bench-stm32f4"] = lambda h, w: (docgen_bench.bench_stm32f4(stm32f4, w), {})
+    if compare:
+        # OctoMap's runs are the simulator's kind: a pool of their own over every core.
+        sims["compare"] = lambda h, w: (docgen_compare.compare(h, w), {})
+    return sims, bench
+
+
+def run_chain(gens, host_sim, work):
+    texts, pictures = {}, {}
+    for name, gen in gens.items():
+        t, pics = gen(host_sim, work)
+        # A generator names its page, or its page and block when it fills several.
+        for key, block in t.items():
+            texts[key if isinstance(key, tuple) else (key, name)] = block
+        pictures.update(pics)
+    return texts, pictures
+
+
 def main(argv):
     if argv and argv[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0
-    if not argv or len(argv) > 2 or (len(argv) == 2 and argv[1] != "--check"):
-        raise ToolError("usage: tools/docs.py HOST_SIM [--check] (--help)")
-    host_sim = os.path.abspath(argv[0])
-    check = len(argv) == 2
+    args = list(argv)
+    stm32f4 = take_value(args, "--stm32f4", "a build folder of the stm32f4 preset")
+    only = take_value(args, "--only", "generators' names")
+    check = "--check" in args
+    compare = "--compare" in args
+    args = [a for a in args if a not in ("--check", "--compare")]
+    if len(args) != 1 or args[0].startswith("-"):
+        raise ToolError(USAGE)
+    host_sim = os.path.abspath(args[0])
     if not os.access(host_sim, os.X_OK):
         raise ToolError("%s is not a program (build host_sim first)" % host_sim)
+    if stm32f4 is not None:
+        stm32f4 = os.path.abspath(stm32f4)
+        if not os.path.isdir(stm32f4):
+            raise ToolError("%s is not a build folder (cmake --preset stm32f4)" % stm32f4)
+    sims, bench = chains(host_sim, stm32f4, compare or (only is not None and
+                                                       "compare" in only.split(",")))
+    if only is not None:
+        names = only.split(",")
+        unknown = [n for n in names if n not in sims and n not in bench]
+        if unknown:
+            raise ToolError("no generator %s (--help lists them; bench-stm32f4 needs "
+                            "--stm32f4 BUILD)" % ", ".join(unknown))
+        sims = {n: g for n, g in sims.items() if n in names}
+        bench = {n: g for n, g in bench.items() if n in names}
+    ran = list(sims) + list(bench)
     work = tempfile.mkdtemp(prefix="slam-docs-")
     stale = []
     try:
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            done = [pool.submit(run_chain, gens, host_sim, work) for gens in (sims, bench)]
+            results = [d.result() for d in done]
         texts, pictures = {}, {}
-        for name, gen in GENERATORS.items():
-            t, pics = gen(host_sim, work)
-            # A generator names its page, or its page and block when it fills several.
-            for key, block in t.items():
-                texts[key if isinstance(key, tuple) else (key, name)] = block
+        for t, pics in results:
+            texts.update(t)
             pictures.update(pics)
         pages = sorted({page for page, _ in texts})
         for page in pages:
@@ -266,9 +363,13 @@ def main(argv):
         if stale:
             raise ToolError("out of date: %s (make docs makes them again)" % ", ".join(stale),
                             FAILED)
-        print("docs: the generated figures are up to date (%s)" % ", ".join(GENERATORS))
-        return 0
-    print("docs: %s" % ("rewrote " + ", ".join(stale) if stale else "nothing to change"))
+        print("docs: the generated figures are up to date (%s)" % ", ".join(ran))
+    else:
+        print("docs: %s" % ("rewrote " + ", ".join(stale) if stale else "nothing to change"))
+    left = [n for n, why in (("bench-stm32f4", stm32f4 is None and only is None),
+                             ("compare", not compare and only is None)) if why]
+    if left:
+        print("docs: not made again: %s (--help says how)" % ", ".join(left))
     return 0
 
 

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: MIT
 """The STM32F4 image measured, not timed: tick instructions, sizes, stack, against budgets.
 
-usage: tools/stm32f4.py bench [BUILD_DIR] [--static-only] [--image NAME]
+usage: tools/stm32f4.py bench [BUILD_DIR] [--static-only] [--image NAME] [--json FILE]
        (BUILD_DIR defaults to build/stm32f4, made by `make firmware`; NAME is the robot
-       image, sonarslam_stm32f4 by default, sonarslam_<board> for another board table)
+       image, sonarslam_stm32f4 by default, sonarslam_<board> for another board table;
+       FILE receives every figure printed, for tools/docs.py's tables)
 
 1. Instructions per robot_tick() over the self-test scenario, two ways: TIM2 under QEMU
    -icount (the self-test image's own measurement) and the image's functions run in
@@ -20,6 +21,7 @@ at least 240 x 240 cells. Exit status 1 when one is exceeded or a measurement fa
 a wrong command line or an image that is not there. --static-only skips 1 and 2 (no QEMU,
 no unicorn): what the ctest stm32f4_budgets checks, for every board's image.
 """
+import json
 import os
 import subprocess
 import tempfile
@@ -68,6 +70,7 @@ def main(argv):
     static_only = "--static-only" in args
     args = [a for a in args if a != "--static-only"]
     image = take_value(args, "--image", "the name of a robot image", "sonarslam_stm32f4")
+    out_json = take_value(args, "--json", "a file")
     if args and args[0] in ("-h", "--help"):
         print(__doc__.strip())
         return 0
@@ -82,10 +85,13 @@ def main(argv):
             raise ToolError("%s is missing: build the stm32f4 preset first (make firmware)" % p)
 
     verdicts = []
+    # What is printed, as numbers: tools/docs.py formats the README's tables from it.
+    figures = {"image": image, "budgets": {}}
 
     def budget(name, value, limit, unit):
         ok = value <= limit
         verdicts.append(ok)
+        figures["budgets"][name] = {"value": value, "limit": limit, "unit": unit, "ok": ok}
         print("  %-44s %7d %-12s budget %6d  %s" % (name, value, unit, limit,
                                                      "ok" if ok else "OVER BUDGET"))
 
@@ -101,6 +107,11 @@ def main(argv):
                         % robot_elf, FAILED)
     grid_a, grid_b = robot.symbols["_grid_a"][0], robot.symbols["_grid_b"][0]
     ram_budget = 2 * grid_a * grid_b + 8 * 1024
+    figures.update(grid={"a": grid_a, "b": grid_b},
+                   sizes={"text": text, "data": data, "bss": bss, "stack_reserve": stack_reserve,
+                          "robot_t": grid},
+                   ram_budget=ram_budget, flash_budget=FLASH_BUDGET, stack_budget=STACK_BUDGET,
+                   tick_budget=TICK_BUDGET)
 
     print("sonarslam STM32F4 image (%s), grid %d x %d cells" % (robot_elf, grid_a, grid_b))
     print("  sizes (arm-none-eabi-size): .text %d  .data %d  .bss %d (of which stack %d, robot_t %d)"
@@ -108,6 +119,7 @@ def main(argv):
     st, st_text = stack(robot_elf)
     for line in st_text.strip().splitlines():
         print("  stack: " + line)
+    figures["stack"] = {k: v["bytes"] for k, v in st.items()}
 
     if not static_only:
         from . import tick_unicorn
@@ -152,6 +164,20 @@ def main(argv):
         bound = u["firmware_worst"] + per_tick_hal
         print("    every HAL call a tick can make, and the SysTick entry: %d instructions"
               % per_tick_hal)
+        figures["tick"] = {
+            "ticks": n, "qemu_mean": summary["sum"] / n, "qemu_worst": summary["worst"],
+            "qemu_worst_tick": summary["at"], "unicorn_mean": u["mean"],
+            "unicorn_worst": u["worst"], "identical": same, "compared": len(costs),
+            "firmware_mean": u["firmware_mean"], "firmware_worst": u["firmware_worst"],
+            "dynamic_stack": u["stack"], "worst_with_reading": u["worst_with_reading"],
+            "worst_without_reading": u["worst_without_reading"]}
+        figures["hal"] = {k: v["instructions"] for k, v in hal.items()}
+        figures["hal_per_tick"] = per_tick_hal
+        figures["bound"] = bound
+        figures["background"] = {"reading_mean": summary["reading_mean"],
+                                 "reading_worst": summary["reading_worst"],
+                                 "idle_worst": summary["idle_worst"],
+                                 "reading_plan": READING_PLAN}
         print("  the background loop (QEMU, TIM2 under -icount):")
         print("    one reading mapped, free-space rays included: mean %d, worst %d instructions"
               % (summary["reading_mean"], summary["reading_worst"]))
@@ -179,4 +205,11 @@ def main(argv):
            "bytes")
     budget("all handlers nested, within the reserve", st["all nested"]["bytes"], stack_reserve,
            "bytes")
+    if out_json:
+        figures["ok"] = all(verdicts)
+        try:
+            with open(out_json, "w") as f:
+                json.dump(figures, f, indent=1)
+        except OSError as e:
+            raise ToolError("cannot write %s: %s" % (out_json, e.strerror), FAILED) from None
     return 0 if all(verdicts) else FAILED
