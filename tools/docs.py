@@ -24,10 +24,14 @@ Generators:
              and the runs' wall coverage and touches: every shipped room x seeds 1-10,
              ten minutes, at the default (typical) sonar (180 runs, under a minute)
   corpus     host_sim/README.md: the corpus tables, what `make corpus` prints
-             (tools/corpus_report.py, 344 runs, about a minute)
+             (tools/corpus_report.py, 344 runs, about a minute), and
+             host_sim/figures/corpus.png (tools/roomgen.py figure)
+  screenshot tools/web/screenshot.png (README.md's and tools/web/README.md's picture of
+             the web viewer), as the page test draws it with Chromium
   sim-report host_sim/README.md: the tables of "What the simulator shows" that
              tools/sim_report.py prints (make report), one block a section
-             (sim-report-cell-size, ...; about half a minute)
+             (sim-report-cell-size, ...; about half a minute), and their picture,
+             host_sim/figures/report.png
   pose-report host_sim/README.md: tools/pose_report.py's tables without its ten-hour
              runs (pose-report-on-off, -work, -by-room), and
              host_sim/figures/pose_correction.png from its one-hour runs of seed 1
@@ -161,7 +165,13 @@ def corpus(host_sim, work):
     if p.returncode != 0:
         raise ToolError("tools/corpus_report.py exited %d:\n%s" % (p.returncode, p.stderr), FAILED)
     text = re.sub(r"^### ", "#### ", p.stdout.strip(), flags=re.M)
-    return {"host_sim/README.md": "\n" + text + "\n\n"}, {}
+    png = os.path.join(work, "corpus.png")
+    p = subprocess.run([os.path.join(SRC, "tools", "roomgen.py"), "figure", "--out", png],
+                       cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if p.returncode != 0:
+        raise ToolError("tools/roomgen.py figure exited %d:\n%s" % (p.returncode, p.stderr),
+                        FAILED)
+    return {"host_sim/README.md": "\n" + text + "\n\n"}, {"host_sim/figures/corpus.png": png}
 
 
 # tools/sim_report.py's sections (how each heading begins) and the block each fills.
@@ -195,6 +205,7 @@ def report_blocks(script, args, mapping):
             raise ToolError("tools/%s printed %d sections that begin %r"
                             % (script, len(found), begins), FAILED)
         heading, body = found[0].split("\n", 1)
+        body = re.sub(r"^\(figure: .*\)$", "", body, flags=re.M)  # where it drew, not what
         runs = re.search(r"\(([^()]*(?:`[^`]*`[^()]*)*)\)$", heading.strip())
         said = "`make report` (%s):" % runs.group(1) if runs else "`make report`:"
         blocks[("host_sim/README.md", name)] = "%s\n\n%s\n\n" % (said, body.strip())
@@ -202,10 +213,12 @@ def report_blocks(script, args, mapping):
 
 
 def sim_report(host_sim, work):
-    """host_sim/README.md's tables of tools/sim_report.py, a block a section."""
+    """host_sim/README.md's tables of tools/sim_report.py, a block a section, and their
+    picture."""
+    png = os.path.join(work, "report.png")
     return report_blocks("sim_report.py", ["--host-sim", host_sim, "--out",
-                                           os.path.join(work, "sim_report")],
-                         SIM_REPORT_BLOCKS), {}
+                                           os.path.join(work, "sim_report"), "--figure", png],
+                         SIM_REPORT_BLOCKS), {"host_sim/figures/report.png": png}
 
 
 # tools/pose_report.py's sections and their blocks; its long runs are not among them (ten
@@ -242,6 +255,19 @@ def calibrate(host_sim, work):
     return {"tools/README.md": "```\n%s\n```\n" % "\n".join(lines)}, {}
 
 
+def screenshot(host_sim, work):
+    """The README's picture of the web viewer: the page test's screenshot
+    (tools/web/README.md), made with the same Chromium the page test drives."""
+    png = os.path.join(work, "screenshot.png")
+    p = subprocess.run(["/usr/bin/python3", os.path.join(SRC, "tests", "web", "test_web_page.py"),
+                        host_sim, SRC, "--screenshot", png], cwd=SRC, stdout=subprocess.PIPE,
+                       stderr=subprocess.STDOUT, text=True)
+    if p.returncode != 0:
+        raise ToolError("tests/web/test_web_page.py exited %d (77: no Chromium):\n%s"
+                        % (p.returncode, p.stdout[-2000:]), FAILED)
+    return {}, {"tools/web/screenshot.png": png}
+
+
 def only_texts(gen):
     """A generator of blocks alone, no pictures."""
     return lambda host_sim, work: (gen(host_sim, work), {})
@@ -250,7 +276,8 @@ def only_texts(gen):
 # Two chains run side by side: the simulator's runs (each a pool over every core) and the
 # measurements under callgrind, QEMU and unicorn (one process each).
 GENERATORS = {"make-sim": make_sim, "headline": headline, "corpus": corpus,
-              "sim-report": sim_report, "pose-report": pose_report, "calibrate": calibrate}
+              "sim-report": sim_report, "pose-report": pose_report, "calibrate": calibrate,
+              "screenshot": screenshot}
 BENCH_GENERATORS = {"bench-core": only_texts(docgen_bench.bench_core),
                     "bench-sim": only_texts(docgen_bench.bench_sim),
                     "bench-world": only_texts(docgen_bench.bench_world)}
