@@ -447,8 +447,9 @@ static void warn_outside(const grid_t *g, uint32_t hits)
             "host_sim: warning: the home does not fit the grid: %u point%s fell outside its "
             "%u x %u cells of %.0f mm (%.2f m x %.2f m), %u of them sonar hits, and are missing "
             "from the map (metrics.json: robot.outside_grid)\n",
-            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A, (unsigned)SLAM_GRID_B, cell * 1e3,
-            SLAM_GRID_A * cell, SLAM_GRID_B * cell, (unsigned)hits);
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A,
+            (unsigned)SLAM_GRID_B, cell * 1e3, SLAM_GRID_A * cell, SLAM_GRID_B * cell,
+            (unsigned)hits);
 }
 
 /* The end of a run: the held-back hits mapped, the maps scored and exported, the metrics,

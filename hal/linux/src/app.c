@@ -121,9 +121,9 @@ static void app_warn_outside(const grid_t *g, uint32_t hits, FILE *err)
             APP_NAME ": warning: the home does not fit the grid: %u point%s fell outside its "
                      "%u x %u cells of %u mm (%u mm x %u mm), %u of them sonar hits, and are "
                      "missing from the maps\n",
-            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A, (unsigned)SLAM_GRID_B,
-            (unsigned)cell_mm, (unsigned)(SLAM_GRID_A * cell_mm), (unsigned)(SLAM_GRID_B * cell_mm),
-            (unsigned)hits);
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A,
+            (unsigned)SLAM_GRID_B, (unsigned)cell_mm, (unsigned)(SLAM_GRID_A * cell_mm),
+            (unsigned)(SLAM_GRID_B * cell_mm), (unsigned)hits);
 }
 
 static void app_signals(bool install, struct sigaction old[], const int *sigs, size_t n)
