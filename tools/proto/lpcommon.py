@@ -11,6 +11,7 @@ import json
 import math
 import os
 import subprocess
+import sys
 import tempfile
 
 import numpy as np
@@ -24,7 +25,10 @@ MAPS = os.path.join(os.path.dirname(os.path.dirname(SRC)), "shared", "maps")
 
 
 def _load_tool(name):
-    """A module of tools/ by its file (the tools are scripts, not a package)."""
+    """A module of tools/ by its file (the tools are scripts, not a package; they import
+    tools/slamtools, so tools/ goes on the path)."""
+    if TOOLS not in sys.path:
+        sys.path.insert(0, TOOLS)
     spec = importlib.util.spec_from_file_location(name, os.path.join(TOOLS, name + ".py"))
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
