@@ -31,6 +31,7 @@ Thresholds are tuned on the tuning set (dev) and applied unchanged to the report
 - a rule per group: the same, the group's own readings only.
 
     tools/proto/integrity_fw.py [--tune dev] [--report held] [--only SUBSTRING]
+    tools/proto/integrity_fw.py --runs SET [--only SUBSTRING]   (one line a run)
 
 Runs come from tools/proto/make_sets.py SET (host_sim --scoring).
 """
@@ -274,13 +275,36 @@ def table(title, rules, data_sets):
             print("| %s | %s |" % (rule_name(rule), sname) + "".join(" %s |" % c for c in cells))
 
 
+def per_run(setname, only):
+    """One line a run: how much of it is off, how far, and what the filter believed."""
+    print("| run | share off | heading error when off, median (°) | position error when off, "
+          "median (m) | σθ off / not (°) | σxy off / not (m) |")
+    print("|---|---|---|---|---|---|")
+    for rd in lp.run_dirs(setname):
+        if only not in rd["name"]:
+            continue
+        e, true = load(rd["dir"])
+        st, off = statistics(e, true)
+        pose = np.stack([e["est_x_m"], e["est_y_m"], e["est_th_rad"]], axis=1)
+        pe, he = lp.pose_err(pose, true)
+        med = lambda v, m: np.median(v[m]) if m.any() else math.nan  # noqa: E731
+        print("| %s | %.2f | %.1f | %.2f | %.2f / %.2f | %.3f / %.3f |" % (
+            rd["name"], off.mean(), math.degrees(med(he, off)), med(pe, off),
+            med(st["sth"], off), med(st["sth"], ~off), med(st["sxy"], off),
+            med(st["sxy"], ~off)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--tune", default="dev")
     ap.add_argument("--report", default="held")
     ap.add_argument("--only", default="")
+    ap.add_argument("--runs", metavar="SET")
     a = ap.parse_args()
+    if a.runs:
+        per_run(a.runs, a.only)
+        return
     dev = collect(a.tune, a.only)
     held = collect(a.report, a.only)
     sets = [(a.tune, dev), (a.report, held)]
