@@ -232,6 +232,25 @@ static void ideal_echo(run_t *r, firmware_t *fw, const odom_pose_t *truth_pose, 
     }
 }
 
+/* The rest of a scoring_estimate.csv row: what the pose correction knows of its own
+ * doubt once the reading is processed, for a pose-integrity flag to be measured against
+ * the truth. Integers in the filter's units are exact in a double. */
+static char *estimate_stats(char *e, const loc_t *l)
+{
+    static const unsigned cov[6][2] = {{0, 0}, {0, 1}, {1, 1}, {0, 2}, {1, 2}, {2, 2}};
+    for (size_t k = 0; k < 6u; k++) {
+        e = fmt_fixed(e, (double)l->filter.cov.p[cov[k][0]][cov[k][1]], 0, ',');
+    }
+    const loc_match_t *m = &l->match;
+    e = fmt_fixed(e, m->tried, 0, ',');
+    e = fmt_fixed(e, m->applied, 0, ',');
+    e = fmt_fixed(e, m->refused, 0, ',');
+    e = fmt_fixed(e, m->last_points, 0, ',');
+    e = fmt_fixed(e, m->last_step[0] * 1e-4, 4, ',');
+    e = fmt_fixed(e, m->last_step[1] * 1e-4, 4, ',');
+    return fmt_fixed(e, m->last_step[2] * 1e-5, 5, '\n');
+}
+
 /* The reading of this tick, with the pose of its ping: odometry and truth. It marks what
  * became observable and the walls it covered, goes into the perfect-odometry maps, and is
  * logged to readings.csv (and its estimated pose to scoring_estimate.csv). */
@@ -252,7 +271,7 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
         r->marked_y = sy;
     }
     walls_ping(r, sx, sy, ping.bearing, t);
-    char line[256];
+    char line[512];
     char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
     e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
     uint32_t d = 0u;
@@ -285,7 +304,8 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
         e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
         e = fmt_fixed(e, est.x_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
         e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, '\n');
+        e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, ',');
+        e = estimate_stats(e, &robot->loc);
         fwrite(line, 1, (size_t)(e - line), r->estimates);
     }
 }

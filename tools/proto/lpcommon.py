@@ -6,11 +6,11 @@ scoring the map as metrics.json does (tools/mapscore.py).
 Not a program: tools/proto/make_sets.py makes the runs, the other tools/proto scripts use
 them. Paths: the runs live in out/proto/<set>/<name>/ of the worktree (git ignores out/).
 """
-import importlib.util
 import json
 import math
 import os
 import subprocess
+import sys
 import tempfile
 
 import numpy as np
@@ -23,15 +23,10 @@ HOST_SIM = os.path.join(SRC, "build", "host", "host_sim", "host_sim")
 MAPS = os.path.join(os.path.dirname(os.path.dirname(SRC)), "shared", "maps")
 
 
-def _load_tool(name):
-    """A module of tools/ by its file (the tools are scripts, not a package)."""
-    spec = importlib.util.spec_from_file_location(name, os.path.join(TOOLS, name + ".py"))
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-mapscore = _load_tool("mapscore")
+# The tools' shared modules (tools/slamtools): the scoring of metrics.json and PGM reading.
+if TOOLS not in sys.path:
+    sys.path.insert(0, TOOLS)
+from slamtools import mapscore, pgm  # noqa: E402
 
 # The two sets: tuned on "dev", reported on "held" (other seeds; the held-out rooms and
 # flats are the first of the corpus report's own, so its figures predict the report's).
@@ -168,7 +163,7 @@ class Run:
                     g.write("localize = 0\n" if line.startswith("localize") else line)
             subprocess.run([HOST_SIM, "--quiet", "--replay", log, "--config", cfg, "--out",
                             os.path.join(tmp, "map")], check=True)
-            img = mapscore.read_pgm(os.path.join(tmp, "map", "om.pgm"))
+            img = pgm.read(os.path.join(tmp, "map", "om.pgm"))
             if keep:
                 with open(os.path.join(tmp, "map", "om.pgm"), "rb") as f, open(keep, "wb") as g:
                     g.write(f.read())

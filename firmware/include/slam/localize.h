@@ -148,6 +148,10 @@ typedef struct {
     uint32_t applied;     /**< matches that moved the pose */
     uint32_t refused;     /**< matches refused (too few walls, too large) */
     uint32_t last_points; /**< wall measurements of the last match */
+    int16_t last_step[3]; /**< the increment the last match wanted, applied or refused:
+                               x, y in 0.1 mm, θ in 10 µrad, saturated (±3.2 m, ±18°, far
+                               past the refusal gates). Against the covariance, it says
+                               whether the pose is in doubt; int16 fits the padding */
     uint8_t since;        /**< hits added since the last match */
 } loc_match_t;
 

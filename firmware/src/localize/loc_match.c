@@ -85,6 +85,13 @@ static bool same_state(const lkf_state_t *a, const lkf_state_t *b)
     return true;
 }
 
+/* A state's entry in units of @p unit, saturated to int16 (loc_match_t's last_step). */
+static int16_t step_of(int64_t v, int64_t unit)
+{
+    v = fix_div_s64(v, unit);
+    return (int16_t)(v > INT16_MAX ? INT16_MAX : v < INT16_MIN ? INT16_MIN : v);
+}
+
 static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
 {
     loc_match_t *mt = &l->match;
@@ -110,6 +117,9 @@ static void match(loc_t *l, const grid_t *g, const odom_pose_t *odom_now)
         lin = d;
     }
     mt->last_points = used;
+    mt->last_step[0] = step_of(d.v[LKF_X], 100);
+    mt->last_step[1] = step_of(d.v[LKF_Y], 100);
+    mt->last_step[2] = step_of(d.v[LKF_T], 10);
     int64_t step2 = d.v[LKF_X] * d.v[LKF_X] + d.v[LKF_Y] * d.v[LKF_Y];
     int64_t max_th = (int64_t)LOC_MAX_STEP_MDEG * 17453 / 1000; /* µrad */
     if (used < LOC_MIN_POINTS || step2 > (int64_t)LOC_MAX_STEP_UM * LOC_MAX_STEP_UM ||
