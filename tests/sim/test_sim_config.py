@@ -98,7 +98,10 @@ for args, says in [
      "top_speed_mm_s (top_speed_mm_s = 150)"),
     (["--paper", "--set", "om_max=2"],
      "--paper: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"),
-    (["--set", "start_cell_a=255"], "--set start_cell_a=255: with the start in cell 255 along x"),
+    # A start cell at the grid's edge: the grid grows to fit the room, unless its size is set.
+    (["--set", "start_cell_a=255", "--set", "grid_a=256"],
+     "--set start_cell_a=255: with the start in cell 255 along x, the grid of 256 cells"),
+    (["--set", "grid_a=60"], "--set grid_a=60: with the start in cell 30 along x, the grid of 60 cells"),
     (["--set", "wheel_base_um=99999999999999999999"], "out of its valid range: 50000..1000000"),
     (["--set", "wheel_base_um=-130000"], "wheel_base_um = '-130000': out of its valid range: 50000..1000000"),
     (["--set", "no_such_key=1"], "unknown key 'no_such_key' (the keys are the fields of firmware/include/slam/config_fields.h"),
