@@ -81,7 +81,8 @@ static bool fit_axis(axis_fit_t *f, double s, double lo, double hi, double cell,
 {
     uint32_t n = f->cells != 0u ? f->cells : HOST_SIM_GRID;
     for (;;) {
-        long a0 = f->by_start != NULL ? f->start : (long)n / 2 + lround((s - (lo + hi) / 2.0) / cell);
+        long a0 =
+            f->by_start != NULL ? f->start : (long)n / 2 + lround((s - (lo + hi) / 2.0) / cell);
         double o0 = s - (double)a0 * cell - cell / 2.0; /* grid_origin_um() */
         bool fits = a0 >= 0 && a0 < (long)n && o0 <= lo && o0 + n * cell >= hi;
         f->start = a0;

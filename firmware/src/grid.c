@@ -15,6 +15,7 @@ void grid_init(grid_t *g, const slam_config_t *cfg)
     g->cell_um = cfg->cell_um;
     g->a_cells = grid_cells_a(cfg);
     g->b_cells = grid_cells_b(cfg);
+    grid_set_spans(g);
     g->om_max = cfg->om_max;
     g->tm_max = cfg->tm_max;
     g->mode = cfg->om_mode;
@@ -27,15 +28,15 @@ void grid_init(grid_t *g, const slam_config_t *cfg)
     memset(g->tm, 0, grid_cells(g));
 }
 
-/* One axis of Eq. 1-2: int((v - origin) / L), or -1 outside [0, n). The difference is
- * taken modulo 2^32: a point below the origin, or beyond the grid, wraps to a value past
- * n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin lie within
- * ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one
- * instruction on the MCU) does the rest. */
-static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t n)
+/* One axis of Eq. 1-2: int((v - origin) / L), or -1 outside [0, n), span = n·L. The
+ * difference is taken modulo 2^32: a point below the origin, or beyond the grid, wraps to a
+ * value past n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin lie
+ * within ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one instruction
+ * on the MCU) does the rest. */
+static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t span_um)
 {
     uint32_t d = (uint32_t)v_um - (uint32_t)origin_um;
-    if (d >= cell_um * n) {
+    if (d >= span_um) {
         return -1;
     }
     return (int32_t)(d / cell_um);
@@ -43,8 +44,8 @@ static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint
 
 int grid_cell_of(const grid_t *g, int32_t x_um, int32_t y_um, grid_cell_t *cell)
 {
-    int32_t a = axis_cell(x_um, g->origin_x_um, g->cell_um, g->a_cells);
-    int32_t b = axis_cell(y_um, g->origin_y_um, g->cell_um, g->b_cells);
+    int32_t a = axis_cell(x_um, g->origin_x_um, g->cell_um, g->span_x_um);
+    int32_t b = axis_cell(y_um, g->origin_y_um, g->cell_um, g->span_y_um);
     if (a < 0 || b < 0) {
         return SLAM_EOUTSIDE;
     }

@@ -210,6 +210,7 @@ int mapstore_load(grid_t *g, odom_pose_t *pose)
             continue;
         }
         g->cell_um = b->cell_um;
+        grid_set_spans(g);
         g->origin_x_um = b->origin_x_um;
         g->origin_y_um = b->origin_y_um;
         if (pose != NULL) {

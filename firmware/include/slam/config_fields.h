@@ -74,9 +74,9 @@
     X(cell_um, U32, 50000, 20000, 1000000, CELL, 11, FIXED,                                        \
       "20000..1000000, and at most 1 km over the grid's longer side")                              \
     X(grid_a, U16, 0, 0, SLAM_GRID_A, GRID, 53, FIXED,                                             \
-      "0..65535: 3 up to the build's grid capacity along x, or 0 for all of it")                  \
+      "0..65535: 3 up to the build's grid capacity along x, or 0 for all of it")                   \
     X(grid_b, U16, 0, 0, SLAM_GRID_B, GRID, 54, FIXED,                                             \
-      "0..65535: 3 up to the build's grid capacity along y, or 0 for all of it")                  \
+      "0..65535: 3 up to the build's grid capacity along y, or 0 for all of it")                   \
     X(start_cell_a, U16, SLAM_GRID_A / 2, 0, SLAM_GRID_A - 1, IN_GRID_A, 12, FIXED,                \
       "0..65535, below the grid's cells along x")                                                  \
     X(start_cell_b, U16, SLAM_GRID_B / 2, 0, SLAM_GRID_B - 1, IN_GRID_B, 13, FIXED,                \

@@ -7,8 +7,8 @@
  * B along world y. A and B are the grid's own (a_cells, b_cells), set at grid_init() from
  * the configuration's grid_a and grid_b within the capacity the build reserves,
  * SLAM_GRID_A × SLAM_GRID_B: one firmware image serves a small room and a whole flat, and a
- * saved map records its size. Cell (a, b) covers x in [ox + a·L, ox + (a+1)·L) and y likewise, where
- * (ox, oy) is the grid origin: the world position of the lower-left corner of cell (0, 0).
+ * saved map records its size. Cell (a, b) covers x in [ox + a·L, ox + (a+1)·L) and y likewise,
+ * where (ox, oy) is the grid origin: the world position of the lower-left corner of cell (0, 0).
  * The origin puts the start pose at the centre of a configurable start cell, so negative
  * world coordinates map into the grid.
  *
@@ -68,6 +68,8 @@ typedef struct {
     uint32_t cell_um;            /**< L */
     uint16_t a_cells;            /**< A: cells along x, 3..SLAM_GRID_A */
     uint16_t b_cells;            /**< B: cells along y, 3..SLAM_GRID_B */
+    uint32_t span_x_um;          /**< A·L, kept: every point's test compares with it */
+    uint32_t span_y_um;          /**< B·L */
     uint8_t om_max;              /**< OMmax */
     uint8_t tm_max;              /**< TMmax */
     uint8_t mode;                /**< an om_mode_t */
@@ -104,6 +106,13 @@ static inline uint16_t grid_cells_b(const slam_config_t *cfg)
 static inline uint32_t grid_cells(const grid_t *g)
 {
     return (uint32_t)g->a_cells * g->b_cells;
+}
+
+/** Keep span_x_um and span_y_um with the grid's size and cell: after any change of them. */
+static inline void grid_set_spans(grid_t *g)
+{
+    g->span_x_um = g->cell_um * g->a_cells;
+    g->span_y_um = g->cell_um * g->b_cells;
 }
 
 /**
