@@ -57,6 +57,43 @@ static bool is_calibration_key(const char *key)
            strcmp(key, "cal_base") == 0;
 }
 
+/* The grid of a room that fits it: the simulator's since it began, so that the outputs of
+ * every such run stay as they were. A larger room grows it by HOST_SIM_GRID_STEP cells (an
+ * exploration block) up to the capacity, SLAM_GRID_A x SLAM_GRID_B. */
+#define HOST_SIM_GRID 256u
+#define HOST_SIM_GRID_STEP 16u
+_Static_assert(HOST_SIM_GRID <= SLAM_GRID_A && HOST_SIM_GRID <= SLAM_GRID_B,
+               "the simulator's capacity holds its usual grid");
+
+/* One axis of the grid against the room: the start's cell and the cells, each either set
+ * (by names where) or chosen. */
+typedef struct {
+    const char *by_start; /* where start_cell_<axis> was set, or NULL */
+    const char *by_cells; /* where grid_<axis> was set, or NULL */
+    long start;           /* the start's cell */
+    uint16_t cells;       /* the cells along the axis */
+} axis_fit_t;
+
+/* Chooses the cells (unless set) and the start's cell (unless set) along one axis for a
+ * start at s and a room over lo .. hi, m: true when the room fits, f holding them; false
+ * with the largest tried. */
+static bool fit_axis(axis_fit_t *f, double s, double lo, double hi, double cell, uint32_t cap)
+{
+    uint32_t n = f->cells != 0u ? f->cells : HOST_SIM_GRID;
+    for (;;) {
+        long a0 =
+            f->by_start != NULL ? f->start : (long)n / 2 + lround((s - (lo + hi) / 2.0) / cell);
+        double o0 = s - (double)a0 * cell - cell / 2.0; /* grid_origin_um() */
+        bool fits = a0 >= 0 && a0 < (long)n && o0 <= lo && o0 + n * cell >= hi;
+        f->start = a0;
+        f->cells = (uint16_t)n;
+        if (fits || f->by_cells != NULL || n >= cap) {
+            return fits;
+        }
+        n = n + HOST_SIM_GRID_STEP < cap ? n + HOST_SIM_GRID_STEP : cap;
+    }
+}
+
 /* --calibration FILE: the odometry's factors and nothing else, and at least one of them.
  * 0, or -1 with a message. */
 static int load_calibration(const char *path, slam_config_t *cfg, cfgtext_where_t *where)
@@ -121,6 +158,11 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
                  slam_config_t *cfg)
 {
     slam_config_default(cfg);
+    /* The start cell is chosen below for the grid the room needs, unless given: cell 0
+     * until then, which any grid_a or grid_b given holds (the default, the capacity's
+     * middle, would refuse a smaller grid). */
+    cfg->start_cell_a = 0u;
+    cfg->start_cell_b = 0u;
     static cfg_origin_t w;
     memset(&w, 0, sizeof w);
     w.o = o;
@@ -219,45 +261,50 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
         *start[k].field = start[k].value;
     }
 
-    /* Put the middle of the room at the middle of the grid, unless the start cell was set
-     * (to record a trace for a robot with a smaller grid, say). */
+    /* The grid: HOST_SIM_GRID cells a side for any room that fits it (every run of the
+     * shipped rooms the same as ever), grown a block at a time up to the capacity for a room
+     * or a flat that does not, unless grid_a or grid_b was set. The middle of the room at
+     * the middle of the grid, unless the start cell was set (to record a trace for a robot
+     * with a smaller grid, say). */
     char who_a[160];
     char who_b[160];
+    char who_ga[160];
+    char who_gb[160];
     const char *by_a = origin(&w, "start_cell_a", who_a, sizeof who_a);
     const char *by_b = origin(&w, "start_cell_b", who_b, sizeof who_b);
+    const char *by_ga = origin(&w, "grid_a", who_ga, sizeof who_ga);
+    const char *by_gb = origin(&w, "grid_b", who_gb, sizeof who_gb);
     double cell = cfg->cell_um * 1e-6;
-    double cx = (room->min_x + room->max_x) / 2.0;
-    double cy = (room->min_y + room->max_y) / 2.0;
-    long a0 =
-        by_a != NULL ? (long)cfg->start_cell_a : (long)SLAM_GRID_A / 2 + lround((sx - cx) / cell);
-    long b0 =
-        by_b != NULL ? (long)cfg->start_cell_b : (long)SLAM_GRID_B / 2 + lround((sy - cy) / cell);
-    double ox = sx - (double)a0 * cell - cell / 2.0; /* grid_origin_um() */
-    double oy = sy - (double)b0 * cell - cell / 2.0;
-    bool fits_x = a0 >= 0 && a0 < (long)SLAM_GRID_A && ox <= room->min_x &&
-                  ox + SLAM_GRID_A * cell >= room->max_x;
-    bool fits_y = b0 >= 0 && b0 < (long)SLAM_GRID_B && oy <= room->min_y &&
-                  oy + SLAM_GRID_B * cell >= room->max_y;
-    if ((!fits_x && by_a != NULL) || (!fits_y && by_b != NULL)) {
-        bool x = !fits_x && by_a != NULL;
+    axis_fit_t fx = {by_a, by_ga, by_a != NULL ? (long)cfg->start_cell_a : 0,
+                     by_ga != NULL ? grid_cells_a(cfg) : 0u};
+    axis_fit_t fy = {by_b, by_gb, by_b != NULL ? (long)cfg->start_cell_b : 0,
+                     by_gb != NULL ? grid_cells_b(cfg) : 0u};
+    bool fits_x = fit_axis(&fx, sx, room->min_x, room->max_x, cell, SLAM_GRID_A);
+    bool fits_y = fit_axis(&fy, sy, room->min_y, room->max_y, cell, SLAM_GRID_B);
+    const axis_fit_t *bad = !fits_x ? &fx : &fy;
+    if ((!fits_x || !fits_y) && (bad->by_start != NULL || bad->by_cells != NULL)) {
+        bool x = bad == &fx;
+        double o0 = (x ? sx : sy) - (double)bad->start * cell - cell / 2.0;
         fprintf(stderr,
-                "host_sim: %s: with the start in cell %ld along %s, the grid spans %s = %.3f .. "
-                "%.3f m and the room %.3f .. %.3f m: the room does not fit\n",
-                x ? by_a : by_b, x ? a0 : b0, x ? "x" : "y", x ? "x" : "y", x ? ox : oy,
-                (x ? ox + SLAM_GRID_A * cell : oy + SLAM_GRID_B * cell),
+                "host_sim: %s: with the start in cell %ld along %s, the grid of %u cells spans "
+                "%s = %.3f .. %.3f m and the room %.3f .. %.3f m: the room does not fit\n",
+                bad->by_start != NULL ? bad->by_start : bad->by_cells, bad->start, x ? "x" : "y",
+                (unsigned)bad->cells, x ? "x" : "y", o0, o0 + bad->cells * cell,
                 x ? room->min_x : room->min_y, x ? room->max_x : room->max_y);
         return -1;
     }
     if (!fits_x || !fits_y) {
         fprintf(stderr,
-                "host_sim: the room (%.1f x %.1f m) does not fit the %ux%u grid of %.0f mm "
-                "cells (%.1f x %.1f m): use a larger --cell or a smaller --crop\n",
+                "host_sim: the room (%.1f x %.1f m) does not fit the largest grid, %ux%u "
+                "cells of %.0f mm (%.1f x %.1f m): use a larger --cell or a smaller --crop\n",
                 room->max_x - room->min_x, room->max_y - room->min_y, (unsigned)SLAM_GRID_A,
                 (unsigned)SLAM_GRID_B, cell * 1e3, SLAM_GRID_A * cell, SLAM_GRID_B * cell);
         return -1;
     }
-    cfg->start_cell_a = (uint16_t)a0;
-    cfg->start_cell_b = (uint16_t)b0;
+    cfg->grid_a = fx.cells;
+    cfg->grid_b = fy.cells;
+    cfg->start_cell_a = (uint16_t)fx.start;
+    cfg->start_cell_b = (uint16_t)fy.start;
     if (check_config(&w, cfg) != 0) {
         return -1;
     }

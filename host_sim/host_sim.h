@@ -39,9 +39,9 @@ typedef struct {
 /** The geometry of a firmware grid. */
 static inline map_geom_t map_geom_of(const grid_t *g)
 {
-    return (map_geom_t){SLAM_GRID_A,           SLAM_GRID_B,           g->cell_um * 1e-6,
-                        g->origin_x_um * 1e-6, g->origin_y_um * 1e-6, g->cell_um,
-                        g->origin_x_um,        g->origin_y_um};
+    return (map_geom_t){
+        g->a_cells, g->b_cells,     g->cell_um * 1e-6, g->origin_x_um * 1e-6, g->origin_y_um * 1e-6,
+        g->cell_um, g->origin_x_um, g->origin_y_um};
 }
 
 /** How a map is scored (DESIGN.md §5). */

@@ -248,7 +248,8 @@ static int start_firmware(const options_t *o, held_t *h)
     if (o->storage != NULL) {
         /* Room for a record of this grid: the robot now saves its maps every
          * save_period_s, and stands still while a save begins, as a real one does. */
-        hal_host_storage_resize(sizeof(mapstore_header_t) + 2u * (size_t)SLAM_GRID_CELLS);
+        hal_host_storage_resize(sizeof(mapstore_header_t) +
+                                2u * (size_t)grid_cells_a(cfg) * grid_cells_b(cfg));
     }
     if (hal_init() != HAL_OK || robot_init(&fw.robot, cfg) != SLAM_OK ||
         hal_tick_start(tick_callback, &fw.robot) != HAL_OK) {
@@ -447,9 +448,8 @@ static void warn_outside(const grid_t *g, uint32_t hits)
             "host_sim: warning: the home does not fit the grid: %u point%s fell outside its "
             "%u x %u cells of %.0f mm (%.2f m x %.2f m), %u of them sonar hits, and are missing "
             "from the map (metrics.json: robot.outside_grid)\n",
-            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A,
-            (unsigned)SLAM_GRID_B, cell * 1e3, SLAM_GRID_A * cell, SLAM_GRID_B * cell,
-            (unsigned)hits);
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)g->a_cells,
+            (unsigned)g->b_cells, cell * 1e3, g->a_cells * cell, g->b_cells * cell, (unsigned)hits);
 }
 
 /* The end of a run: the held-back hits mapped, the maps scored and exported, the metrics,

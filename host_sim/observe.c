@@ -64,7 +64,7 @@ int observe_init(run_t *r, const scenario_t *sc, const robot_t *robot, uint32_t 
                    r->truth);
     grid_cell_t start;
     (void)grid_cell_of(&robot->grid, sc->cfg.start_x_um, sc->cfg.start_y_um, &start);
-    *start_cell = grid_index(start);
+    *start_cell = grid_index(&robot->grid, start);
     reachable_cells(room, &sc->params, r, *start_cell);
     if (walls_init(r, room, &sc->params, sc->cfg.confidence_radius_um * 1e-6, *start_cell) != 0) {
         fprintf(stderr, "host_sim: out of memory\n");
@@ -100,7 +100,7 @@ static void track_coverage(run_t *r, const robot_t *robot, double t)
 {
     grid_cell_t c;
     if (grid_cell_of(&robot->grid, robot->pose.x_um, robot->pose.y_um, &c) == SLAM_OK) {
-        uint32_t i = grid_index(c);
+        uint32_t i = grid_index(&robot->grid, c);
         if (!r->seen[i]) {
             r->seen[i] = 1u;
             r->visited_cells += r->reachable[i];

@@ -45,9 +45,16 @@ int replay(const options_t *o)
     slam_config_t cfg;
     slam_config_default(&cfg);
     char err[512];
-    if (cfgtext_load(cfgpath, &cfg, NULL, NULL, NULL, err, sizeof err) != 0) {
+    cfgtext_where_t where;
+    if (cfgtext_load(cfgpath, &cfg, NULL, NULL, &where, err, sizeof err) != 0) {
         fprintf(stderr, "host_sim: %s\n", err);
         return EXIT_USAGE;
+    }
+    /* A config.txt from before the grid's size was a key: the simulator's grid was then
+     * 256 x 256 cells. */
+    if (cfgtext_where_line(&where, "grid_a") == 0u && cfgtext_where_line(&where, "grid_b") == 0u) {
+        cfg.grid_a = 256u;
+        cfg.grid_b = 256u;
     }
     /* Where the map goes: --out, else a folder "replay" beside the log, never out/sim,
      * whose om.pgm belongs to the last simulation. A folder holding a simulation's outputs
@@ -98,7 +105,7 @@ int replay(const options_t *o)
     /* No TM in a log: in OM_MODE_COUNT the replayed map knows no free cell, while the
      * run's knew those the robot drove through; OM_MODE_EVIDENCE keeps its own. */
     static uint8_t img[SLAM_GRID_CELLS];
-    mapx_trinary(cfg.om_mode, grid.om, NULL, NULL, SLAM_GRID_A, SLAM_GRID_B, img);
+    mapx_trinary(cfg.om_mode, grid.om, NULL, NULL, grid.a_cells, grid.b_cells, img);
     if (write_map(outdir, "om", &g, img, true) != 0 || outputs_commit() != 0) {
         outputs_discard();
         return 1;

@@ -99,8 +99,8 @@ static int check_closed(const options_t *o, const scenario_t *sc)
 {
     const slam_config_t *cfg = &sc->cfg;
     const room_t *room = &sc->room;
-    const uint32_t A = SLAM_GRID_A;
-    const uint32_t B = SLAM_GRID_B;
+    const uint32_t A = grid_cells_a(cfg);
+    const uint32_t B = grid_cells_b(cfg);
     const size_t n = (size_t)A * B;
     const double cell = cfg->cell_um * 1e-6;
     /* The grid's origin as grid_init() puts it. */

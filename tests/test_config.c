@@ -77,6 +77,13 @@ BAD(cell_small, c->cell_um = 19999u)
 /* 20 mm cells: 15 rows of the corridor, 16 columns at most (a clearance below 160 mm). */
 BAD(corridor, c->cell_um = 20000u; c->clearance_um = 160000u; c->follow_um = 400000u)
 BAD(start_a, c->start_cell_a = (uint16_t)SLAM_GRID_A)
+/* The grid's size: within the capacity, 3 cells at least, and the start cell inside it. */
+BAD(grid_a_big, c->grid_a = (uint16_t)(SLAM_GRID_A + 1u))
+BAD(grid_b_big, c->grid_b = (uint16_t)(SLAM_GRID_B + 1u))
+BAD(grid_a_two, c->grid_a = 2u; c->start_cell_a = 1u)
+BAD(grid_b_one, c->grid_b = 1u; c->start_cell_b = 0u)
+BAD(start_a_in_grid, c->grid_a = (uint16_t)(SLAM_GRID_A / 2u))
+BAD(start_b_in_grid, c->grid_a = 100u; c->start_cell_a = 50u; c->grid_b = 10u)
 BAD(start_b, c->start_cell_b = 0xFFFFu)
 BAD(om_max, c->om_max = 0u)
 BAD(tm_max, c->tm_max = 0u)
@@ -111,6 +118,12 @@ static void test_every_bad_field_is_named(void **state)
     (void)state;
     static const bad_case_t cases[] = {
         {"wheel_diameter_left_um", bad_diam_l_small},
+        {"grid_a", bad_grid_a_big},
+        {"grid_b", bad_grid_b_big},
+        {"grid_a", bad_grid_a_two},
+        {"grid_b", bad_grid_b_one},
+        {"start_cell_a", bad_start_a_in_grid},
+        {"start_cell_b", bad_start_b_in_grid},
         {"wheel_diameter_right_um", bad_diam_r_big},
         {"wheel_base_um", bad_base_zero},
         {"encoder_counts_per_rev", bad_counts_few},
@@ -193,6 +206,12 @@ static void test_edges_of_valid_ranges_pass(void **state)
     assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
     slam_config_paper(&c);
     c.post_threshold = (uint8_t)(c.om_max - 1u);
+    assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
+    /* The grid's size: the capacity itself, and the smallest, 3 cells, with the start in it. */
+    c.grid_a = (uint16_t)SLAM_GRID_A;
+    c.grid_b = 3u;
+    c.start_cell_a = (uint16_t)(SLAM_GRID_A - 1u);
+    c.start_cell_b = 2u;
     assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
 }
 

@@ -225,7 +225,7 @@ static void om_at(double x_m, double y_m, uint8_t om)
     grid_cell_t c;
     assert_int_equal(
         grid_cell_of(&grid, (int32_t)lround(x_m * 1e6), (int32_t)lround(y_m * 1e6), &c), SLAM_OK);
-    grid.om[grid_index(c)] = om;
+    grid.om[grid_index(&grid, c)] = om;
 }
 
 /* The corridor ahead is read on the map too (what the sonar cannot see now, such as a
@@ -437,7 +437,7 @@ static void paint_ray(double deg, uint8_t *map, uint8_t value, double from_m, do
         int32_t x = (int32_t)lround(r * 1e6 * cos(deg * EW_PI / 180.0));
         int32_t y = (int32_t)lround(r * 1e6 * sin(deg * EW_PI / 180.0));
         if (grid_cell_of(&grid, x, y, &c) == SLAM_OK) {
-            map[grid_index(c)] = value;
+            map[grid_index(&grid, c)] = value;
         }
     }
 }

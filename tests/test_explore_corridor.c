@@ -51,14 +51,14 @@ static void set_up(uint32_t cell_um, uint32_t clearance_um)
 static int32_t pass_with_cell_at(int32_t k, int32_t j)
 {
     grid_cell_t c = {(uint16_t)(cfg.start_cell_a + k), (uint16_t)(cfg.start_cell_b + j)};
-    grid.om[grid_index(c)] = UINT8_MAX;
+    grid.om[grid_index(&grid, c)] = UINT8_MAX;
     explore_frame_t f = {cfg.start_x_um, cfg.start_y_um, FIX_Q30_ONE, 0};
     explore_corridor_begin(&ex, &grid, &f);
     unsigned slices = 0;
     while (!explore_corridor_cells(&ex, &grid)) {
         slices++;
     }
-    grid.om[grid_index(c)] = GRID_EVIDENCE_ZERO;
+    grid.om[grid_index(&grid, c)] = GRID_EVIDENCE_ZERO;
     /* Read 8 cells a slice: the largest corridor in 30 slices. */
     assert_true(slices < SLAM_CORRIDOR_CELLS_MAX / 8u);
     return ex.corridor.work_um;

@@ -157,7 +157,7 @@ static void test_leaves_a_wall_driven_before(void **state)
     for (int32_t x = 0; x < 5000000; x += 10000) {
         grid_cell_t c;
         if (grid_cell_of(&grid, x, 50000, &c) == SLAM_OK) {
-            grid.tm[grid_index(c)] = 5u;
+            grid.tm[grid_index(&grid, c)] = 5u;
         }
     }
     run_until(following, 3000u, NULL);
@@ -204,7 +204,7 @@ static void test_seeks_the_nearest_frontier_in_sight(void **state)
     for (int32_t x = -3000000; x <= 3000000; x += 20000) {
         grid_cell_t c;
         if (grid_cell_of(&grid, x, -1200000, &c) == SLAM_OK) {
-            grid.om[grid_index(c)] = ew_om_occupied();
+            grid.om[grid_index(&grid, c)] = ew_om_occupied();
         }
     }
     /* Following, with the way ahead driven before: the robot leaves the wall and seeks. */
@@ -241,9 +241,9 @@ static void test_free_cells_explore_their_block(void **state)
     (void)state;
     setup_mode(EXPLORE_WALLS);
     grid_cell_t c = {200u % SLAM_GRID_A, 10u};
-    grid.tm[grid_index(c)] = 1u;
-    grid.om[grid_index(c)] = ew_om_free();
-    assert_int_equal(grid_state(&grid, grid_index(c)), GRID_FREE);
+    grid.tm[grid_index(&grid, c)] = 1u;
+    grid.om[grid_index(&grid, c)] = ew_om_free();
+    assert_int_equal(grid_state(&grid, grid_index(&grid, c)), GRID_FREE);
     uint32_t k = (c.b >> EXPLORE_BLOCK_SHIFT) * EXPLORE_BLOCKS_A + (c.a >> EXPLORE_BLOCK_SHIFT);
     assert_true((ex.seek.explored[k >> 3] & (1u << (k & 7u))) == 0u);
     for (unsigned t = 0;

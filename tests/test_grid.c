@@ -145,8 +145,8 @@ static void test_saturation_table(void **state)
         assert_int_equal(grid_cell_of(&gg.g, 123456, -98765, &cell), SLAM_OK);
         const uint8_t *map = k->which == 0 ? gg.g.om : gg.g.tm;
         const uint8_t *other = k->which == 0 ? gg.g.tm : gg.g.om;
-        assert_int_equal(map[grid_index(cell)], k->expect);
-        assert_int_equal(other[grid_index(cell)], 0); /* the other map is untouched */
+        assert_int_equal(map[grid_index(&gg.g, cell)], k->expect);
+        assert_int_equal(other[grid_index(&gg.g, cell)], 0); /* the other map is untouched */
     }
 }
 
@@ -195,6 +195,43 @@ static uint8_t saturated(uint32_t count, uint8_t max)
  * an independent Eq. 1-2 says, every other point is counted as rejected, and nothing
  * outside the arrays changes. The sanitizer build checks the same soak for any
  * out-of-bounds access. */
+/* A grid smaller than the capacity, 100 x 50 cells: its own size bounds it and indexes its
+ * rows, and nothing beyond its A·B cells is written. */
+static void test_run_time_size(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    c.grid_a = 100u;
+    c.grid_b = 50u;
+    c.start_cell_a = 10u;
+    c.start_cell_b = 20u;
+    assert_int_equal(slam_config_check(&c, NULL), SLAM_OK);
+    memset(&gg, 0xA5, sizeof gg);
+    grid_init(&gg.g, &c);
+    assert_int_equal(gg.g.a_cells, 100u);
+    assert_int_equal(gg.g.b_cells, 50u);
+    assert_int_equal(grid_cells(&gg.g), 5000u);
+    const int32_t l = (int32_t)c.cell_um;
+    /* The start at the centre of cell (10, 20); the last cell is (99, 49). */
+    expect_cell(89 * l, 29 * l, 99, 49);
+    expect_outside(90 * l, 0);
+    expect_outside(0, 30 * l);
+    expect_cell(-10 * l, -20 * l, 0, 0);
+    grid_cell_t k;
+    assert_int_equal(grid_cell_of(&gg.g, 89 * l, 29 * l, &k), SLAM_OK);
+    assert_int_equal(grid_index(&gg.g, k), 49u * 100u + 99u);
+    assert_int_equal(grid_om_hit(&gg.g, 89 * l, 29 * l), SLAM_OK);
+    assert_int_equal(gg.g.om[4999], GRID_EVIDENCE_ZERO + c.om_hit);
+    /* A ray across the whole grid and beyond it stays within the A·B cells. */
+    assert_int_equal(grid_om_ray(&gg.g, 0, 0, 200 * l, 100 * l), 60u); /* to b = 49 */
+    for (uint32_t i = grid_cells(&gg.g); i < SLAM_GRID_CELLS; i++) {
+        assert_int_equal(gg.g.om[i], 0xA5); /* never written, not even by grid_init() */
+        assert_int_equal(gg.g.tm[i], 0xA5);
+    }
+    assert_guards_intact();
+}
+
 static void test_random_point_soak(void **state)
 {
     (void)state;
@@ -261,9 +298,9 @@ static void test_state_reads_om_then_tm(void **state)
     assert_int_equal(grid_cell_of(g, 0, 0, &start), SLAM_OK);
     assert_int_equal(grid_cell_of(g, 3 * l, 0, &east), SLAM_OK);
     assert_int_equal(grid_cell_of(g, 0, 3 * l, &north), SLAM_OK);
-    assert_int_equal(grid_state(g, grid_index(start)), GRID_FREE);
-    assert_int_equal(grid_state(g, grid_index(east)), GRID_OCCUPIED); /* OM wins */
-    assert_int_equal(grid_state(g, grid_index(north)), GRID_UNKNOWN);
+    assert_int_equal(grid_state(g, grid_index(g, start)), GRID_FREE);
+    assert_int_equal(grid_state(g, grid_index(g, east)), GRID_OCCUPIED); /* OM wins */
+    assert_int_equal(grid_state(g, grid_index(g, north)), GRID_UNKNOWN);
 }
 
 /* grid_occupied_above() is grid_state_of()'s occupied, for every byte of OM and TM. */
@@ -295,7 +332,7 @@ static uint8_t om_at(int32_t x, int32_t y)
 {
     grid_cell_t c;
     assert_int_equal(grid_cell_of(&gg.g, x, y, &c), SLAM_OK);
-    return gg.g.om[grid_index(c)];
+    return gg.g.om[grid_index(&gg.g, c)];
 }
 
 /* A log-odds byte: 0 untouched, else 128 + L with L in [-127, 127]; +4 a hit, -1 a pass. */
@@ -311,7 +348,7 @@ static void test_evidence_steps_and_saturation(void **state)
     assert_int_equal(grid_om_free(&gg.g, l, 0), SLAM_OK); /* untouched: 128, then -1 */
     assert_int_equal(om_at(l, 0), 127);
     assert_int_equal(
-        grid_state(&gg.g, grid_index((grid_cell_t){SLAM_GRID_A / 2u, SLAM_GRID_B / 2u})),
+        grid_state(&gg.g, grid_index(&gg.g, (grid_cell_t){SLAM_GRID_A / 2u, SLAM_GRID_B / 2u})),
         GRID_OCCUPIED);
     for (int i = 0; i < 1000; i++) {
         (void)grid_om_hit(&gg.g, 0, 0);
@@ -326,12 +363,12 @@ static void test_evidence_steps_and_saturation(void **state)
     assert_int_equal(om_at(2 * l, 0), GRID_EVIDENCE_ZERO);
     grid_cell_t c;
     assert_int_equal(grid_cell_of(&gg.g, 2 * l, 0, &c), SLAM_OK);
-    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_UNKNOWN);
+    assert_int_equal(grid_state(&gg.g, grid_index(&gg.g, c)), GRID_UNKNOWN);
     assert_int_equal(grid_cell_of(&gg.g, l, 0, &c), SLAM_OK);
-    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_FREE);
+    assert_int_equal(grid_state(&gg.g, grid_index(&gg.g, c)), GRID_FREE);
     assert_int_equal(grid_cell_of(&gg.g, 0, 5 * l, &c), SLAM_OK);
     assert_int_equal(grid_tm_visit(&gg.g, 0, 5 * l), SLAM_OK);
-    assert_int_equal(grid_state(&gg.g, grid_index(c)), GRID_UNKNOWN); /* TM is not OM */
+    assert_int_equal(grid_state(&gg.g, grid_index(&gg.g, c)), GRID_UNKNOWN); /* TM is not OM */
     assert_guards_intact();
 }
 
@@ -438,6 +475,7 @@ int main(void)
         cmocka_unit_test_setup(test_eq1_eq2_at_cell_edges, setup),
         cmocka_unit_test_setup(test_saturation_table, setup),
         cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),
+        cmocka_unit_test_setup(test_run_time_size, setup),
         cmocka_unit_test_setup(test_random_point_soak, setup),
         cmocka_unit_test_setup(test_state_reads_om_then_tm, setup),
         cmocka_unit_test(test_occupied_above_is_the_state_rule),

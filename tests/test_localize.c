@@ -82,7 +82,7 @@ static void paint_line(double x0, double y0, double x1, double y1)
         int32_t y = (int32_t)lround((y0 + (y1 - y0) * t) * 1e6);
         grid_cell_t c;
         if (grid_cell_of(&grid, x, y, &c) == SLAM_OK) {
-            grid.om[grid_index(c)] = 255u;
+            grid.om[grid_index(&grid, c)] = 255u;
         }
     }
 }
@@ -352,9 +352,9 @@ static void test_hits_enter_om_after_the_hold(void **state)
         grid_cell_t c;
         int32_t x = edge + (int32_t)k * 2 * (int32_t)grid.cell_um;
         assert_int_equal(grid_cell_of(&grid, x + 600, hy, &c), SLAM_OK);
-        assert_int_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
+        assert_int_equal(grid_state(&grid, grid_index(&grid, c)), GRID_OCCUPIED);
         assert_int_equal(grid_cell_of(&grid, x - 600, hy, &c), SLAM_OK);
-        assert_int_not_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
+        assert_int_not_equal(grid_state(&grid, grid_index(&grid, c)), GRID_OCCUPIED);
     }
     assert_int_equal(loc.match.applied, 0u);
 }
@@ -370,7 +370,7 @@ static void test_half_a_hit_enters_early(void **state)
     hit_of_the_origin(&hx, &hy);
     grid_cell_t first;
     assert_int_equal(grid_cell_of(&grid, hx, hy, &first), SLAM_OK);
-    uint32_t k = grid_index(first);
+    uint32_t k = grid_index(&grid, first);
     for (unsigned i = 0; i < LOC_HOLD + 1u; i++) {
         /* The first at x = 0, the others 1 m further along, in cells of their own. */
         readq_reading_t rd = {.ping = {i == 0u ? 0 : 1000000 + (int32_t)(i % 8u) * 100000, 0, 0u},
@@ -413,7 +413,7 @@ static void test_a_match_does_not_see_the_halves(void **state)
     for (int32_t x = 0; x < 1000000; x += 50000) {
         grid_cell_t c;
         assert_int_equal(grid_cell_of(&grid, hx + x, hy, &c), SLAM_OK);
-        assert_int_equal(grid_state(&grid, grid_index(c)), GRID_OCCUPIED);
+        assert_int_equal(grid_state(&grid, grid_index(&grid, c)), GRID_OCCUPIED);
     }
 }
 
@@ -438,7 +438,7 @@ static void test_the_far_face_of_a_thin_wall_is_not_matched(void **state)
                 assert_int_equal(grid_cell_of(&grid, 1075000, (int32_t)lround(y * 1e6), &c),
                                  SLAM_OK);
                 /* Beams passed through: one, or many (known free). */
-                grid.om[grid_index(c)] = seen ? 1u : GRID_EVIDENCE_ZERO - cfg.om_miss;
+                grid.om[grid_index(&grid, c)] = seen ? 1u : GRID_EVIDENCE_ZERO - cfg.om_miss;
             }
         }
         /* Facing west from x = 1.8 m, the beam starts 50 mm ahead: 648 mm ends at 1.102 m. */
@@ -489,8 +489,8 @@ static void test_far_hits_are_not_held(void **state)
 static void test_shadowed_hit_is_not_mapped(void **state)
 {
     (void)state;
-    uint32_t face = grid_index((grid_cell_t){87, 80});
-    uint32_t back = grid_index((grid_cell_t){88, 80});
+    uint32_t face = grid_index(&grid, (grid_cell_t){87, 80});
+    uint32_t back = grid_index(&grid, (grid_cell_t){88, 80});
     for (int on = 1; on >= 0; on--) {
         cfg.localize = (uint8_t)on;
         grid_init(&grid, &cfg);
@@ -527,7 +527,7 @@ static int32_t ahead_of_two(int32_t y2_mm, uint32_t range2_mm, uint8_t om2)
     assert_int_equal(grid_cell_of(&grid, 50000 + (int32_t)range2_mm * 1000, y2_mm * 1000, &c),
                      SLAM_OK);
     if (om2 != 0u) {
-        grid.om[grid_index(c)] = om2;
+        grid.om[grid_index(&grid, c)] = om2;
     }
     for (int i = 0; i < 2; i++) {
         readq_reading_t rd = {.ping = {0, i == 0 ? 0 : y2_mm * 1000, 0u},

@@ -67,7 +67,7 @@ static void expect_exactly(const uint8_t *map, const cell_value_t *cells, size_t
     memset(want, map == grid.om && grid.mode == OM_MODE_EVIDENCE ? (int)GRID_EVIDENCE_ZERO : 0,
            sizeof want);
     for (size_t i = 0; i < n; i++) {
-        want[grid_index((grid_cell_t){cells[i].a, cells[i].b})] = cells[i].value;
+        want[grid_index(&grid, (grid_cell_t){cells[i].a, cells[i].b})] = cells[i].value;
     }
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
         if (map[i] != want[i]) {
@@ -190,9 +190,9 @@ static void test_evidence_reading_clears_its_beam(void **state)
     };
     expect_exactly(grid.om, om, sizeof om / sizeof om[0]);
     assert_int_equal(mapper.cleared, 7u);
-    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){87, 80})), GRID_OCCUPIED);
-    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){84, 80})), GRID_FREE);
-    assert_int_equal(grid_state(&grid, grid_index((grid_cell_t){88, 80})), GRID_UNKNOWN);
+    assert_int_equal(grid_state(&grid, grid_index(&grid, (grid_cell_t){87, 80})), GRID_OCCUPIED);
+    assert_int_equal(grid_state(&grid, grid_index(&grid, (grid_cell_t){84, 80})), GRID_FREE);
+    assert_int_equal(grid_state(&grid, grid_index(&grid, (grid_cell_t){88, 80})), GRID_UNKNOWN);
 }
 
 /* The faces of walls, along the beam of the reading above (robot's cell 80, echo in 87).
@@ -204,9 +204,9 @@ static void test_evidence_faces(void **state)
     (void)state;
     odom_pose_t p = {0, 0, 0u};
     bam32_t ahead = fix_bam_from_mdeg(90000);
-    uint32_t face = grid_index((grid_cell_t){87, 80});
-    uint32_t back = grid_index((grid_cell_t){88, 80});
-    uint32_t beyond = grid_index((grid_cell_t){89, 80});
+    uint32_t face = grid_index(&grid, (grid_cell_t){87, 80});
+    uint32_t back = grid_index(&grid, (grid_cell_t){88, 80});
+    uint32_t beyond = grid_index(&grid, (grid_cell_t){89, 80});
     grid.om[face] = 132u;
     grid.om[back] = 130u;
     grid.om[beyond] = 140u;
@@ -220,7 +220,7 @@ static void test_evidence_faces(void **state)
     assert_int_equal(grid.om[beyond], 140u);
 
     setup_evidence(NULL);
-    uint32_t front = grid_index((grid_cell_t){86, 80});
+    uint32_t front = grid_index(&grid, (grid_cell_t){86, 80});
     grid.om[front] = 140u;
     int32_t x;
     int32_t y;
@@ -260,18 +260,18 @@ static void test_evidence_far_and_timeout(void **state)
         lowered += grid.om[i] != GRID_EVIDENCE_ZERO;
     }
     assert_int_equal(lowered, 12u);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){80, 80})], 127);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){90, 80})], GRID_EVIDENCE_ZERO);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){91, 80})], 127);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){101, 80})], 127);
-    assert_int_equal(grid.om[grid_index((grid_cell_t){102, 80})], GRID_EVIDENCE_ZERO);
+    assert_int_equal(grid.om[grid_index(&grid, (grid_cell_t){80, 80})], 127);
+    assert_int_equal(grid.om[grid_index(&grid, (grid_cell_t){90, 80})], GRID_EVIDENCE_ZERO);
+    assert_int_equal(grid.om[grid_index(&grid, (grid_cell_t){91, 80})], 127);
+    assert_int_equal(grid.om[grid_index(&grid, (grid_cell_t){101, 80})], 127);
+    assert_int_equal(grid.om[grid_index(&grid, (grid_cell_t){102, 80})], GRID_EVIDENCE_ZERO);
 
     setup_evidence(NULL);
     mapper_timeout(&mapper, &grid, &p);
     assert_int_equal(mapper.timeouts, 1u);
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
         assert_int_equal(grid.om[i],
-                         i == grid_index((grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
+                         i == grid_index(&grid, (grid_cell_t){80, 80}) ? 127u : GRID_EVIDENCE_ZERO);
     }
 
     uint32_t bound = 500000u / cfg.cell_um + 3u;

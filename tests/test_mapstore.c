@@ -24,6 +24,7 @@ static int setup(void **state)
     fake_hal_reset();
     slam_config_default(&cfg);
     grid_init(&grid, &cfg);
+    grid_init(&loaded, &cfg); /* a map loads into a grid of its size */
     for (uint32_t i = 0; i < SLAM_GRID_CELLS; i++) {
         grid.om[i] = (uint8_t)(i % 10u);
         grid.tm[i] = (uint8_t)((i * 7u) % 31u);
@@ -58,7 +59,7 @@ static void test_crc32_check_value(void **state)
 static void test_round_trip_and_alternating_slots(void **state)
 {
     (void)state;
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     assert_true(store.available);
     odom_pose_t pose = {123456, -654321, 0x12345678u};
     unsigned steps = save(&pose, 777u);
@@ -92,18 +93,51 @@ static void test_round_trip_and_alternating_slots(void **state)
     assert_int_equal(loaded.om[5], 9u);
 
     /* After a restart, saves continue the sequence in the other slot. */
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     assert_int_equal(store.last_seq, 3u);
     save(&pose, 1000u);
     assert_int_equal(mapstore_read_header(1, &h), SLAM_OK);
     assert_int_equal(h.seq, 4u);
 }
 
+/* A map saved from a grid of one size (grid_a, grid_b) is the map of a run of that size: a
+ * grid of another size refuses it, and a grid of its size loads exactly its A·B cells. */
+static void test_map_of_another_size_is_refused(void **state)
+{
+    (void)state;
+    slam_config_t small = cfg;
+    small.grid_a = 100u;
+    small.grid_b = 60u;
+    small.start_cell_a = 50u;
+    small.start_cell_b = 30u;
+    assert_int_equal(slam_config_check(&small, NULL), SLAM_OK);
+    grid_init(&grid, &small);
+    for (uint32_t i = 0; i < grid_cells(&grid); i++) {
+        grid.om[i] = (uint8_t)(i % 13u);
+    }
+    mapstore_init(&store, &grid);
+    odom_pose_t pose = {1, 2, 3u};
+    unsigned steps = save(&pose, 5u);
+    assert_int_equal(steps, (2u * 6000u + MAPSTORE_CHUNK - 1u) / MAPSTORE_CHUNK + 1u);
+    mapstore_header_t h;
+    assert_int_equal(mapstore_read_header(0, &h), SLAM_OK);
+    assert_int_equal(h.a, 100u);
+    assert_int_equal(h.b, 60u);
+    /* The default grid, the capacity: another size. */
+    memset(loaded.om, 0xEE, sizeof loaded.om);
+    assert_int_equal(mapstore_load(&loaded, NULL), SLAM_EINVAL);
+    assert_int_equal(loaded.om[0], 0xEE);
+    grid_init(&loaded, &small);
+    assert_int_equal(mapstore_load(&loaded, NULL), SLAM_OK);
+    assert_memory_equal(loaded.om, grid.om, 6000u);
+    assert_memory_equal(loaded.tm, grid.tm, 6000u);
+}
+
 /* A save that dies half-way (power cut, failing flash) leaves the previous map loadable. */
 static void test_torn_save_keeps_the_last_good_map(void **state)
 {
     (void)state;
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     odom_pose_t pose = {1, 2, 3u};
     save(&pose, 1u); /* slot 0, seq 1: the good map */
     uint8_t good_om0 = grid.om[0];
@@ -127,7 +161,7 @@ static void test_torn_save_keeps_the_last_good_map(void **state)
 static void test_damage_is_detected(void **state)
 {
     (void)state;
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     odom_pose_t pose = {0, 0, 0u};
     save(&pose, 1u);
     grid.tm[9] = 1u;
@@ -150,7 +184,7 @@ static void test_damage_is_detected(void **state)
 static void test_map_changing_during_a_save_stays_consistent(void **state)
 {
     (void)state;
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     odom_pose_t pose = {0, 0, 0u};
     mapstore_begin(&store, &grid, &pose, 0u);
     uint32_t k = 0;
@@ -215,7 +249,7 @@ static void test_no_storage_means_no_saves(void **state)
 {
     (void)state;
     fake_hal.storage_size = 1000u; /* too small for a record */
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     assert_false(store.available);
     odom_pose_t pose = {0, 0, 0u};
     mapstore_begin(&store, &grid, &pose, 0u);
@@ -235,6 +269,7 @@ int main(void)
         cmocka_unit_test_setup(test_robot_idle_saves_periodically_and_on_request, setup),
         cmocka_unit_test_setup(test_save_waits_for_the_robot_to_stop, setup),
         cmocka_unit_test_setup(test_no_storage_means_no_saves, setup),
+        cmocka_unit_test_setup(test_map_of_another_size_is_refused, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -56,7 +56,7 @@ static int version_loaded(void)
 static void reboot(void)
 {
     fake_hal_power_on();
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
 }
 
 /* Save version v; with a budget, the power fails after that many bytes. Returns whether
@@ -86,7 +86,7 @@ static int setup(void **state)
     slam_config_default(&cfg);
     grid_init(&grid, &cfg);
     grid_init(&loaded, &cfg);
-    mapstore_init(&store);
+    mapstore_init(&store, &grid);
     assert_true(save(1u, -1, 0u));
     assert_true(save(2u, -1, 0u));
     memcpy(saved, fake_hal.storage, sizeof saved);

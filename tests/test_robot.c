@@ -79,7 +79,7 @@ static void test_ticks_drive_sweep_and_map(void **state)
         grid_cell_t here;
         assert_int_equal(grid_cell_of(&robot.grid, robot.pose.x_um, robot.pose.y_um, &here),
                          SLAM_OK);
-        ticks_in[grid_index(here)]++;
+        ticks_in[grid_index(&robot.grid, here)]++;
         if (fake_hal.calls_trigger != triggers) {
             pings++;
             /* The sensor answers on the next poll: a wall 0.5 m ahead of the sonar, which

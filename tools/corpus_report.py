@@ -53,9 +53,10 @@ NOT_FIT = "does not fit the grid"
 
 def fits_grid(m):
     """Whether a run's room fits the simulator's grid (metrics.json: the room's bounds
-    against the grid's cells). host_sim centres the room on the grid, with up to half a
-    cell lost where the start's cell falls. The one place this is decided: when the grid is
-    sized to the home, this function goes."""
+    against the run's grid, scenario.grid). host_sim centres the room on the grid, with up
+    to half a cell lost where the start's cell falls, and grows the grid past 256 x 256 up
+    to its capacity for a room that needs it: only a room beyond the capacity, or a run
+    given grid_a or grid_b, can fail here. The one place the report decides it."""
     sc = m["scenario"]
     x0, y0, x1, y1 = sc["room_bounds"]
     cell = sc["cell_mm"] / 1000.0

@@ -48,9 +48,12 @@ enum {
     RULE_THRESHOLD,       /* post_threshold below OMmax (counting) or the evidence limit */
     RULE_TOP_SPEED,       /* no faster than top_speed_mm_s */
     RULE_ABOVE_CLEARANCE, /* follow_um > clearance_um */
-    RULE_CORRIDOR         /* clearance_um · the corridor ahead fits SLAM_CORRIDOR_CELLS_MAX */
+    RULE_CORRIDOR,        /* clearance_um · the corridor ahead fits SLAM_CORRIDOR_CELLS_MAX */
+    RULE_GRID,            /* grid_a, grid_b: 0 (the capacity) or at least 3 cells */
+    RULE_IN_GRID_A,       /* start_cell_a below the grid's A (grid_a, or the capacity) */
+    RULE_IN_GRID_B        /* start_cell_b below the grid's B */
 };
-_Static_assert(RULE_CORRIDOR < 64, "a rule fits the six bits above a field's storage");
+_Static_assert(RULE_IN_GRID_B < 64, "a rule fits the six bits above a field's storage");
 
 /* What a row of config_fields.h must agree with: its member exists and has the row's type
  * (a compile error names the member otherwise), rows follow the members' order (so the
@@ -174,6 +177,13 @@ static bool rule_holds(const slam_config_t *c, unsigned rule, uint32_t v)
     case RULE_CORRIDOR:
         return slam_corridor_rows(c->cell_um) * slam_corridor_columns(c->cell_um, v) <=
                SLAM_CORRIDOR_CELLS_MAX;
+    case RULE_GRID:
+        /* Below 3 a grid has no inside cell: the pose correction's wall search needs one. */
+        return v == 0u || v >= 3u;
+    case RULE_IN_GRID_A:
+        return v < grid_cells_a(c);
+    case RULE_IN_GRID_B:
+        return v < grid_cells_b(c);
     default:
         return true;
     }

@@ -13,25 +13,30 @@ void grid_init(grid_t *g, const slam_config_t *cfg)
     g->origin_x_um = grid_origin_um(cfg->start_x_um, cfg->start_cell_a, cfg->cell_um);
     g->origin_y_um = grid_origin_um(cfg->start_y_um, cfg->start_cell_b, cfg->cell_um);
     g->cell_um = cfg->cell_um;
+    g->a_cells = grid_cells_a(cfg);
+    g->b_cells = grid_cells_b(cfg);
+    grid_set_spans(g);
     g->om_max = cfg->om_max;
     g->tm_max = cfg->tm_max;
     g->mode = cfg->om_mode;
     g->hit = cfg->om_hit;
     g->miss = cfg->om_miss;
     g->rejected = 0u;
-    memset(g->om, g->mode == OM_MODE_EVIDENCE ? (int)GRID_EVIDENCE_ZERO : 0, sizeof g->om);
-    memset(g->tm, 0, sizeof g->tm);
+    /* The A·B cells used: nothing reads past them, and a large capacity (the simulator's
+     * 2 MiB) costs nothing where the run's grid is small. */
+    memset(g->om, g->mode == OM_MODE_EVIDENCE ? (int)GRID_EVIDENCE_ZERO : 0, grid_cells(g));
+    memset(g->tm, 0, grid_cells(g));
 }
 
-/* One axis of Eq. 1-2: int((v - origin) / L), or -1 outside [0, n). The difference is
- * taken modulo 2^32: a point below the origin, or beyond the grid, wraps to a value past
- * n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin lie within
- * ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one
- * instruction on the MCU) does the rest. */
-static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t n)
+/* One axis of Eq. 1-2: int((v - origin) / L), or -1 outside [0, n), span = n·L. The
+ * difference is taken modulo 2^32: a point below the origin, or beyond the grid, wraps to a
+ * value past n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin lie
+ * within ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one instruction
+ * on the MCU) does the rest. */
+static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t span_um)
 {
     uint32_t d = (uint32_t)v_um - (uint32_t)origin_um;
-    if (d >= cell_um * n) {
+    if (d >= span_um) {
         return -1;
     }
     return (int32_t)(d / cell_um);
@@ -39,8 +44,8 @@ static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint
 
 int grid_cell_of(const grid_t *g, int32_t x_um, int32_t y_um, grid_cell_t *cell)
 {
-    int32_t a = axis_cell(x_um, g->origin_x_um, g->cell_um, SLAM_GRID_A);
-    int32_t b = axis_cell(y_um, g->origin_y_um, g->cell_um, SLAM_GRID_B);
+    int32_t a = axis_cell(x_um, g->origin_x_um, g->cell_um, g->span_x_um);
+    int32_t b = axis_cell(y_um, g->origin_y_um, g->cell_um, g->span_y_um);
     if (a < 0 || b < 0) {
         return SLAM_EOUTSIDE;
     }
@@ -59,7 +64,7 @@ static uint8_t *cell_at(grid_t *g, uint8_t *map, int32_t x_um, int32_t y_um)
         }
         return NULL;
     }
-    return &map[grid_index(c)];
+    return &map[grid_index(g, c)];
 }
 
 /* Eq. 6 and 7 share one rule: +1 while below the maximum, else stay at the maximum. */
@@ -113,7 +118,7 @@ void grid_om_part(grid_t *g, int32_t x_um, int32_t y_um, uint8_t step, bool take
 {
     grid_cell_t c;
     if (g->mode == OM_MODE_EVIDENCE && grid_cell_of(g, x_um, y_um, &c) == SLAM_OK) {
-        uint8_t *cell = &g->om[grid_index(c)];
+        uint8_t *cell = &g->om[grid_index(g, c)];
         if (take_back) {
             *cell = evidence_lower(*cell, step, GRID_EVIDENCE_LO);
         } else {
@@ -137,7 +142,7 @@ int grid_om_free(grid_t *g, int32_t x_um, int32_t y_um)
 
 void grid_om_behind(grid_t *g, grid_cell_t c)
 {
-    uint8_t *cell = &g->om[grid_index(c)];
+    uint8_t *cell = &g->om[grid_index(g, c)];
     if (g->mode == OM_MODE_EVIDENCE && *cell > GRID_EVIDENCE_ZERO) {
         *cell = evidence_lower(*cell, g->miss, GRID_EVIDENCE_ZERO);
     }
@@ -157,7 +162,9 @@ uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int
 {
     int32_t a = axis_coord(x0_um, g->origin_x_um, g->cell_um);
     int32_t b = axis_coord(y0_um, g->origin_y_um, g->cell_um);
-    if (g->mode != OM_MODE_EVIDENCE || (uint32_t)a >= SLAM_GRID_A || (uint32_t)b >= SLAM_GRID_B) {
+    const uint32_t na_cells = g->a_cells;
+    const uint32_t nb_cells = g->b_cells;
+    if (g->mode != OM_MODE_EVIDENCE || (uint32_t)a >= na_cells || (uint32_t)b >= nb_cells) {
         return 0u;
     }
     int32_t a1 = axis_coord(x1_um, g->origin_x_um, g->cell_um);
@@ -172,12 +179,12 @@ uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int
     bool along_a = da >= db;
     int32_t major = along_a ? da : db;
     int32_t minor = along_a ? db : da;
-    int32_t step_major = along_a ? sa : sb * (int32_t)SLAM_GRID_A;
-    int32_t step_minor = along_a ? sb * (int32_t)SLAM_GRID_A : sa;
-    uint8_t *cell = &g->om[(uint32_t)b * SLAM_GRID_A + (uint32_t)a];
+    int32_t step_major = along_a ? sa : sb * (int32_t)na_cells;
+    int32_t step_minor = along_a ? sb * (int32_t)na_cells : sa;
+    uint8_t *cell = &g->om[(uint32_t)b * na_cells + (uint32_t)a];
     uint32_t miss = g->miss;
     int32_t err = major / 2;
-    if ((uint32_t)a1 < SLAM_GRID_A && (uint32_t)b1 < SLAM_GRID_B) {
+    if ((uint32_t)a1 < na_cells && (uint32_t)b1 < nb_cells) {
         /* Both ends inside: so is every cell between (the grid is convex), and the walk
          * is the tight loop of a reading's cost, a few instructions a cell. */
         uint32_t n = (uint32_t)major + 1u;
@@ -211,10 +218,10 @@ uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int
             a += na;
             b += nb;
         }
-        if (k == 0 || (uint32_t)a >= SLAM_GRID_A || (uint32_t)b >= SLAM_GRID_B) {
+        if (k == 0 || (uint32_t)a >= na_cells || (uint32_t)b >= nb_cells) {
             break;
         }
-        cell = &g->om[(uint32_t)b * SLAM_GRID_A + (uint32_t)a];
+        cell = &g->om[(uint32_t)b * na_cells + (uint32_t)a];
     }
     return n;
 }

@@ -55,10 +55,10 @@ static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t ran
 {
     grid_cell_t hit;
     if (grid_cell_of(g, x_um, y_um, &hit) != SLAM_OK ||
-        (range_um <= m->cell_um && grid_state(g, grid_index(hit)) != GRID_OCCUPIED)) {
+        (range_um <= m->cell_um && grid_state(g, grid_index(g, hit)) != GRID_OCCUPIED)) {
         return; /* (an echo nearer than a cell has no cell nearer along its beam) */
     }
-    bool wall = grid_state(g, grid_index(hit)) == GRID_OCCUPIED;
+    bool wall = grid_state(g, grid_index(g, hit)) == GRID_OCCUPIED;
     int32_t x;
     int32_t y;
     grid_cell_t next;
@@ -69,7 +69,7 @@ static void faces(mapper_t *m, grid_t *g, const sonar_beam_t *beam, uint32_t ran
     if (wall) {
         grid_om_behind(g, next);
     } else {
-        m->shadowed = grid_state(g, grid_index(next)) == GRID_OCCUPIED;
+        m->shadowed = grid_state(g, grid_index(g, next)) == GRID_OCCUPIED;
     }
 }
 

@@ -29,7 +29,11 @@ uint32_t mapstore_crc32(uint32_t crc, const uint8_t *data, uint32_t len)
     return ~crc;
 }
 
-#define DATA_BYTES (2u * SLAM_GRID_CELLS)
+/* A record holds OM then TM, A·B cells each: its size follows the grid's. */
+static uint32_t data_bytes(uint16_t a, uint16_t b)
+{
+    return 2u * (uint32_t)a * b;
+}
 
 static uint32_t header_crc(const mapstore_header_t *h)
 {
@@ -51,10 +55,10 @@ int mapstore_read_header(uint8_t slot, mapstore_header_t *h)
 
 static bool data_good(uint8_t slot, const mapstore_header_t *h);
 
-void mapstore_init(mapstore_t *s)
+void mapstore_init(mapstore_t *s, const grid_t *g)
 {
     memset(s, 0, sizeof *s);
-    s->available = hal_storage_size() >= sizeof(mapstore_header_t) + DATA_BYTES;
+    s->available = hal_storage_size() >= sizeof(mapstore_header_t) + 2u * grid_cells(g);
     s->last_slot = HAL_STORAGE_SLOTS - 1u; /* so the first save goes to slot 0 */
     if (!s->available) {
         return;
@@ -86,8 +90,8 @@ void mapstore_begin(mapstore_t *s, const grid_t *g, const odom_pose_t *pose, uin
         .magic = MAPSTORE_MAGIC,
         .version = MAPSTORE_VERSION,
         .header_bytes = sizeof(mapstore_header_t),
-        .a = SLAM_GRID_A,
-        .b = SLAM_GRID_B,
+        .a = g->a_cells,
+        .b = g->b_cells,
         .cell_um = g->cell_um,
         .origin_x_um = g->origin_x_um,
         .origin_y_um = g->origin_y_um,
@@ -118,15 +122,16 @@ bool mapstore_step(mapstore_t *s, const grid_t *g)
     if (!s->active) {
         return false;
     }
-    if (s->offset < DATA_BYTES) {
+    const uint32_t cells = grid_cells(g);
+    if (s->offset < 2u * cells) {
         /* Copy the chunk out first: the tick may change the map meanwhile, and the CRC
          * must describe exactly the bytes written. */
         uint8_t chunk[MAPSTORE_CHUNK];
-        uint32_t n = DATA_BYTES - s->offset;
+        uint32_t n = 2u * cells - s->offset;
         n = n > MAPSTORE_CHUNK ? MAPSTORE_CHUNK : n;
         for (uint32_t i = 0; i < n; i++) {
             uint32_t k = s->offset + i;
-            chunk[i] = k < SLAM_GRID_CELLS ? g->om[k] : g->tm[k - SLAM_GRID_CELLS];
+            chunk[i] = k < cells ? g->om[k] : g->tm[k - cells];
         }
         if (hal_storage_write(s->slot, sizeof(mapstore_header_t) + s->offset, chunk, n) != HAL_OK) {
             abandon(s);
@@ -154,10 +159,14 @@ bool mapstore_step(mapstore_t *s, const grid_t *g)
 /* Whether a slot's data matches the CRC in its header. */
 static bool data_good(uint8_t slot, const mapstore_header_t *h)
 {
+    if (h->a > SLAM_GRID_A || h->b > SLAM_GRID_B) {
+        return false; /* no run of this build wrote it; and A·B could pass 32 bits */
+    }
     uint32_t crc = 0u;
-    for (uint32_t off = 0; off < DATA_BYTES; off += MAPSTORE_CHUNK) {
+    const uint32_t bytes = data_bytes(h->a, h->b);
+    for (uint32_t off = 0; off < bytes; off += MAPSTORE_CHUNK) {
         uint8_t chunk[MAPSTORE_CHUNK];
-        uint32_t n = DATA_BYTES - off > MAPSTORE_CHUNK ? MAPSTORE_CHUNK : DATA_BYTES - off;
+        uint32_t n = bytes - off > MAPSTORE_CHUNK ? MAPSTORE_CHUNK : bytes - off;
         if (hal_storage_read(slot, sizeof(mapstore_header_t) + off, chunk, n) != HAL_OK) {
             return false;
         }
@@ -187,18 +196,21 @@ int mapstore_load(grid_t *g, odom_pose_t *pose)
         }
         ok[best] = false;
         const mapstore_header_t *b = &h[best];
-        if (b->a != SLAM_GRID_A || b->b != SLAM_GRID_B) {
+        /* Another size is another run's map (grid_a, grid_b): read into this grid, its rows
+         * would fall apart. */
+        if (b->a != g->a_cells || b->b != g->b_cells) {
             wrong_size = 1;
             continue;
         }
+        const uint32_t cells = grid_cells(g);
         if (!data_good((uint8_t)best, b) ||
-            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t), g->om, SLAM_GRID_CELLS) !=
-                HAL_OK ||
-            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t) + SLAM_GRID_CELLS, g->tm,
-                             SLAM_GRID_CELLS) != HAL_OK) {
+            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t), g->om, cells) != HAL_OK ||
+            hal_storage_read((uint8_t)best, sizeof(mapstore_header_t) + cells, g->tm, cells) !=
+                HAL_OK) {
             continue;
         }
         g->cell_um = b->cell_um;
+        grid_set_spans(g);
         g->origin_x_um = b->origin_x_um;
         g->origin_y_um = b->origin_y_um;
         if (pose != NULL) {

@@ -36,7 +36,7 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
     r->tick_us = hal_time_us();
     r->ping_errors = 0u;
     r->idle_ticks = 0u;
-    mapstore_init(&r->store);
+    mapstore_init(&r->store, &r->grid);
     telem_init(&r->telem);
     r->next_save = (uint32_t)cfg->save_period_s * (1000000u / SLAM_TICK_US);
     r->save_requested = false;

@@ -163,8 +163,8 @@ static void send_event(telem_t *t, uint8_t *frame, const telem_event_t *e)
 static void send_hello(telem_t *t, uint8_t *frame, const grid_t *g, const slam_config_t *cfg)
 {
     uint8_t *p = put8(PAYLOAD(frame), TELEM_VERSION);
-    p = put16(p, SLAM_GRID_A);
-    p = put16(p, SLAM_GRID_B);
+    p = put16(p, g->a_cells);
+    p = put16(p, g->b_cells);
     p = put32(p, g->cell_um);
     p = put32(p, (uint32_t)g->origin_x_um);
     p = put32(p, (uint32_t)g->origin_y_um);
@@ -200,18 +200,18 @@ static void send_status(telem_t *t, uint8_t *frame, const telem_status_t *st)
 }
 
 /* The cells of the map row segment at (row, first). */
-static uint16_t map_row_cells(const telem_t *t)
+static uint16_t map_row_cells(const telem_t *t, const grid_t *g)
 {
-    uint16_t n = (uint16_t)(SLAM_GRID_A - t->first);
+    uint16_t n = (uint16_t)(g->a_cells - t->first);
     return n > TELEM_MAP_CELLS ? (uint16_t)TELEM_MAP_CELLS : n;
 }
 
 /* The map row segment at (map, row, first): OM then TM, round and round. */
 static void send_map_row(telem_t *t, uint8_t *frame, const grid_t *g)
 {
-    uint16_t n = map_row_cells(t);
+    uint16_t n = map_row_cells(t, g);
     const uint8_t *cells =
-        (t->map == 0u ? g->om : g->tm) + (uint32_t)t->row * SLAM_GRID_A + t->first;
+        (t->map == 0u ? g->om : g->tm) + (uint32_t)t->row * g->a_cells + t->first;
     uint8_t *p = put8(PAYLOAD(frame), t->map);
     p = put16(p, t->row);
     p = put16(p, t->first);
@@ -220,12 +220,12 @@ static void send_map_row(telem_t *t, uint8_t *frame, const grid_t *g)
 }
 
 /* The segment after, whether the last was sent or not. */
-static void next_map_row(telem_t *t)
+static void next_map_row(telem_t *t, const grid_t *g)
 {
-    t->first = (uint16_t)(t->first + map_row_cells(t));
-    if (t->first >= SLAM_GRID_A) {
+    t->first = (uint16_t)(t->first + map_row_cells(t, g));
+    if (t->first >= g->a_cells) {
         t->first = 0u;
-        if (++t->row >= SLAM_GRID_B) {
+        if (++t->row >= g->b_cells) {
             t->row = 0u;
             t->map ^= 1u;
         }
@@ -286,7 +286,7 @@ void telem_idle(telem_t *t, const grid_t *g, const slam_config_t *cfg, const tel
         if (!unheard(t, heard)) {
             send_map_row(t, frame, g);
         }
-        next_map_row(t);
+        next_map_row(t, g);
     }
 }
 

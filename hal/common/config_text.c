@@ -32,6 +32,9 @@ typedef struct {
 #define PARTNERS_TOP_SPEED "top_speed_mm_s"
 #define PARTNERS_ABOVE_CLEARANCE "clearance_um"
 #define PARTNERS_CORRIDOR "cell_um"
+#define PARTNERS_GRID NULL
+#define PARTNERS_IN_GRID_A "grid_a"
+#define PARTNERS_IN_GRID_B "grid_b"
 
 /* The rows of config_fields.h. Their words are the only place the firmware's ranges are
  * said in words: the firmware names only the field. A leading "lo..hi" is the field's

@@ -10,6 +10,7 @@ what the banner and metrics.json report is what the firmware ran with; and every
 its own run, even with every error source off.
 """
 import filecmp
+import json
 import os
 import sys
 
@@ -98,7 +99,10 @@ for args, says in [
      "top_speed_mm_s (top_speed_mm_s = 150)"),
     (["--paper", "--set", "om_max=2"],
      "--paper: post_threshold = 3 is out of its valid range: 0..254, below om_max when om_mode is 0"),
-    (["--set", "start_cell_a=255"], "--set start_cell_a=255: with the start in cell 255 along x"),
+    # A start cell at the grid's edge: the grid grows to fit the room, unless its size is set.
+    (["--set", "start_cell_a=255", "--set", "grid_a=256"],
+     "--set start_cell_a=255: with the start in cell 255 along x, the grid of 256 cells"),
+    (["--set", "grid_a=60"], "--set grid_a=60: with the start in cell 30 along x, the grid of 60 cells"),
     (["--set", "wheel_base_um=99999999999999999999"], "out of its valid range: 50000..1000000"),
     (["--set", "wheel_base_um=-130000"], "wheel_base_um = '-130000': out of its valid range: 50000..1000000"),
     (["--set", "no_such_key=1"], "unknown key 'no_such_key' (the keys are the fields of firmware/include/slam/config_fields.h"),
@@ -155,5 +159,34 @@ p = sim.run("--calibration", bad, "--out", sim.out("never"), expect=2)
 check("bad-cal.conf:2" in p.stderr and "cal_left" in p.stderr and
       not os.path.exists(sim.out("never")),
       "a calibration value out of range: exit 2, naming the file's line and key")
+
+# The grid's size. A 4 x 4 m room fits the usual 256 x 256 grid, and config.txt says so.
+square = write("square4.room", "wall 0 0 4 0\nwall 4 0 4 4\nwall 4 4 0 4\nwall 0 4 0 0\n"
+               "start 2 2 0\n")
+out = sim.out("grid256")
+sim.run("--room", square, "--duration", 5, "--out", out)
+c = config_of(out)
+check(c["grid_a"] == "256" and c["grid_b"] == "256", "a room that fits: the 256 x 256 grid")
+# grid_a and grid_b given: the run's grid is theirs, the room centred on it.
+out = sim.out("grid100")
+sim.run("--room", square, "--set", "grid_a=100", "--set", "grid_b=90", "--duration", 5,
+        "--out", out)
+c = config_of(out)
+with open(os.path.join(out, "om.pgm"), "rb") as f:
+    head = f.read(20).split(b"\n")
+check(c["grid_a"] == "100" and c["grid_b"] == "90" and c["start_cell_a"] == "50" and
+      head[1] == b"100 90", "grid_a = 100, grid_b = 90: a 100 x 90 map, the start at its middle")
+# A room wider than 12.8 m grows the grid, and nothing falls outside it.
+wide = write("wide.room", "wall 0 0 20 0\nwall 20 0 20 3\nwall 20 3 0 3\nwall 0 3 0 0\n"
+             "start 1 1.5 0\n")
+out = sim.out("grid_wide")
+sim.run("--room", wide, "--duration", 60, "--out", out)
+c = config_of(out)
+with open(os.path.join(out, "metrics.json")) as f:
+    m = json.load(f)
+check(int(c["grid_a"]) * 0.05 >= 20.0 and c["grid_b"] == "256" and
+      m["scenario"]["grid"]["a"] == int(c["grid_a"]) and m["robot"]["outside_grid"] == 0,
+      "a 20 m room: the grid grown along x to hold it, no point outside (grid_a = %s)"
+      % c["grid_a"])
 
 sim.done()

@@ -86,8 +86,10 @@ typedef struct {
     int32_t start_y_um;         /**< 0 */
     int32_t start_heading_mdeg; /**< 0 (facing +x) */
 
-    /* Grids (Eq. 1-2, 6-7); A and B are SLAM_GRID_A/SLAM_GRID_B. */
+    /* Grids (Eq. 1-2, 6-7). */
     uint32_t cell_um;      /**< L, the side of a square cell; 50 mm */
+    uint16_t grid_a;       /**< A, cells along x: 3..SLAM_GRID_A, or 0 for SLAM_GRID_A; 0 */
+    uint16_t grid_b;       /**< B, cells along y: 3..SLAM_GRID_B, or 0 for SLAM_GRID_B; 0 */
     uint16_t start_cell_a; /**< the cell (a, b) whose centre is the start pose; */
     uint16_t start_cell_b; /**< the centre of the grid by default */
     uint8_t om_max;        /**< OMmax, Eq. 6 (OM_MODE_COUNT); 9 */

@@ -14,7 +14,8 @@
  * - lo, hi: the valid range, both included (signed for I32 and Q30).
  * - rule: what the field must hold besides its range, comparing it with other fields
  *   (config.c's RULE_*: NONE, CELL, ABOVE_MIN, STOPS, PULSES, THRESHOLD, TOP_SPEED,
- *   ABOVE_CLEARANCE, CORRIDOR); the field named when the rule fails is this one.
+ *   ABOVE_CLEARANCE, CORRIDOR, GRID, IN_GRID_A, IN_GRID_B); the field named when the
+ *   rule fails is this one.
  * - id: its telemetry key for GET and SET (telemetry.h), 1..255. The ids are the
  *   protocol: never renumber one; a new field takes a new id, whatever its place.
  * - live: LIVE when SET may change it while the robot runs, FIXED when it takes effect
@@ -72,9 +73,13 @@
     /* Grids. */                                                                                   \
     X(cell_um, U32, 50000, 20000, 1000000, CELL, 11, FIXED,                                        \
       "20000..1000000, and at most 1 km over the grid's longer side")                              \
-    X(start_cell_a, U16, SLAM_GRID_A / 2, 0, SLAM_GRID_A - 1, NONE, 12, FIXED,                     \
+    X(grid_a, U16, 0, 0, SLAM_GRID_A, GRID, 53, FIXED,                                             \
+      "0..65535: 3 up to the build's grid capacity along x, or 0 for all of it")                   \
+    X(grid_b, U16, 0, 0, SLAM_GRID_B, GRID, 54, FIXED,                                             \
+      "0..65535: 3 up to the build's grid capacity along y, or 0 for all of it")                   \
+    X(start_cell_a, U16, SLAM_GRID_A / 2, 0, SLAM_GRID_A - 1, IN_GRID_A, 12, FIXED,                \
       "0..65535, below the grid's cells along x")                                                  \
-    X(start_cell_b, U16, SLAM_GRID_B / 2, 0, SLAM_GRID_B - 1, NONE, 13, FIXED,                     \
+    X(start_cell_b, U16, SLAM_GRID_B / 2, 0, SLAM_GRID_B - 1, IN_GRID_B, 13, FIXED,                \
       "0..65535, below the grid's cells along y")                                                  \
     X(om_max, U8, 9, 1, UINT8_MAX, NONE, 14, FIXED,                                                \
       "1..255, and above post_threshold when om_mode is 0")                                        \

@@ -24,9 +24,11 @@
 #define EXPLORE_POINTS 16u     /**< obstacle points remembered */
 #define EXPLORE_TRAIL 8u       /**< trail positions kept */
 #define EXPLORE_BLOCK_SHIFT 4u /**< frontier blocks are 16 x 16 cells */
+/* The blocks of the capacity, for the bit maps; a run's grid uses the first of them. */
 #define EXPLORE_BLOCKS_A ((SLAM_GRID_A + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS_B ((SLAM_GRID_B + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS (EXPLORE_BLOCKS_A * EXPLORE_BLOCKS_B)
+_Static_assert(EXPLORE_BLOCKS <= 0xFFFFu, "a block's number fits a uint16_t");
 #define EXPLORE_SEEK_CANDIDATES 4u /**< the nearest frontier blocks looked at */
 
 /** A frame of the robot: fixed.h's, an origin and a heading by its cosine and sine. */
@@ -64,6 +66,8 @@ typedef struct {
     uint8_t stops; /**< sweep stops */
     uint8_t laps;  /**< square: laps to drive; 0 = forever */
     uint8_t tm_max;
+    uint16_t grid_a; /**< the grid's cells along x (grid_cells_a()) */
+    uint16_t grid_b; /**< and along y */
 } explore_cfg_t;
 
 /** What the exploration did, counted since the robot started (a reconfiguration keeps it). */
@@ -199,6 +203,7 @@ typedef struct {
     uint32_t target_since;                        /**< `now` when it was chosen */
     uint32_t free_scan;                           /**< the cell the rolling scan reads next */
     uint32_t target;                              /**< the block crossed to; 0xFFFF none */
+    uint16_t blocks_a, blocks_b;                  /**< the run's grid in blocks, per side */
     uint8_t explored[(EXPLORE_BLOCKS + 7u) / 8u]; /**< a known free cell lies in it */
     uint8_t dead[(EXPLORE_BLOCKS + 7u) / 8u];     /**< sought and not reached: given up */
     bool reached;                                 /**< the target was reached: seek the next */

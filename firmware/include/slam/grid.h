@@ -4,8 +4,11 @@
  * The two occupancy grids of the paper: the obstacle map OM and the trajectory map TM.
  *
  * Both are A×B arrays of `uint8_t` cells of side L (Eq. 1-2), A cells along world x and
- * B along world y. Cell (a, b) covers x in [ox + a·L, ox + (a+1)·L) and y likewise, where
- * (ox, oy) is the grid origin: the world position of the lower-left corner of cell (0, 0).
+ * B along world y. A and B are the grid's own (a_cells, b_cells), set at grid_init() from
+ * the configuration's grid_a and grid_b within the capacity the build reserves,
+ * SLAM_GRID_A × SLAM_GRID_B: one firmware image serves a small room and a whole flat, and a
+ * saved map records its size. Cell (a, b) covers x in [ox + a·L, ox + (a+1)·L) and y likewise,
+ * where (ox, oy) is the grid origin: the world position of the lower-left corner of cell (0, 0).
  * The origin puts the start pose at the centre of a configurable start cell, so negative
  * world coordinates map into the grid.
  *
@@ -34,11 +37,13 @@
 
 #include "slam/config.h"
 
+/* The capacity: the most cells along each side a run may ask for (grid_a, grid_b), the
+ * size of the static arrays. A run's grid uses the first A·B cells of each. */
 #ifndef SLAM_GRID_A
-#define SLAM_GRID_A 160u /**< cells along world x (8 m at the default 50 mm) */
+#define SLAM_GRID_A 160u /**< most cells along world x (8 m at the default 50 mm) */
 #endif
 #ifndef SLAM_GRID_B
-#define SLAM_GRID_B 160u /**< cells along world y */
+#define SLAM_GRID_B 160u /**< most cells along world y */
 #endif
 #define SLAM_GRID_CELLS ((uint32_t)SLAM_GRID_A * (uint32_t)SLAM_GRID_B)
 
@@ -61,14 +66,18 @@ typedef struct {
     int32_t origin_x_um;         /**< world x of the lower-left corner of cell (0, 0) */
     int32_t origin_y_um;         /**< world y of the lower-left corner of cell (0, 0) */
     uint32_t cell_um;            /**< L */
+    uint16_t a_cells;            /**< A: cells along x, 3..SLAM_GRID_A */
+    uint16_t b_cells;            /**< B: cells along y, 3..SLAM_GRID_B */
+    uint32_t span_x_um;          /**< A·L, kept: every point's test compares with it */
+    uint32_t span_y_um;          /**< B·L */
     uint8_t om_max;              /**< OMmax */
     uint8_t tm_max;              /**< TMmax */
     uint8_t mode;                /**< an om_mode_t */
     uint8_t hit;                 /**< OM_MODE_EVIDENCE: log-odds step of a hit */
     uint8_t miss;                /**< OM_MODE_EVIDENCE: log-odds step of a pass */
     uint32_t rejected;           /**< points that fell outside the grid (saturating) */
-    uint8_t om[SLAM_GRID_CELLS]; /**< obstacle map, index b·A + a */
-    uint8_t tm[SLAM_GRID_CELLS]; /**< trajectory map, index b·A + a */
+    uint8_t om[SLAM_GRID_CELLS]; /**< obstacle map, index b·A + a (A·B cells used) */
+    uint8_t tm[SLAM_GRID_CELLS]; /**< trajectory map, index b·A + a (A·B cells used) */
 } grid_t;
 
 /**
@@ -82,10 +91,34 @@ static inline int32_t grid_origin_um(int32_t start_um, uint16_t start_cell, uint
     return (int32_t)(start_um - (int64_t)start_cell * cell_um - (int64_t)(cell_um / 2u));
 }
 
+/** The cells along x and y a configuration asks for: grid_a and grid_b, or the capacity
+ *  where they are 0. */
+static inline uint16_t grid_cells_a(const slam_config_t *cfg)
+{
+    return cfg->grid_a != 0u ? cfg->grid_a : (uint16_t)SLAM_GRID_A;
+}
+static inline uint16_t grid_cells_b(const slam_config_t *cfg)
+{
+    return cfg->grid_b != 0u ? cfg->grid_b : (uint16_t)SLAM_GRID_B;
+}
+
+/** A·B, the cells of each map a grid uses. */
+static inline uint32_t grid_cells(const grid_t *g)
+{
+    return (uint32_t)g->a_cells * g->b_cells;
+}
+
+/** Keep span_x_um and span_y_um with the grid's size and cell: after any change of them. */
+static inline void grid_set_spans(grid_t *g)
+{
+    g->span_x_um = g->cell_um * g->a_cells;
+    g->span_y_um = g->cell_um * g->b_cells;
+}
+
 /**
  * Clear both maps (OM to unknown: 0 counted hits, or log-odds 0) and set the geometry from the
- * configuration (L, start pose, start cell, OMmax, TMmax). The configuration must have passed
- * slam_config_check().
+ * configuration (A and B, L, start pose, start cell, OMmax, TMmax). The configuration must
+ * have passed slam_config_check().
  */
 void grid_init(grid_t *g, const slam_config_t *cfg);
 
@@ -152,10 +185,10 @@ uint32_t grid_om_ray(grid_t *g, int32_t x0_um, int32_t y0_um, int32_t x1_um, int
  */
 int grid_tm_visit(grid_t *g, int32_t x_um, int32_t y_um);
 
-/** The array index b·A + a of a cell. */
-static inline uint32_t grid_index(grid_cell_t c)
+/** The array index b·A + a of a cell of a grid. */
+static inline uint32_t grid_index(const grid_t *g, grid_cell_t c)
 {
-    return (uint32_t)c.b * SLAM_GRID_A + c.a;
+    return (uint32_t)c.b * g->a_cells + c.a;
 }
 
 /** What the maps say of a cell. */

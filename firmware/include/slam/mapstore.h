@@ -70,9 +70,10 @@ typedef struct {
 /**
  * Find the newest good record (header and data CRCs both match, as mapstore_load()
  * requires), so saves continue its sequence in the other slot and never overwrite it.
- * Reads both slots whole. Not ISR-safe.
+ * Reads both slots whole. Saving is available when a slot holds the maps of grid @p g
+ * (set by grid_init()): a storage sized for a run's grid serves it. Not ISR-safe.
  */
-void mapstore_init(mapstore_t *s);
+void mapstore_init(mapstore_t *s, const grid_t *g);
 
 /** Begin a save of the maps and the pose now (ignored while one is under way). */
 void mapstore_begin(mapstore_t *s, const grid_t *g, const odom_pose_t *pose, uint32_t ticks);
@@ -91,8 +92,9 @@ bool mapstore_step(mapstore_t *s, const grid_t *g);
 int mapstore_read_header(uint8_t slot, mapstore_header_t *h);
 
 /**
- * Load the newest record whose header and data check out into a grid of this build's
- * size (an older good record if the newest is damaged). Not ISR-safe.
+ * Load the newest record whose header and data check out into a grid of its size: @p g
+ * has been through grid_init() with the grid_a and grid_b of the run that saved it (an
+ * older good record if the newest is damaged). Not ISR-safe.
  * @retval SLAM_OK       loaded (geometry and maps), pose in *pose if not NULL
  * @retval SLAM_EIO      no good record; the grid is unchanged
  * @retval SLAM_EINVAL   the only good records are of another grid size; unchanged

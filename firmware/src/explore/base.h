@@ -41,21 +41,23 @@ static inline explore_frame_t explore_frame_of(const odom_pose_t *pose)
                              fix_sin(pose->heading)};
 }
 
-/* The index of the cell at a position in Q16 cells, or EXPLORE_NO_CELL outside the grid. */
-static inline uint32_t explore_cell_q16(int32_t fx, int32_t fy)
+/* The index of the cell at a position in Q16 cells of a grid of na x nb cells, or
+ * EXPLORE_NO_CELL outside it. The loops that call it hold the grid's size in locals: OM's
+ * bytes may alias anything, so g->a_cells would be read again at every cell. */
+static inline uint32_t explore_cell_q16(uint32_t na, uint32_t nb, int32_t fx, int32_t fy)
 {
     uint32_t a = (uint32_t)fx >> 16;
     uint32_t b = (uint32_t)fy >> 16;
-    return a < SLAM_GRID_A && b < SLAM_GRID_B ? b * SLAM_GRID_A + a : EXPLORE_NO_CELL;
+    return a < na && b < nb ? b * na + a : EXPLORE_NO_CELL;
 }
 
 /* A ray's next cell: one step on, and the index of the cell it reaches (EXPLORE_NO_CELL
  * outside the grid). The caller counts the steps left. */
-static inline uint32_t explore_ray_next(explore_ray_t *r)
+static inline uint32_t explore_ray_next(explore_ray_t *r, uint32_t na, uint32_t nb)
 {
     r->fx += r->dx;
     r->fy += r->dy;
-    return explore_cell_q16(r->fx, r->fy);
+    return explore_cell_q16(na, nb, r->fx, r->fy);
 }
 
 /* ---- machine.c ---------------------------------------------------------------------- */

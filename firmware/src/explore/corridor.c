@@ -25,8 +25,8 @@ void explore_corridor_begin(explore_t *e, const grid_t *g, const explore_frame_t
     c->next = 0u;
     c->hits = 0u;
     c->work_um = INT32_MAX;
-    int32_t fx = explore_q16_cells(f->x_um, g->origin_x_um, g->cell_um, SLAM_GRID_A);
-    int32_t fy = explore_q16_cells(f->y_um, g->origin_y_um, g->cell_um, SLAM_GRID_B);
+    int32_t fx = explore_q16_cells(f->x_um, g->origin_x_um, g->cell_um, g->a_cells);
+    int32_t fy = explore_q16_cells(f->y_um, g->origin_y_um, g->cell_um, g->b_cells);
     if (fx < 0 || fy < 0) {
         c->next = (uint8_t)(c->along * c->across); /* nothing to read */
         return;
@@ -55,6 +55,8 @@ bool explore_corridor_cells(explore_t *e, const grid_t *g)
     uint8_t col = c->col;
     int32_t x = c->x;
     int32_t y = c->y;
+    const uint32_t na = g->a_cells;
+    const uint32_t nb = g->b_cells;
     for (uint32_t n = 0; n < EXPLORE_MAP_CELLS && next < total; n++) {
         /* Sample next: row next / across (along the heading), column next % across (to
          * the right), kept as a running position. */
@@ -64,7 +66,7 @@ bool explore_corridor_cells(explore_t *e, const grid_t *g)
             x = c->fx + (int32_t)row * c->dx;
             y = c->fy + (int32_t)row * c->dy;
         }
-        uint32_t k = explore_cell_q16(x, y);
+        uint32_t k = explore_cell_q16(na, nb, x, y);
         x += c->dy; /* a cell to the right */
         y -= c->dx;
         col++;

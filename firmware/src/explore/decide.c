@@ -55,8 +55,10 @@ static void ray_begin(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 static void ray_walk(explore_t *e, const grid_t *g)
 {
     explore_decide_t *d = &e->decide;
+    const uint32_t na = g->a_cells;
+    const uint32_t nb = g->b_cells;
     for (uint32_t n = 0; n < EXPLORE_RAY_CELLS && d->ray.left > 0u; n++) {
-        uint32_t k = explore_ray_next(&d->ray);
+        uint32_t k = explore_ray_next(&d->ray, na, nb);
         grid_state_t st = k == EXPLORE_NO_CELL ? GRID_OCCUPIED : grid_state(g, k);
         if (st == GRID_OCCUPIED) {
             d->ray_cost += d->ray.left * e->cfg.tm_max;

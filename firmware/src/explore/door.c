@@ -77,8 +77,8 @@ static bool walk_begin(explore_t *e, const grid_t *g)
     uint32_t n =
         (uint32_t)(far - near + EXPLORE_WALK_BEFORE_UM + EXPLORE_WALK_AFTER_UM) / e->cfg.cell_um;
     uint32_t mid = (uint32_t)((far - near) / 2 + EXPLORE_WALK_BEFORE_UM) / e->cfg.cell_um;
-    d->walk_fx = explore_q16_cells(bx, g->origin_x_um, g->cell_um, SLAM_GRID_A);
-    d->walk_fy = explore_q16_cells(by, g->origin_y_um, g->cell_um, SLAM_GRID_B);
+    d->walk_fx = explore_q16_cells(bx, g->origin_x_um, g->cell_um, g->a_cells);
+    d->walk_fy = explore_q16_cells(by, g->origin_y_um, g->cell_um, g->b_cells);
     d->walk_len = (uint8_t)(n < EXPLORE_WALK_NONE ? n : EXPLORE_WALK_NONE - 1u);
     d->walk_mid = (uint8_t)(mid < d->walk_len ? mid : d->walk_len);
     d->walk_n = 0u;
@@ -90,7 +90,7 @@ static bool walk_begin(explore_t *e, const grid_t *g)
 
 static bool occupied_at(const grid_t *g, int32_t fx, int32_t fy)
 {
-    uint32_t k = explore_cell_q16(fx, fy);
+    uint32_t k = explore_cell_q16(g->a_cells, g->b_cells, fx, fy);
     return k != EXPLORE_NO_CELL && grid_state(g, k) == GRID_OCCUPIED;
 }
 

@@ -73,6 +73,8 @@ void explore_init(explore_t *e, const slam_config_t *cfg)
         .stops = cfg->sweep_stops,
         .laps = cfg->square_laps,
         .tm_max = cfg->tm_max,
+        .grid_a = grid_cells_a(cfg),
+        .grid_b = grid_cells_b(cfg),
     };
     e->machine.rng = cfg->explore_seed;
     explore_ahead_init(e);

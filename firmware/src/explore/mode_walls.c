@@ -97,14 +97,14 @@ static void trail_look(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     grid_cell_t c;
     if (grid_cell_of(g, pose->x_um + fix_mul_q30(on, e->memory.frame.cos),
                      pose->y_um + fix_mul_q30(on, e->memory.frame.sin), &c) != 0 ||
-        c.a == 0u || c.b == 0u || c.a + 1u >= SLAM_GRID_A || c.b + 1u >= SLAM_GRID_B) {
+        c.a == 0u || c.b == 0u || c.a + 1u >= g->a_cells || c.b + 1u >= g->b_cells) {
         return;
     }
-    uint32_t k = grid_index(c);
+    uint32_t k = grid_index(g, c);
+    const uint32_t row = g->a_cells;
     const uint8_t *tm = g->tm;
-    bool driven = (tm[k - SLAM_GRID_A - 1u] | tm[k - SLAM_GRID_A] | tm[k - SLAM_GRID_A + 1u] |
-                   tm[k - 1u] | tm[k] | tm[k + 1u] | tm[k + SLAM_GRID_A - 1u] |
-                   tm[k + SLAM_GRID_A] | tm[k + SLAM_GRID_A + 1u]) != 0u;
+    bool driven = (tm[k - row - 1u] | tm[k - row] | tm[k - row + 1u] | tm[k - 1u] | tm[k] |
+                   tm[k + 1u] | tm[k + row - 1u] | tm[k + row] | tm[k + row + 1u]) != 0u;
     e->walls.retrace = driven ? e->walls.retrace + 1u : e->walls.retrace / 2u;
 }
 

@@ -21,20 +21,22 @@ static void set_bit(uint8_t *map, uint32_t k)
     map[k >> 3] = (uint8_t)(map[k >> 3] | (1u << (k & 7u)));
 }
 
-static uint32_t block_of(uint32_t a, uint32_t b)
+static uint32_t block_of(const explore_seek_t *s, uint32_t a, uint32_t b)
 {
-    return (b >> EXPLORE_BLOCK_SHIFT) * EXPLORE_BLOCKS_A + (a >> EXPLORE_BLOCK_SHIFT);
+    return (b >> EXPLORE_BLOCK_SHIFT) * s->blocks_a + (a >> EXPLORE_BLOCK_SHIFT);
 }
 
 void explore_seek_init(explore_t *e)
 {
     e->seek.target = EXPLORE_NONE;
+    e->seek.blocks_a = (uint16_t)((e->cfg.grid_a + 15u) >> EXPLORE_BLOCK_SHIFT);
+    e->seek.blocks_b = (uint16_t)((e->cfg.grid_b + 15u) >> EXPLORE_BLOCK_SHIFT);
 }
 
 void explore_seek_here(explore_t *e, grid_cell_t here)
 {
     explore_seek_t *s = &e->seek;
-    uint32_t k = block_of(here.a, here.b);
+    uint32_t k = block_of(s, here.a, here.b);
     set_bit(s->explored, k);
     if (s->target != EXPLORE_NONE && k == s->target) {
         s->target = EXPLORE_NONE; /* reached */
@@ -51,17 +53,19 @@ void explore_seek_scan(explore_t *e, const grid_t *g)
 {
     explore_seek_t *s = &e->seek;
     uint32_t i = s->free_scan;
+    const uint32_t row = g->a_cells;
+    const uint32_t cells = grid_cells(g);
     for (uint32_t n = 0; n < EXPLORE_FREE_STEPS; n++) {
-        if (i >= SLAM_GRID_CELLS) {
+        if (i >= cells) {
             i = 0u;
         }
-        uint32_t a = i % SLAM_GRID_A;
-        uint32_t k = block_of(a, i / SLAM_GRID_A);
+        uint32_t a = i % row;
+        uint32_t k = block_of(s, a, i / row);
         if (bit(s->explored, k)) {
             uint32_t next = (a | ((1u << EXPLORE_BLOCK_SHIFT) - 1u)) + 1u; /* next block */
             i += next - a;
-            if (next >= SLAM_GRID_A) {
-                i -= next - SLAM_GRID_A; /* the row's end: on to the next row */
+            if (next >= row) {
+                i -= next - row; /* the row's end: on to the next row */
             }
             continue;
         }
@@ -74,34 +78,38 @@ void explore_seek_scan(explore_t *e, const grid_t *g)
 }
 
 /* A block's centre, in cells of the grid. */
-static void block_centre(uint32_t k, int32_t *a, int32_t *b)
+static void block_centre(const explore_seek_t *s, uint32_t k, int32_t *a, int32_t *b)
 {
-    *a = (int32_t)((k % EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) +
-         (1 << (EXPLORE_BLOCK_SHIFT - 1u));
-    *b = (int32_t)((k / EXPLORE_BLOCKS_A) << EXPLORE_BLOCK_SHIFT) +
-         (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+    *a = (int32_t)((k % s->blocks_a) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
+    *b = (int32_t)((k / s->blocks_a) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
 }
 
 /* An unexplored block, not given up, next to an explored one. */
+/* The blocks of the run's grid. */
+static uint32_t blocks(const explore_seek_t *s)
+{
+    return (uint32_t)s->blocks_a * s->blocks_b;
+}
+
 static bool frontier(const explore_seek_t *s, uint32_t k)
 {
     if (bit(s->explored, k) || bit(s->dead, k)) {
         return false;
     }
-    uint32_t ba = k % EXPLORE_BLOCKS_A;
-    uint32_t bb = k / EXPLORE_BLOCKS_A;
+    uint32_t ba = k % s->blocks_a;
+    uint32_t bb = k / s->blocks_a;
     return (ba > 0u && bit(s->explored, k - 1u)) ||
-           (ba + 1u < EXPLORE_BLOCKS_A && bit(s->explored, k + 1u)) ||
-           (bb > 0u && bit(s->explored, k - EXPLORE_BLOCKS_A)) ||
-           (bb + 1u < EXPLORE_BLOCKS_B && bit(s->explored, k + EXPLORE_BLOCKS_A));
+           (ba + 1u < s->blocks_a && bit(s->explored, k + 1u)) ||
+           (bb > 0u && bit(s->explored, k - s->blocks_a)) ||
+           (bb + 1u < s->blocks_b && bit(s->explored, k + s->blocks_a));
 }
 
 /* Begin the line of sight to candidate i: from the robot's cell centre to the block's. */
-static void sight_begin(explore_search_t *r)
+static void sight_begin(explore_search_t *r, const explore_seek_t *s)
 {
     int32_t ta;
     int32_t tb;
-    block_centre(r->block[r->i], &ta, &tb);
+    block_centre(s, r->block[r->i], &ta, &tb);
     int32_t dx = ta - (int32_t)r->a;
     int32_t dy = tb - (int32_t)r->b;
     uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
@@ -116,8 +124,10 @@ static void sight_begin(explore_search_t *r)
 /* A few cells of the line of sight; false when an occupied cell blocks it. */
 static bool sight_walk(explore_search_t *r, const grid_t *g)
 {
+    const uint32_t na = g->a_cells;
+    const uint32_t nb = g->b_cells;
     for (uint32_t n = 0; n < EXPLORE_SIGHT_CELLS && r->sight.left > 0u; n++) {
-        uint32_t k = explore_ray_next(&r->sight);
+        uint32_t k = explore_ray_next(&r->sight, na, nb);
         r->sight.left--;
         if (k == EXPLORE_NO_CELL || grid_state(g, k) == GRID_OCCUPIED) {
             return false;
@@ -148,15 +158,16 @@ void explore_seek(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 static void weigh_blocks(explore_t *e)
 {
     explore_search_t *r = &e->search;
+    const explore_seek_t *s = &e->seek;
     uint32_t reach = EXPLORE_SEEK_REACH_UM / e->cfg.cell_um;
-    for (uint32_t n = 0; n < EXPLORE_SEEK_BLOCKS && r->next < EXPLORE_BLOCKS; n++) {
+    for (uint32_t n = 0; n < EXPLORE_SEEK_BLOCKS && r->next < blocks(s); n++) {
         uint32_t k = r->next++;
-        if (!frontier(&e->seek, k)) {
+        if (!frontier(s, k)) {
             continue;
         }
         int32_t ta;
         int32_t tb;
-        block_centre(k, &ta, &tb);
+        block_centre(s, k, &ta, &tb);
         int32_t dx = ta - (int32_t)r->a;
         int32_t dy = tb - (int32_t)r->b;
         uint32_t d2 = (uint32_t)(dx * dx + dy * dy);
@@ -178,8 +189,8 @@ static void weigh_blocks(explore_t *e)
             r->n = (uint8_t)(r->n < EXPLORE_SEEK_CANDIDATES ? r->n + 1u : r->n);
         }
     }
-    if (r->next >= EXPLORE_BLOCKS && r->n > 0u) {
-        sight_begin(r);
+    if (r->next >= blocks(s) && r->n > 0u) {
+        sight_begin(r, s);
     }
 }
 
@@ -193,7 +204,7 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
     explore_search_t *r = &e->search;
     explore_seek_t *s = &e->seek;
-    if (r->next < EXPLORE_BLOCKS) {
+    if (r->next < blocks(s)) {
         weigh_blocks(e);
         return;
     }
@@ -204,7 +215,7 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
              * it by passing the opening. */
             set_bit(s->dead, r->block[r->i]);
             if (++r->i < r->n) {
-                sight_begin(r);
+                sight_begin(r, s);
             } else if (++r->rounds < EXPLORE_SEEK_ROUNDS) {
                 r->next = 0u; /* the next nearest four */
                 r->n = 0u;
@@ -219,7 +230,7 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
         uint32_t k = r->block[r->i];
         int32_t ta;
         int32_t tb;
-        block_centre(k, &ta, &tb);
+        block_centre(s, k, &ta, &tb);
         s->target = (uint16_t)k;
         s->target_since = e->machine.now;
         s->target_x_um = g->origin_x_um + ta * (int32_t)g->cell_um;

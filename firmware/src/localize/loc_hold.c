@@ -9,10 +9,17 @@
 void loc_hold_init(loc_hold_t *h, const slam_config_t *cfg)
 {
     *h = (loc_hold_t){0};
-    /* LOC_REACH_CELLS within 2^15 units, the same for every grid size (the host's grid and
-     * the MCU's then hold a point alike): 1 mm for 50 mm cells. Cells of 5 mm to 1 m make
-     * the reach 2^16 µm or more and keep it within 32 bits. */
-    h->point_shift = (uint8_t)(17 - __builtin_clz(LOC_REACH_CELLS * cfg->cell_um));
+    /* LOC_REACH_CELLS within 2^15 units, the same for every grid up to 256 cells a side (the
+     * host's grid and the MCU's then hold a point alike): 1 mm for 50 mm cells. A longer
+     * side doubles the reach until it is twice that side, 4 mm for 1024 cells. Cells of
+     * 5 mm to 1 m make the reach 2^16 µm or more, and slam_config_check()'s 1 km over the
+     * capacity's side keeps it within 32 bits. */
+    uint32_t side = grid_cells_a(cfg) > grid_cells_b(cfg) ? grid_cells_a(cfg) : grid_cells_b(cfg);
+    uint32_t reach = LOC_REACH_CELLS;
+    while (reach < 2u * side) {
+        reach *= 2u;
+    }
+    h->point_shift = (uint8_t)(17 - __builtin_clz(reach * cfg->cell_um));
     h->placed.c = FIX_Q30_ONE; /* no correction: cos 0 is one, the rest is zero */
     h->clear_um = (int32_t)cfg->clearance_um;
 }

@@ -24,11 +24,10 @@
 #endif
 #define LOC_AHEAD_REACH_UM 350000 /**< held-back hits this far ahead of the axle are told */
 
-/* How far from the grid's origin a held-back hit reaches, either way: a grid's length and
- * more beyond any side. */
+/* How far from the grid's origin a held-back hit reaches, either way, at the least: a
+ * grid's length and more beyond any side. A larger grid doubles it until it holds twice the
+ * longer side (loc_hold_init()). */
 #define LOC_REACH_CELLS 512u
-_Static_assert(SLAM_GRID_A <= LOC_REACH_CELLS / 2u && SLAM_GRID_B <= LOC_REACH_CELLS / 2u,
-               "a held-back hit reaches a grid's length beyond the grid");
 _Static_assert(LOC_WINDOW <= LOC_HOLD && LOC_HOLD % 32u == 0u && LOC_HOLD <= UINT16_MAX,
                "shadowed holds a bit per held-back hit");
 

@@ -27,7 +27,7 @@ bool loc_known_free(const grid_t *g, int32_t x, int32_t y, uint32_t *cell)
     if (grid_cell_of(g, x, y, &k) != SLAM_OK) {
         return true;
     }
-    uint32_t i = grid_index(k);
+    uint32_t i = grid_index(g, k);
     *cell = i;
     return g->mode == OM_MODE_EVIDENCE ? (uint32_t)g->om[i] + g->miss < GRID_EVIDENCE_ZERO
                                        : grid_state(g, i) == GRID_FREE;
@@ -36,8 +36,8 @@ bool loc_known_free(const grid_t *g, int32_t x, int32_t y, uint32_t *cell)
 /* Whether OM holds cell (a, b) occupied: its byte above `top` (grid_occupied_above()). */
 static bool occupied(const grid_t *g, uint8_t top, int32_t a, int32_t b)
 {
-    return (uint32_t)a < SLAM_GRID_A && (uint32_t)b < SLAM_GRID_B &&
-           g->om[(uint32_t)b * SLAM_GRID_A + (uint32_t)a] > top;
+    return (uint32_t)a < g->a_cells && (uint32_t)b < g->b_cells &&
+           g->om[(uint32_t)b * g->a_cells + (uint32_t)a] > top;
 }
 
 /* The sums below are written out for a 5×5 block. */
@@ -46,10 +46,10 @@ _Static_assert(LOC_NORMAL_HALF == 2, "wall_normal() sums a 5x5 block");
 /* Cells a − 2 … a + 2 of row b: 1 where occupied, 0 where not or off the grid. */
 static void row_of_five(const grid_t *g, uint8_t top, int32_t a, int32_t b, int32_t o[5])
 {
-    if ((uint32_t)b >= SLAM_GRID_B) {
+    if ((uint32_t)b >= g->b_cells) {
         o[0] = o[1] = o[2] = o[3] = o[4] = 0;
-    } else if (a >= 2 && a + 2 < (int32_t)SLAM_GRID_A) {
-        const uint8_t *row = &g->om[(uint32_t)b * SLAM_GRID_A + (uint32_t)a - 2u];
+    } else if (a >= 2 && a + 2 < (int32_t)g->a_cells) {
+        const uint8_t *row = &g->om[(uint32_t)b * g->a_cells + (uint32_t)a - 2u];
         for (unsigned i = 0; i < 5u; i++) {
             o[i] = row[i] > top;
         }
@@ -126,14 +126,29 @@ static bool wall_normal(const grid_t *g, uint8_t top, int32_t a, int32_t b, int3
     X(1, 2) X(-2, -2) X(2, -2) X(-2, 2) X(2, 2) X(0, -3) X(-3, 0) X(3, 0) X(0, 3)
 /* clang-format on */
 #define LOC_ASSOC_PAIR(da, db) {da, db},
-#define LOC_ASSOC_STEP(da, db) (da) + (db) * (int32_t)SLAM_GRID_A,
 static const int8_t loc_assoc_order[][2] = {LOC_ASSOC_ORDER(LOC_ASSOC_PAIR)};
-/* The same cells as steps in OM's array, for a cell LOC_ASSOC_CELLS inside the grid. */
-static const int16_t loc_assoc_step[] = {LOC_ASSOC_ORDER(LOC_ASSOC_STEP)};
 #define LOC_ASSOC_N (sizeof loc_assoc_order / sizeof loc_assoc_order[0])
 _Static_assert(LOC_ASSOC_CELLS == 3, "loc_assoc_order holds the cells within 3");
 _Static_assert(LOC_ASSOC_N < UINT8_MAX, "loc_assoc_t's wall indexes the order");
 _Static_assert(3 * SLAM_GRID_A + 3 <= INT16_MAX, "a step fits an int16_t");
+
+/* The same cells as steps in OM's array, for a cell LOC_ASSOC_CELLS inside a grid of
+ * loc_assoc_row cells a row: worked out again when a grid of another A asks (a step a
+ * load, where the offsets and a multiply cost three instructions more each). */
+static int16_t loc_assoc_step[LOC_ASSOC_N];
+static uint16_t loc_assoc_row;
+
+static const int16_t *assoc_steps(const grid_t *g)
+{
+    if (loc_assoc_row != g->a_cells) {
+        for (size_t k = 0; k < LOC_ASSOC_N; k++) {
+            loc_assoc_step[k] =
+                (int16_t)(loc_assoc_order[k][0] + loc_assoc_order[k][1] * (int32_t)g->a_cells);
+        }
+        loc_assoc_row = g->a_cells;
+    }
+    return loc_assoc_step;
+}
 
 /* The wall of a point in cell c: its place in loc_assoc_order and its normal, or
  * UINT8_MAX. */
@@ -142,9 +157,10 @@ static uint8_t wall_of(const grid_t *g, grid_cell_t c, int16_t n[2])
     const uint8_t top = grid_occupied_above(g->mode);
     const int32_t r = LOC_ASSOC_CELLS;
     size_t k = 0;
-    if (c.a >= r && c.a + r < (int32_t)SLAM_GRID_A && c.b >= r && c.b + r < (int32_t)SLAM_GRID_B) {
-        const uint8_t *at = &g->om[grid_index(c)];
-        while (k < LOC_ASSOC_N && at[loc_assoc_step[k]] <= top) {
+    if (c.a >= r && c.a + r < (int32_t)g->a_cells && c.b >= r && c.b + r < (int32_t)g->b_cells) {
+        const uint8_t *at = &g->om[grid_index(g, c)];
+        const int16_t *step = assoc_steps(g);
+        while (k < LOC_ASSOC_N && at[step[k]] <= top) {
             k++;
         }
     } else {

@@ -88,8 +88,9 @@ static int app_write_maps(const lconf_t *lc, FILE *out, FILE *err)
     static uint8_t post[SLAM_GRID_CELLS];
     static uint8_t img[SLAM_GRID_CELLS];
     static uint8_t scratch[2u * SLAM_GRID_A];
-    const uint32_t A = SLAM_GRID_A;
-    const uint32_t B = SLAM_GRID_B;
+    /* The run's grid (grid_a x grid_b), within the capacity the buffers hold. */
+    const uint32_t A = g->a_cells;
+    const uint32_t B = g->b_cells;
     mapx_trinary(c->om_mode, g->om, g->tm, NULL, A, B, img);
     int rc = mapfile_write(lc->storage_dir, "om", img, A, B, true, &geo);
     if (rc == 0) {
@@ -121,9 +122,9 @@ static void app_warn_outside(const grid_t *g, uint32_t hits, FILE *err)
             APP_NAME ": warning: the home does not fit the grid: %u point%s fell outside its "
                      "%u x %u cells of %u mm (%u mm x %u mm), %u of them sonar hits, and are "
                      "missing from the maps\n",
-            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)SLAM_GRID_A,
-            (unsigned)SLAM_GRID_B, (unsigned)cell_mm, (unsigned)(SLAM_GRID_A * cell_mm),
-            (unsigned)(SLAM_GRID_B * cell_mm), (unsigned)hits);
+            (unsigned)g->rejected, g->rejected == 1u ? "" : "s", (unsigned)g->a_cells,
+            (unsigned)g->b_cells, (unsigned)cell_mm, (unsigned)(g->a_cells * cell_mm),
+            (unsigned)(g->b_cells * cell_mm), (unsigned)hits);
 }
 
 static void app_signals(bool install, struct sigaction old[], const int *sigs, size_t n)
