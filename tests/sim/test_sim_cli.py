@@ -89,10 +89,11 @@ check("lies outside the map (0 0 .. 2 2)" in p.stderr, "a crop beside the map sa
 p = sim.run("--room", sim.out("missing.room"), "--out", sim.out("never"), expect=2)
 check("missing.room" in p.stderr, "a missing room file is named")
 
-# A room larger than the grid at this cell size is refused with advice.
+# A room larger than the simulator's grid can grow to (1024 cells, 51.2 m at 50 mm) is
+# refused with advice; one larger than 256 cells but within it grows the grid (test_sim_config).
 big = sim.out("big.room")
 with open(big, "w") as f:
-    f.write("wall 0 0 40 0\nwall 40 0 40 30\nwall 40 30 0 30\nwall 0 30 0 0\nstart 20 15 0\n")
+    f.write("wall 0 0 60 0\nwall 60 0 60 30\nwall 60 30 0 30\nwall 0 30 0 0\nstart 30 15 0\n")
 p = sim.run("--room", big, "--out", sim.out("never"), expect=2)
 check("does not fit" in p.stderr and "--cell" in p.stderr, "a room too large for the grid says how to fit it")
 sim.done()

@@ -44,6 +44,8 @@
   {"default": 0, "hi": 1000000000, "id": 9, "live": false, "lo": -1000000000, "name": "start_y_um", "type": "I32", "wire": "I32", "words": "-1000000000..1000000000"},
   {"default": 0, "hi": 360000, "id": 10, "live": false, "lo": -360000, "name": "start_heading_mdeg", "type": "I32", "wire": "I32", "words": "-360000..360000"},
   {"default": 50000, "hi": 1000000, "id": 11, "live": false, "lo": 20000, "name": "cell_um", "type": "U32", "wire": "U32", "words": "20000..1000000, and at most 1 km over the grid's longer side"},
+  {"default": 0, "hi": 160, "id": 53, "live": false, "lo": 0, "name": "grid_a", "type": "U16", "wire": "U16", "words": "0..65535: 3 up to the build's grid capacity along x, or 0 for all of it"},
+  {"default": 0, "hi": 160, "id": 54, "live": false, "lo": 0, "name": "grid_b", "type": "U16", "wire": "U16", "words": "0..65535: 3 up to the build's grid capacity along y, or 0 for all of it"},
   {"default": 80, "hi": 159, "id": 12, "live": false, "lo": 0, "name": "start_cell_a", "type": "U16", "wire": "U16", "words": "0..65535, below the grid's cells along x"},
   {"default": 80, "hi": 159, "id": 13, "live": false, "lo": 0, "name": "start_cell_b", "type": "U16", "wire": "U16", "words": "0..65535, below the grid's cells along y"},
   {"default": 9, "hi": 255, "id": 14, "live": false, "lo": 1, "name": "om_max", "type": "U8", "wire": "U8", "words": "1..255, and above post_threshold when om_mode is 0"},
