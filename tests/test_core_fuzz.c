@@ -19,6 +19,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "fake_hal.h"
 #include "slam/config_fields.h"
 #include "slam/error.h"
@@ -56,7 +57,7 @@ static int64_t pick(uint64_t *s, int64_t lo, int64_t hi)
  * an end of it; the few fields that depend on others are drawn after them. */
 static void random_config(uint64_t *s, slam_config_t *c)
 {
-    slam_config_default(c);
+    test_config_default(c);
     if ((next(s) & 3u) == 0u) {
         return; /* the defaults too, with random inputs */
     }
@@ -233,7 +234,7 @@ static void test_runaway_encoders_on_the_largest_wheels(void **state)
 {
     (void)state;
     slam_config_t cfg;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     cfg.wheel_diameter_left_um = cfg.wheel_diameter_right_um = 300000u;
     cfg.encoder_counts_per_rev = 16u;
     cfg.wheel_base_um = 50000u;

@@ -10,6 +10,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "slam/error.h"
 #include "slam/grid.h"
 #include "test_rng.h"
@@ -29,7 +30,7 @@ static guarded_grid_t gg;
 static void init_default(void)
 {
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     slam_config_paper(&c);
     memset(&gg, 0xA5, sizeof gg);
     grid_init(&gg.g, &c);
@@ -67,7 +68,7 @@ static void test_origin_puts_start_at_centre_cell(void **state)
     expect_cell(0, 0, SLAM_GRID_A / 2, SLAM_GRID_B / 2);
     /* A start pose elsewhere, at another cell. */
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     c.start_x_um = 1000000;
     c.start_y_um = -2000000;
     c.start_cell_a = 3;
@@ -75,6 +76,23 @@ static void test_origin_puts_start_at_centre_cell(void **state)
     grid_init(&gg.g, &c);
     expect_cell(1000000, -2000000, 3, 7);
     expect_cell(1000000 - 3 * L, -2000000 - 7 * L, 0, 0);
+}
+
+/* The default start pose (SLAM_START_UM, half a cell from the world's origin) puts the grid's
+ * lines, and so an exported map's origin, on whole multiples of L; the start stays at the
+ * centre of its cell. */
+static void test_default_origin_is_whole_cells(void **state)
+{
+    (void)state;
+    slam_config_t c;
+    slam_config_default(&c);
+    grid_init(&gg.g, &c);
+    assert_int_equal(gg.g.origin_x_um % L, 0);
+    assert_int_equal(gg.g.origin_y_um % L, 0);
+    assert_int_equal(gg.g.origin_x_um, -(int32_t)c.start_cell_a * L);
+    expect_cell(c.start_x_um, c.start_y_um, c.start_cell_a, c.start_cell_b);
+    expect_cell(c.start_x_um - L / 2, c.start_y_um - L / 2, c.start_cell_a, c.start_cell_b);
+    expect_cell(c.start_x_um + L / 2 - 1, c.start_y_um + L / 2 - 1, c.start_cell_a, c.start_cell_b);
 }
 
 static void test_eq1_eq2_at_cell_edges(void **state)
@@ -131,7 +149,7 @@ static void test_saturation_table(void **state)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         const sat_case_t *k = &cases[i];
         slam_config_t c;
-        slam_config_default(&c);
+        test_config_default(&c);
         slam_config_paper(&c);
         c.om_max = k->which == 0 ? k->max : 9u;
         c.tm_max = k->which == 1 ? k->max : 30u;
@@ -201,7 +219,7 @@ static void test_run_time_size(void **state)
 {
     (void)state;
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     c.grid_a = 100u;
     c.grid_b = 50u;
     c.start_cell_a = 10u;
@@ -322,7 +340,7 @@ static void test_occupied_above_is_the_state_rule(void **state)
 static void init_evidence(void)
 {
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     assert_int_equal(c.om_mode, OM_MODE_EVIDENCE);
     memset(&gg, 0xA5, sizeof gg);
     grid_init(&gg.g, &c);
@@ -472,6 +490,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_origin_puts_start_at_centre_cell, setup),
+        cmocka_unit_test(test_default_origin_is_whole_cells),
         cmocka_unit_test_setup(test_eq1_eq2_at_cell_edges, setup),
         cmocka_unit_test_setup(test_saturation_table, setup),
         cmocka_unit_test_setup(test_outside_is_rejected_and_counted, setup),

@@ -12,6 +12,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "localize/loc_filter.h"
 #include "localize/loc_hold.h"
 #include "localize/loc_match.h"
@@ -41,7 +42,7 @@ static void loc_start(void)
 static int setup(void **state)
 {
     (void)state;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
     loc_start();

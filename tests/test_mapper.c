@@ -8,6 +8,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "slam/config.h"
 #include "slam/grid.h"
 #include "slam/mapper.h"
@@ -36,7 +37,7 @@ typedef struct {
 static int setup(void **state)
 {
     (void)state;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);
@@ -166,7 +167,7 @@ static void test_outside_points_are_counted_not_written(void **state)
 static int setup_evidence(void **state)
 {
     (void)state;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     assert_int_equal(cfg.om_mode, OM_MODE_EVIDENCE);
     grid_init(&grid, &cfg);
     mapper_init(&mapper, &cfg);

@@ -11,6 +11,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "slam/config.h"
 #include "slam/odometry.h"
 #include "test_rng.h"
@@ -160,7 +161,7 @@ static void random_drive(rig_t *g, test_rng_t *rng, int steps)
 
 static void random_config(slam_config_t *c, test_rng_t *rng, int vary)
 {
-    slam_config_default(c);
+    test_config_default(c);
     if (vary) {
         c->wheel_diameter_left_um = (uint32_t)test_rng_range(rng, 30000, 120000);
         c->wheel_diameter_right_um =
@@ -222,7 +223,7 @@ static void test_straight_line_is_exact(void **state)
 {
     (void)state;
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     rig_t g;
     rig_init(&g, &c, 100u, 200u);
     for (int i = 0; i < 1000; i++) {
@@ -240,7 +241,7 @@ static void test_full_turn_in_place_returns_to_start(void **state)
 {
     (void)state;
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     c.start_heading_mdeg = 30000;
     c.start_x_um = 1234567;
     c.start_y_um = -7654321;
@@ -272,7 +273,7 @@ static void test_encoder_wraparound(void **state)
 {
     (void)state;
     slam_config_t c;
-    slam_config_default(&c);
+    test_config_default(&c);
     rig_t near_wrap;
     rig_t plain;
     rig_init(&near_wrap, &c, 65530u, 5u);
@@ -323,7 +324,7 @@ static void test_calibration_unequal_diameters(void **state)
     (void)state;
     double ed = 66.0 / 64.0;
     slam_config_t nominal;
-    slam_config_default(&nominal);
+    test_config_default(&nominal);
     slam_config_t truth = nominal;
     truth.wheel_diameter_left_um = 64000u;
     truth.wheel_diameter_right_um = 66000u;
@@ -359,7 +360,7 @@ static void test_calibration_wheel_base(void **state)
     (void)state;
     double eb = 1.03;
     slam_config_t nominal;
-    slam_config_default(&nominal);
+    test_config_default(&nominal);
     slam_config_t truth = nominal;
     truth.wheel_base_um = (uint32_t)lround(130000.0 * eb);
     slam_config_t calibrated = nominal;

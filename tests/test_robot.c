@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "fake_hal.h"
 #include "slam/error.h"
 #include "slam/robot.h"
@@ -20,7 +21,7 @@ static int setup(void **state)
 {
     (void)state;
     fake_hal_reset();
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     slam_config_paper(&cfg); /* these tests hold the paper's Eq. 6 */
     memset(&robot, 0, sizeof robot);
     return 0;
@@ -209,7 +210,7 @@ static void world_tick(int32_t speed[2])
 static void test_a_bump_switch_stops_the_drive(void **state)
 {
     (void)state;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     cfg.explore_mode = EXPLORE_RANDOM;
     for (uint8_t bumps = 0; bumps <= 2u; bumps += 2u) {
         fake_hal_reset();

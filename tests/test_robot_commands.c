@@ -9,6 +9,7 @@
 
 #include <cmocka.h>
 
+#include "world_origin.h"
 #include "fake_hal.h"
 #include "slam/error.h"
 #include "slam/robot.h"
@@ -23,7 +24,7 @@ static int setup(void **state)
 {
     (void)state;
     fake_hal_reset();
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     cfg.save_period_s = 0u;
     memset(&robot, 0, sizeof robot);
     seen = 0u;

@@ -2,6 +2,7 @@
 /* Tests of the simulated robot: motors, encoders, odometry errors, collisions, servo. */
 #include <math.h>
 
+#include "world_origin.h"
 #include "host_test.h"
 #include "slam/config.h"
 #include "slam/odometry.h"
@@ -165,7 +166,7 @@ static void test_ideal_odometry_matches_truth(void **state)
     (void)state;
     sim_t *s = test_ideal_world(&big);
     slam_config_t cfg;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     fw_odom_t f;
     fw_odom_init(&f, s, &cfg);
     /* Straights, arcs, spins and reversals: a minute of driving. */
@@ -200,7 +201,7 @@ static void test_unequal_wheels_curve_the_path(void **state)
     e.wheel_ratio_ed = 1.01; /* the right wheel is 1 % larger */
     sim_t *s = test_world(&big, &e, 1u);
     slam_config_t cfg;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     fw_odom_t f;
     fw_odom_init(&f, s, &cfg);
     drive_odom(s, &f, 800, 800, 1000);
@@ -236,7 +237,7 @@ static void test_wheel_base_error_scales_turns(void **state)
     e.wheel_base_eb = 1.02;
     sim_t *s = test_world(&big, &e, 1u);
     slam_config_t cfg;
-    slam_config_default(&cfg);
+    test_config_default(&cfg);
     fw_odom_t f;
     fw_odom_init(&f, s, &cfg);
     double turned_true = 0.0;

@@ -190,6 +190,17 @@ static void test_run_drives_the_firmware_and_stops_the_motors(void **state)
     assert_true(tmptree_exists(root, "maps/om_post.pgm"));
     assert_true(tmptree_exists(root, "maps/om.yaml"));
     assert_false(tmptree_exists(root, "maps/tm.yaml"));
+    /* Its origin is a whole number of 50 mm cells from the world's origin (the default start
+     * pose, SLAM_START_UM), so that every map reader places it exactly. */
+    char want[96];
+    unsigned ox_um = a0 * 50000u;
+    unsigned oy_um = b0 * 50000u;
+    snprintf(want, sizeof want, "origin: [-%u.%06u, -%u.%06u, 0.0]", ox_um / 1000000u,
+             ox_um % 1000000u, oy_um / 1000000u, oy_um % 1000000u);
+    const char *yaml = tmptree_read(root, "maps/om.yaml");
+    if (strstr(yaml, want) == NULL) {
+        fail_msg("om.yaml: no '%s' in:\n%s", want, yaml);
+    }
     assert_non_null(strstr(out_buf, "sonar: 1 pings"));
 }
 

@@ -82,8 +82,8 @@ typedef struct {
     q1_30_t cal_base;  /**< UMBmark E_b, actual over nominal wheel base; 1.0 */
 
     /* Start pose in the world frame (known at the start, paper §III.B). */
-    int32_t start_x_um;         /**< 0 */
-    int32_t start_y_um;         /**< 0 */
+    int32_t start_x_um;         /**< SLAM_START_UM */
+    int32_t start_y_um;         /**< SLAM_START_UM */
     int32_t start_heading_mdeg; /**< 0 (facing +x) */
 
     /* Grids (Eq. 1-2, 6-7). */

@@ -42,6 +42,12 @@
 
 /** A position stays within 1 km of the origin, far from the int32_t µm limits (±2147 m). */
 #define SLAM_CONFIG_WORLD_LIMIT_UM 1000000000
+/** The default start pose's x and y: half the default cell, so that the start cell's centre
+ *  lies there and the grid's lines on whole multiples of L from the world's origin: an
+ *  exported map's origin is then a whole number of cells, which every map reader takes
+ *  exactly (MRPT's rounds it to one). With another cell_um, start_x_um and start_y_um of
+ *  half of it keep that. */
+#define SLAM_START_UM 25000
 /** The sonar's servo axis sits on the robot: at most 100 mm behind the wheel axle, 200 mm
  *  ahead of it and 100 mm to a side (farther, in 18 simulated minutes over the shipped
  *  rooms, the robot ran into walls it had not seen: 1 m behind or beside, every run). */
@@ -65,10 +71,10 @@
     X(cal_base, Q30, FIX_Q30_ONE, FIX_Q30_ONE / 2, FIX_Q30_ONE + FIX_Q30_ONE / 2, NONE, 7, LIVE,   \
       "0.5..1.5")                                                                                  \
     /* Start pose. */                                                                              \
-    X(start_x_um, I32, 0, -SLAM_CONFIG_WORLD_LIMIT_UM, SLAM_CONFIG_WORLD_LIMIT_UM, NONE, 8, FIXED, \
-      "-1000000000..1000000000")                                                                   \
-    X(start_y_um, I32, 0, -SLAM_CONFIG_WORLD_LIMIT_UM, SLAM_CONFIG_WORLD_LIMIT_UM, NONE, 9, FIXED, \
-      "-1000000000..1000000000")                                                                   \
+    X(start_x_um, I32, SLAM_START_UM, -SLAM_CONFIG_WORLD_LIMIT_UM, SLAM_CONFIG_WORLD_LIMIT_UM,     \
+      NONE, 8, FIXED, "-1000000000..1000000000")                                                   \
+    X(start_y_um, I32, SLAM_START_UM, -SLAM_CONFIG_WORLD_LIMIT_UM, SLAM_CONFIG_WORLD_LIMIT_UM,     \
+      NONE, 9, FIXED, "-1000000000..1000000000")                                                   \
     X(start_heading_mdeg, I32, 0, -360000, 360000, NONE, 10, FIXED, "-360000..360000")             \
     /* Grids. */                                                                                   \
     X(cell_um, U32, 50000, 20000, 1000000, CELL, 11, FIXED,                                        \

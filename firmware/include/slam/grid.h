@@ -83,8 +83,9 @@ typedef struct {
 /**
  * World coordinate of the grid's lower-left corner along one axis: the start pose sits at
  * the centre of the start cell. (At its corner the grid lines would lie on whole multiples
- * of L from the start, and an exported map's origin would too; host_sim/experiments.md
- * has what that did to the maps.)
+ * of L from the start; host_sim/experiments.md has what that did to the maps. The default
+ * start, SLAM_START_UM, half a cell from the world's origin, puts them on whole multiples
+ * of L from the world's origin instead.)
  */
 static inline int32_t grid_origin_um(int32_t start_um, uint16_t start_cell, uint32_t cell_um)
 {
