@@ -74,6 +74,13 @@ typedef struct {
     uint16_t cells;       /* the cells along the axis */
 } axis_fit_t;
 
+/* grid_origin_um() in metres: the grid's lower-left corner along an axis, for a start at s
+ * in cell `start`. */
+static double origin_m(double s, long start, double cell)
+{
+    return s - (double)start * cell - cell / 2.0;
+}
+
 /* Chooses the cells (unless set) and the start's cell (unless set) along one axis for a
  * start at s and a room over lo .. hi, m: true when the room fits, f holding them; false
  * with the largest tried. */
@@ -83,7 +90,7 @@ static bool fit_axis(axis_fit_t *f, double s, double lo, double hi, double cell,
     for (;;) {
         long a0 =
             f->by_start != NULL ? f->start : (long)n / 2 + lround((s - (lo + hi) / 2.0) / cell);
-        double o0 = s - (double)a0 * cell - cell / 2.0; /* grid_origin_um() */
+        double o0 = origin_m(s, a0, cell);
         bool fits = a0 >= 0 && a0 < (long)n && o0 <= lo && o0 + n * cell >= hi;
         f->start = a0;
         f->cells = (uint16_t)n;
@@ -284,7 +291,7 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
     const axis_fit_t *bad = !fits_x ? &fx : &fy;
     if ((!fits_x || !fits_y) && (bad->by_start != NULL || bad->by_cells != NULL)) {
         bool x = bad == &fx;
-        double o0 = (x ? sx : sy) - (double)bad->start * cell - cell / 2.0;
+        double o0 = origin_m(x ? sx : sy, bad->start, cell);
         fprintf(stderr,
                 "host_sim: %s: with the start in cell %ld along %s, the grid of %u cells spans "
                 "%s = %.3f .. %.3f m and the room %.3f .. %.3f m: the room does not fit\n",

@@ -209,10 +209,6 @@ static uint8_t saturated(uint32_t count, uint8_t max)
     return count > max ? max : (uint8_t)count;
 }
 
-/* A million random points, anywhere, around the borders and inside: every cell holds what
- * an independent Eq. 1-2 says, every other point is counted as rejected, and nothing
- * outside the arrays changes. The sanitizer build checks the same soak for any
- * out-of-bounds access. */
 /* A grid smaller than the capacity, 100 x 50 cells: its own size bounds it and indexes its
  * rows, and nothing beyond its A·B cells is written. */
 static void test_run_time_size(void **state)
@@ -250,6 +246,10 @@ static void test_run_time_size(void **state)
     assert_guards_intact();
 }
 
+/* A million random points, anywhere, around the borders and inside: every cell holds what
+ * an independent Eq. 1-2 says, every other point is counted as rejected, and nothing
+ * outside the arrays changes. The sanitizer build checks the same soak for any
+ * out-of-bounds access. */
 static void test_random_point_soak(void **state)
 {
     (void)state;

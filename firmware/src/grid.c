@@ -30,9 +30,9 @@ void grid_init(grid_t *g, const slam_config_t *cfg)
 
 /* One axis of Eq. 1-2: int((v - origin) / L), or -1 outside [0, n), span = n·L. The
  * difference is taken modulo 2^32: a point below the origin, or beyond the grid, wraps to a
- * value past n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin lie
- * within ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one instruction
- * on the MCU) does the rest. */
+ * value past n·L, since n·L stays below 1 km (slam_config_check()) while v and the origin
+ * lie within ±2^31 µm. So one unsigned compare tests both sides, and a 32-bit division (one
+ * instruction on the MCU) does the rest. */
 static int32_t axis_cell(int32_t v_um, int32_t origin_um, uint32_t cell_um, uint32_t span_um)
 {
     uint32_t d = (uint32_t)v_um - (uint32_t)origin_um;

@@ -58,7 +58,8 @@ static bool data_good(uint8_t slot, const mapstore_header_t *h);
 void mapstore_init(mapstore_t *s, const grid_t *g)
 {
     memset(s, 0, sizeof *s);
-    s->available = hal_storage_size() >= sizeof(mapstore_header_t) + 2u * grid_cells(g);
+    s->available =
+        hal_storage_size() >= sizeof(mapstore_header_t) + data_bytes(g->a_cells, g->b_cells);
     s->last_slot = HAL_STORAGE_SLOTS - 1u; /* so the first save goes to slot 0 */
     if (!s->available) {
         return;

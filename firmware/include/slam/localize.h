@@ -110,8 +110,8 @@ typedef struct {
 
 /** A held-back hit: the obstacle point in the odometry frame, from the grid's origin in
  *  units of 2^point_shift µm (loc_hold_t), so that ±2^15 units reach 512 cells either way, or
- *  twice a longer grid's side: a grid's length beyond any side (1.024 mm for 50 mm cells). Four
- * bytes, so that LOC_HOLD of them fit the RAM budget. */
+ *  twice a longer grid's side: a grid's length beyond any side (1.024 mm for 50 mm cells).
+ *  Four bytes, so that LOC_HOLD of them fit the RAM budget. */
 typedef struct {
     int16_t x;
     int16_t y;

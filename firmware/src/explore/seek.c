@@ -84,13 +84,13 @@ static void block_centre(const explore_seek_t *s, uint32_t k, int32_t *a, int32_
     *b = (int32_t)((k / s->blocks_a) << EXPLORE_BLOCK_SHIFT) + (1 << (EXPLORE_BLOCK_SHIFT - 1u));
 }
 
-/* An unexplored block, not given up, next to an explored one. */
 /* The blocks of the run's grid. */
 static uint32_t blocks(const explore_seek_t *s)
 {
     return (uint32_t)s->blocks_a * s->blocks_b;
 }
 
+/* An unexplored block, not given up, next to an explored one. */
 static bool frontier(const explore_seek_t *s, uint32_t k)
 {
     if (bit(s->explored, k) || bit(s->dead, k)) {
