@@ -4,7 +4,8 @@
 
 usage: tools/corpus_report.py [--host-sim BIN] [--jobs N] [--out DIR] [--json FILE] [--keep]
                               [--seeds N] [--rooms N] [--room-durations S,S...] [--flats M]
-                              [--first-seed S] [--maps DIR] [--quick] [--host-arg ARG]...
+                              [--first-seed S] [--maps DIR] [--shift-start MM] [--quick]
+                              [--host-arg ARG]...
 
 Runs host_sim, --jobs at a time (default: every core), over four groups:
 - shipped: every host_sim/rooms/*.room with seeds 1..N (--seeds, default 20), 10 min;
@@ -26,6 +27,9 @@ Progress and the total time go to stderr; every run's figures and every summary 
 (default DIR/corpus.json). Each run's folder keeps metrics.json and the small files only
 (readings.csv, trajectory.csv and the images are deleted) unless --keep. A run of the same
 arguments, room file and host_sim binary is not run again. --quick: a few short runs.
+--shift-start MM moves every room's and flat's start, and the grid with it, MM along x and
+y: the same rooms with their walls met by the cells elsewhere (the robot's exported origin
+is whole only at 0; host_sim/experiments.md has what the placement does).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
@@ -78,6 +82,20 @@ def band_of(area):
     return next(label for lo, hi, label in BANDS if lo <= area < hi)
 
 
+def shifted_start(room, mm):
+    """host_sim's --start for a .room file's start moved mm along x and y: the grid follows
+    the start, so the walls meet the cells mm further along. Nothing when mm is 0."""
+    if mm == 0:
+        return []
+    with open(room) as f:
+        for line in f:
+            p = line.split("#")[0].split()
+            if p[:1] == ["start"]:
+                return ["--start", "%.4f" % (float(p[1]) + mm / 1000.0),
+                        "%.4f" % (float(p[2]) + mm / 1000.0), p[3]]
+    raise ToolError("%s: no start line" % room)
+
+
 def plan(args):
     """Every run of the report (generated rooms and flats written to DIR/generated)."""
     q = args.quick
@@ -85,7 +103,9 @@ def plan(args):
     shipped = sorted(f for f in os.listdir(ROOMS) if f.endswith(".room"))
     for f in shipped:
         for s in range(1, args.seeds + 1):
-            jobs.append(Job("shipped", 60 if q else 600, f[:-5], os.path.join(ROOMS, f), s))
+            room = os.path.join(ROOMS, f)
+            jobs.append(Job("shipped", 60 if q else 600, f[:-5], room, s,
+                            shifted_start(room, args.shift_start)))
     gen = os.path.join(args.out, "generated")
     index = roomgen.write_corpus(gen, args.rooms, args.flats, args.first_seed)
     for e in index["files"]:
@@ -93,10 +113,10 @@ def plan(args):
         if e["kind"] == "room":
             for dur in args.room_durations:
                 jobs.append(Job("rooms", dur, band_of(e["area_m2"]), path, e["seed"],
-                                area=e["area_m2"]))
+                                shifted_start(path, args.shift_start), area=e["area_m2"]))
         else:
             jobs.append(Job("flats", 120 if q else 3600, "flats", path, e["seed"],
-                            area=e["area_m2"]))
+                            shifted_start(path, args.shift_start), area=e["area_m2"]))
     buildings = [b for b in BUILDINGS if os.path.exists(os.path.join(args.maps, b[1]))]
     for name, yaml, crop in buildings:
         for s in range(1, (1 if q else BUILDING_SEEDS) + 1):
@@ -308,6 +328,9 @@ def main():
     ap.add_argument("--maps", metavar="DIR",
                     default=os.path.join(SRC, "host_sim", "maps"),
                     help="the building maps (default: host_sim/maps)")
+    ap.add_argument("--shift-start", type=float, metavar="MM", default=0.0,
+                    help="move every room's and flat's start MM along x and y (the grid "
+                    "with it): where the walls fall within the cells (default 0)")
     ap.add_argument("--quick", action="store_true",
                     help="a smoke test: 2 seeds, 6 rooms and 2 flats, runs of 1-2 min")
     add_host_arg(ap, "--host-arg=--set --host-arg=localize=0")
@@ -315,6 +338,9 @@ def main():
     if min(args.jobs, args.seeds) < 1 or min(args.rooms, args.flats, args.first_seed) < 0:
         ap.error("--jobs and --seeds need at least 1; --rooms, --flats and --first-seed "
                  "cannot be negative")
+    if not 0.0 <= args.shift_start < 100.0:
+        ap.error("--shift-start takes 0 up to 100 mm (a cell at most: a whole cell more "
+                 "meets the walls as before)")
     if not os.path.exists(args.host_sim):
         raise ToolError("%s not found: build it first (make sim)" % args.host_sim)
     if args.quick:

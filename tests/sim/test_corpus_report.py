@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: MIT
 """tools/corpus_report.py: the grid's fit test, the summaries against cases worked by hand,
 --quick end to end (its tables, its JSON, the bulky files gone, --keep), a host_sim that
-refuses every room as too large (counted, not scored), and bad options."""
+refuses every room as too large (counted, not scored), --shift-start's start, and bad
+options."""
 import json
 import math
 import os
@@ -113,8 +114,15 @@ n = len(shipped) + 2 + 1
 check(p.returncode == 0 and ("%d runs: 0 scored, %d that do not fit the grid" % (n, n)) in p.stdout
       and "nan" not in p.stdout, "rooms that do not fit the grid: counted, not scored")
 
+# --shift-start: the room's start moved along x and y, its heading kept; nothing at 0.
+room = sim.out("shift.room")
+with open(room, "w") as f:
+    f.write("wall 0 0 4 0\nstart 1.5 2.0 90   # a comment\n")
+check(cr.shifted_start(room, 12.5) == ["--start", "1.5125", "2.0125", "90"] and
+      cr.shifted_start(room, 0) == [], "--shift-start 12.5: --start 1.5125 2.0125 90")
+
 for bad in (["--jobs", "0"], ["--room-durations", "x"], ["--rooms", "-1"],
-            ["--host-sim", sim.out("nothing")]):
+            ["--shift-start", "100"], ["--shift-start", "-1"], ["--host-sim", sim.out("nothing")]):
     p = report(*bad)
     check(p.returncode == 2, "corpus_report %s: exit 2" % " ".join(bad))
 sim.done()
