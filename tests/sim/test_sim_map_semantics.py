@@ -135,6 +135,22 @@ truth = load_map(os.path.join(obst, "truth.yaml"))
 check(at(truth, 1.3, 3.7) == 100 and at(truth, 3.7, 1.2) == 100 and at(truth, 1.2, 1.0) == 100,
       "obstacles truth: the inside of the cabinet, the block and the bin is occupied")
 
+# The exported origin: whole cells, which every map reader takes exactly, for a start at a
+# cell's centre (x and y odd multiples of 25 mm at 50 mm); half a cell off for a start on
+# whole multiples of 50 mm (the shipped rooms', hal/host/README.md, Rooms).
+def origin_cells(run, *start):
+    sim.run("--duration", 5, "--start", *start, 0, "--out", run)
+    m = load_map(os.path.join(run, "om.yaml"))
+    return [o / m["res"] for o in m["origin"]]
+
+
+cells = origin_cells(sim.out("whole-origin"), "2.525", "2.025")
+check(all(abs(c - round(c)) < 1e-6 for c in cells),
+      "a start at a cell's centre: the origin is %s cells, whole" % cells)
+cells = origin_cells(sim.out("half-origin"), "2.5", "2.0")
+check(all(abs(abs(c - round(c)) - 0.5) < 1e-6 for c in cells),
+      "a start on whole multiples of the cell: the origin is %s cells, half a cell off" % cells)
+
 paper = sim.out("paper")
 # The paper's exploration too: a counting map never clears a ghost hit, and the walls mode
 # drives its laps along the same lanes, over the few it left (1-2 % of its poses).
