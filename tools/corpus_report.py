@@ -28,8 +28,8 @@ Progress and the total time go to stderr; every run's figures and every summary 
 (readings.csv, trajectory.csv and the images are deleted) unless --keep. A run of the same
 arguments, room file and host_sim binary is not run again. --quick: a few short runs.
 --shift-start MM moves every room's and flat's start, and the grid with it, MM along x and
-y: the same rooms with their walls met by the cells elsewhere (the robot's exported origin
-is whole only at 0; host_sim/experiments.md has what the placement does).
+y: the same rooms with their walls met by the cells elsewhere, every run drawn afresh
+(host_sim/experiments.md has what that does to the figures).
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
@@ -339,7 +339,7 @@ def main():
         ap.error("--jobs and --seeds need at least 1; --rooms, --flats and --first-seed "
                  "cannot be negative")
     if not 0.0 <= args.shift_start < 100.0:
-        ap.error("--shift-start takes 0 up to 100 mm (a cell at most: a whole cell more "
+        ap.error("--shift-start takes 0 up to 100 mm, the largest cell (a whole cell more "
                  "meets the walls as before)")
     if not os.path.exists(args.host_sim):
         raise ToolError("%s not found: build it first (make sim)" % args.host_sim)

@@ -17,8 +17,8 @@
 /* After a stall the robot stands before it backs off: wheels that stall need not touch
  * anything (an encoder that stops counting looks the same), and a wheel driven on a
  * count that does not come would turn the robot blind. A stall while backing off stands
- * again, a few times at most. One second: a touch is left within three seconds in most
- * touches, and three seconds did no better against stopped encoders (experiments.md). */
+ * again, a few times at most. One second: most touches are then left within three
+ * seconds, and three seconds did no better against stopped encoders (experiments.md). */
 #define EXPLORE_HOLD_TICKS 100u
 #define EXPLORE_HOLDS_MAX 3u
 
