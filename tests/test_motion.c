@@ -235,6 +235,54 @@ static void test_a_stalled_wheel_gets_feed_forward_only(void **state)
     assert_true(motion_stalled(&m));
 }
 
+/* A body held back at one side, asked forward (or back): pushed by turns, its wheels turn
+ * it to and fro, so neither wheel's own watch lasts, and the body's sees the stall. A body
+ * that goes at half the speed asked is none. The first tick a stall is seen, or -1. */
+static int held_at_one_side(int32_t mm_s, int32_t share_of_eight)
+{
+    motion_init(&m, &cfg);
+    motion_set_target(&m, mm_s, mm_s);
+    int16_t duty[2];
+    int first = -1;
+    for (int t = 0; t < 200; t++) {
+        /* Each wheel turns as asked for three ticks and back for three, out of step, on top
+         * of share_of_eight eighths of the set speed for the body. */
+        int32_t body = m.set_um_tick[0] * share_of_eight / 8;
+        int32_t swing = (t / 3) % 2 == 0 ? m.set_um_tick[0] : -m.set_um_tick[0];
+        odom.step_um[0] = body + swing;
+        odom.step_um[1] = body - swing;
+        motion_step(&m, &odom, 1u, duty);
+        assert_false(motion_one_wheel(&m));
+        assert_true(m.slow_ticks[0] < MOTION_STALL_TICKS && m.slow_ticks[1] < MOTION_STALL_TICKS);
+        if (first < 0 && motion_stalled(&m)) {
+            first = t;
+        }
+    }
+    return first;
+}
+
+static void test_a_body_held_back_turning_to_and_fro(void **state)
+{
+    (void)state;
+    /* As for a wheel: 25 slow ticks from the sixth of the ramp, when the body is asked
+     * 2 x 30 mm/s (test_clamps_and_a_stalled_wheel). */
+    const int seen = 4 + (int)MOTION_STALL_TICKS;
+    assert_int_equal(held_at_one_side(100, 0), seen);
+    assert_int_equal(held_at_one_side(-100, 0), seen);
+    assert_int_equal(held_at_one_side(100, 1), seen); /* an eighth of the speed asked */
+    assert_int_equal(held_at_one_side(100, 4), -1);
+    assert_int_equal(held_at_one_side(-100, 4), -1);
+    /* Turning in place asks nothing of the body. */
+    motion_init(&m, &cfg);
+    motion_set_target(&m, 100, -100);
+    memset(&odom, 0, sizeof odom);
+    int16_t duty[2];
+    for (int t = 0; t < 10; t++) {
+        motion_step(&m, &odom, 1u, duty);
+    }
+    assert_int_equal(m.body_slow, 0);
+}
+
 static void test_rest_means_zero_duty(void **state)
 {
     (void)state;
@@ -265,6 +313,7 @@ int main(void)
         cmocka_unit_test_setup(test_a_lost_tick_reads_as_the_speed_it_was, setup),
         cmocka_unit_test_setup(test_clamps_and_a_stalled_wheel, setup),
         cmocka_unit_test_setup(test_a_stalled_wheel_gets_feed_forward_only, setup),
+        cmocka_unit_test_setup(test_a_body_held_back_turning_to_and_fro, setup),
         cmocka_unit_test_setup(test_rest_means_zero_duty, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -39,6 +39,7 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s)
 void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2])
 {
     m->err_pos = (uint8_t)((m->err_pos + 1u) % MOTION_SPEED_TICKS);
+    int32_t went = 0; /* both wheels' travel: twice the body's */
     for (unsigned w = 0; w < 2u; w++) {
         /* The ramp: the acceleration limit of §III.B. */
         int32_t step =
@@ -52,6 +53,7 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         if (periods > 1u) {
             rolled /= (int32_t)periods;
         }
+        went += clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX); /* (a glitch) */
         /* An encoder glitch may claim any speed; the error is bounded so every product
          * below fits 32 bits. |set| is far below MOTION_ERR_MAX, so bounding the travel at
          * twice that first changes no error and keeps the difference within 32 bits. */
@@ -95,11 +97,26 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         int32_t pi = (acc + (1 << (7 + MOTION_SPEED_SHIFT))) >> (8u + MOTION_SPEED_SHIFT);
         duty[w] = (int16_t)clamp(ff + pi, -MOTION_DUTY_MAX, MOTION_DUTY_MAX); /* both small */
     }
+    /* Stall watch of the body: both wheels asked one way and the body going under a
+     * quarter of that. A body held back at one side turns to and fro as the wheels push
+     * by turns, and each wheel's own watch starts afresh whenever it turns. */
+    bool one_way = (m->set_um_tick[0] ^ m->set_um_tick[1]) >= 0;
+    int32_t asked = m->set_um_tick[0] + m->set_um_tick[1];
+    if (asked < 0) {
+        asked = -asked;
+        went = -went;
+    }
+    if (one_way && asked >= 2 * MOTION_STALL_MIN_UM_TICK && went < asked / 4) {
+        m->body_slow = (uint16_t)(m->body_slow < UINT16_MAX ? m->body_slow + 1u : UINT16_MAX);
+    } else {
+        m->body_slow = 0u;
+    }
 }
 
 bool motion_stalled(const motion_t *m)
 {
-    return m->slow_ticks[0] >= MOTION_STALL_TICKS || m->slow_ticks[1] >= MOTION_STALL_TICKS;
+    return m->slow_ticks[0] >= MOTION_STALL_TICKS || m->slow_ticks[1] >= MOTION_STALL_TICKS ||
+           m->body_slow >= MOTION_STALL_TICKS;
 }
 
 bool motion_one_wheel(const motion_t *m)

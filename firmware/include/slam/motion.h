@@ -30,7 +30,8 @@
 #define MOTION_DUTY_MAX 1000
 
 /** A wheel stalls when it turns at under a quarter of its set speed, set at least this
- *  fast (µm/tick), for MOTION_STALL_TICKS ticks in a row: pushing against something. */
+ *  fast (µm/tick), for MOTION_STALL_TICKS ticks in a row: pushing against something. So
+ *  does the body, both wheels asked one way, going under a quarter of their mean. */
 #define MOTION_STALL_MIN_UM_TICK 300
 #define MOTION_STALL_TICKS 25u
 /** After this many of those ticks the wheel is driven by its feed-forward alone. */
@@ -53,6 +54,7 @@ typedef struct {
     int32_t ki_q8;                              /**< duty per µm of accumulated error, Q8 */
     int32_t integral_max_um; /**< |Σe| limit: the integral term alone stays in range */
     uint16_t slow_ticks[2];  /**< ticks in a row below a quarter of the set speed */
+    uint16_t body_slow;      /**< the same for the body, both wheels asked one way */
 } motion_t;
 
 /** Start at rest with the gains and limits of a checked configuration. */
@@ -73,7 +75,8 @@ void motion_set_target(motion_t *m, int32_t left_mm_s, int32_t right_mm_s);
  */
 void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty[2]);
 
-/** Whether a wheel has stalled (see MOTION_STALL_TICKS); cleared when it turns again. */
+/** Whether a wheel or the body has stalled (see MOTION_STALL_TICKS); cleared when it
+ *  moves again. */
 bool motion_stalled(const motion_t *m);
 
 /** Whether one wheel has stalled while the other turns as asked: not a body held against
