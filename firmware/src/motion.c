@@ -53,7 +53,7 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         if (periods > 1u) {
             rolled /= (int32_t)periods;
         }
-        went += clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX); /* (a glitch) */
+        went += clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX); /* a glitch bounded */
         /* An encoder glitch may claim any speed; the error is bounded so every product
          * below fits 32 bits. |set| is far below MOTION_ERR_MAX, so bounding the travel at
          * twice that first changes no error and keeps the difference within 32 bits. */
