@@ -43,7 +43,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
-from slamtools import roomgen
+from slamtools import roomfile, roomgen
 from slamtools.errors import ToolError, main as tool_main
 from slamtools.runs import (BUILDINGS, BUILDING_S, ROOMS, SRC, add_host_arg, percentile,
                             std_error)
@@ -88,12 +88,11 @@ def shifted_start(room, mm):
     if mm == 0:
         return []
     with open(room) as f:
-        for line in f:
-            p = line.split("#")[0].split()
-            if p[:1] == ["start"]:
-                return ["--start", "%.4f" % (float(p[1]) + mm / 1000.0),
-                        "%.4f" % (float(p[2]) + mm / 1000.0), p[3]]
-    raise ToolError("%s: no start line" % room)
+        try:
+            x, y, th = roomfile.parse(f.read(), room).start
+        except ValueError as e:
+            raise ToolError(str(e))
+    return ["--start", "%.4f" % (x + mm / 1000.0), "%.4f" % (y + mm / 1000.0), "%g" % th]
 
 
 def plan(args):

@@ -53,12 +53,13 @@ void motion_step(motion_t *m, const odom_t *odom, uint32_t periods, int16_t duty
         if (periods > 1u) {
             rolled /= (int32_t)periods;
         }
-        went += clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX); /* a glitch bounded */
         /* An encoder glitch may claim any speed; the error is bounded so every product
          * below fits 32 bits. |set| is far below MOTION_ERR_MAX, so bounding the travel at
-         * twice that first changes no error and keeps the difference within 32 bits. */
-        int32_t err = clamp(set - clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX),
-                            -MOTION_ERR_MAX, MOTION_ERR_MAX);
+         * twice that first changes no error and keeps the difference, and the two wheels'
+         * sum for the body's watch, within 32 bits. */
+        int32_t travel = clamp(rolled, -2 * MOTION_ERR_MAX, 2 * MOTION_ERR_MAX);
+        went += travel;
+        int32_t err = clamp(set - travel, -MOTION_ERR_MAX, MOTION_ERR_MAX);
         /* Stall watch: a wheel asked to turn that hardly does. */
         int32_t set_abs = set < 0 ? -set : set;
         uint32_t got = rolled >= 0 ? (uint32_t)rolled : 0u - (uint32_t)rolled;

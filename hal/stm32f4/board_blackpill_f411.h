@@ -59,9 +59,9 @@
 
 /** The grid this board holds, A x B cells (12 m x 12 m at the default 50 mm): OM and TM take
  *  2·A·B = 115 200 bytes of the 128 KiB SRAM, leaving 15.5 KiB for the robot's other state
- *  and the stack (`make bench` gives the RAM used against 2·A·B + 8 KiB). A record (header, OM, TM)
- * must fit one storage slot (storage.c checks at build time). The build reads both numbers from
- * these lines: keep them plain decimal. */
+ *  and the stack (`make bench` gives the RAM used against 2·A·B + 8 KiB). A record
+ *  (header, OM, TM) must fit one storage slot (storage.c checks at build time). The build
+ *  reads both numbers from these lines: keep them plain decimal. */
 #define BOARD_GRID_A 240u
 #define BOARD_GRID_B 240u
 
