@@ -13,7 +13,9 @@ rewritten in place. With --check they are made in a temporary folder and compare
 the committed ones: text exactly, except the line of wall time and speed, which follows
 the machine; pictures byte for byte (tools/plot_run.py renders with matplotlib's Agg
 backend and no version in the file, so the same build on the same Debian draws the same
-bytes). The simulator is deterministic and callgrind, QEMU -icount and unicorn count
+bytes), except the web viewer's screenshot: each Chromium version draws the page in other
+bytes, so it carries the digest of what it shows (the run's telemetry and the page's
+files) and is compared, and drawn again, by that digest alone. The simulator is deterministic and callgrind, QEMU -icount and unicorn count
 instructions exactly: the same build gives the same numbers. Wall-clock speeds, which do
 not repeat, are never in a block.
 
@@ -27,7 +29,8 @@ Generators:
              (tools/corpus_report.py, 344 runs, about a minute), and
              host_sim/figures/corpus.png (tools/roomgen.py figure)
   screenshot tools/web/screenshot.png (README.md's and tools/web/README.md's picture of
-             the web viewer), as the page test draws it with Chromium
+             the web viewer), as the page test draws it with Chromium; --check runs the
+             simulator alone, for the digest
   sim-report host_sim/README.md: the tables of "What the simulator shows" that
              tools/sim_report.py prints (make report), one block a section
              (sim-report-cell-size, ...; about half a minute), and their picture,
@@ -72,7 +75,7 @@ import tempfile
 import textwrap
 from concurrent.futures import ThreadPoolExecutor
 
-from slamtools import docgen_bench, docgen_compare
+from slamtools import docgen_bench, docgen_compare, pngtext
 from slamtools.commands import take_value
 from slamtools.errors import FAILED, ToolError, main as tool_main
 
@@ -255,17 +258,37 @@ def calibrate(host_sim, work):
     return {"tools/README.md": "```\n%s\n```\n" % "\n".join(lines)}, {}
 
 
-def screenshot(host_sim, work):
-    """The README's picture of the web viewer: the page test's screenshot
-    (tools/web/README.md), made with the same Chromium the page test drives."""
-    png = os.path.join(work, "screenshot.png")
+class Drawn:
+    """A picture a browser draws: its bytes follow the Chromium version, so it is compared
+    by the digest of what it shows (a tEXt chunk "source") and drawn only when that differs."""
+
+    def __init__(self, source, draw):
+        self.source, self.draw = source, draw
+
+    def current(self, path):
+        return os.path.exists(path) and pngtext.read_text(path).get("source") == self.source
+
+
+def page_test(host_sim, *args):
     p = subprocess.run(["/usr/bin/python3", os.path.join(SRC, "tests", "web", "test_web_page.py"),
-                        host_sim, SRC, "--screenshot", png], cwd=SRC, stdout=subprocess.PIPE,
+                        host_sim, SRC] + list(args), cwd=SRC, stdout=subprocess.PIPE,
                        stderr=subprocess.STDOUT, text=True)
     if p.returncode != 0:
         raise ToolError("tests/web/test_web_page.py exited %d (77: no Chromium):\n%s"
                         % (p.returncode, p.stdout[-2000:]), FAILED)
-    return {}, {"tools/web/screenshot.png": png}
+    return p.stdout
+
+
+def screenshot(host_sim, work):
+    """The README's picture of the web viewer: the page test's screenshot
+    (tools/web/README.md), made with the same Chromium the page test drives."""
+    png = os.path.join(work, "screenshot.png")
+    source = page_test(host_sim, "--screenshot-source").split()[-1]
+
+    def draw():
+        page_test(host_sim, "--screenshot", png)
+        return png
+    return {}, {"tools/web/screenshot.png": Drawn(source, draw)}
 
 
 def only_texts(gen):
@@ -377,11 +400,14 @@ def main(argv):
                         f.write(new)
         for dest, made in sorted(pictures.items()):
             path = os.path.join(SRC, dest)
-            if os.path.exists(path) and filecmp.cmp(path, made, shallow=False):
+            if isinstance(made, Drawn):
+                if made.current(path):
+                    continue
+            elif os.path.exists(path) and filecmp.cmp(path, made, shallow=False):
                 continue
             stale.append(dest)
             if not check:
-                shutil.copyfile(made, path)
+                shutil.copyfile(made.draw() if isinstance(made, Drawn) else made, path)
     except OSError as e:
         raise ToolError(str(e), FAILED) from None
     finally:

@@ -3,7 +3,8 @@
 """The tools' common ground: every script of tools/ starts with Debian's python3, sits in
 tools/ and finds the package slamtools there without editing sys.path, and ends through
 its one error rule (slamtools.errors.main); the one PGM reader refuses a malformed map with
-the one error type, naming the file."""
+the one error type, naming the file; a PNG's text chunk (the screenshot's digest) is
+written and read back, and a file that is no whole PNG is refused."""
 import os
 import re
 import subprocess
@@ -14,7 +15,7 @@ from simtest import Sim, check
 sim = Sim()
 TOOLS = os.path.join(sim.src, "tools")
 sys.path.insert(0, TOOLS)
-from slamtools import errors, pgm  # noqa: E402
+from slamtools import errors, pgm, pngtext  # noqa: E402
 
 PATH_EDIT = re.compile(r"sys\.path(\.insert|\.append|\[|\s*=|\.extend)")
 # A script's last statement: the entry point run by slamtools.errors.main, imported as
@@ -80,6 +81,30 @@ try:
     check(False, "a missing file was read")
 except errors.ToolError as e:
     check(e.exit_code == 2 and "no-such.pgm" in str(e), "a missing file: %s" % e)
+
+# A PNG's text chunk: added before IEND, read back, the picture's own chunks unchanged.
+shot = os.path.join(sim.src, "tools", "web", "screenshot.png")
+with open(shot, "rb") as f:
+    png = f.read()
+copy = sim.out("copy.png")
+with open(copy, "wb") as f:
+    f.write(png)
+pngtext.add_text(copy, "probe", "a b c")
+texts = pngtext.read_text(copy)
+with open(copy, "rb") as f:
+    kinds = [k for k, _, _ in pngtext.chunks(f.read(), copy)]
+check(texts.get("probe") == "a b c" and "source" in texts and kinds[-2:] == [b"tEXt", b"IEND"]
+      and [k for k, _, _ in pngtext.chunks(png, shot)] == kinds[:-2] + [b"IEND"],
+      "a text chunk added to the screenshot reads back before its IEND: %s" % texts)
+for name, data in (("cut.png", png[:len(png) // 2]), ("text.png", b"not a png")):
+    path = sim.out(name)
+    with open(path, "wb") as f:
+        f.write(data)
+    try:
+        pngtext.read_text(path)
+        check(False, "%s: read, but it is no whole PNG" % name)
+    except errors.ToolError as e:
+        check(e.exit_code == 2 and path in str(e), "%s refused: %s" % (name, e))
 
 # A tool ends on it as every tool does: `prog: message`, exit 2, no traceback.
 p = subprocess.run(["/usr/bin/python3", os.path.join(TOOLS, "mapscore.py"), sim.out("short.pgm"),

@@ -6,10 +6,14 @@ again with "To the end"), and then the map it drew is the run's om.pgm cell for 
 the files its Download button saves are om.pgm, om.yaml and tm.pgm byte for byte, its
 counts are telemetry.py's, and it tells the run, the robot's state and its answers in words.
 
-  test_web_page.py HOST_SIM SOURCE_DIR [--screenshot FILE]
+  test_web_page.py HOST_SIM SOURCE_DIR [--screenshot FILE | --screenshot-source]
 
-With --screenshot the page plays a ten-minute run of the default room instead and its
-picture is written to FILE (the README's, tools/web/screenshot.png)."""
+With --screenshot the page plays a ten-minute run of the obstacles room instead and its
+picture is written to FILE (the README's, tools/web/screenshot.png), with what it shows
+in a tEXt chunk: "source", a SHA-256 of the run's telemetry, the window's size and the
+page's files. --screenshot-source prints that digest alone, without Chromium: each
+Chromium version draws the same page in other bytes, so make docs-check compares this."""
+import hashlib
 import json
 import os
 import subprocess
@@ -24,6 +28,7 @@ if len(sys.argv) < 3:
 sys.path.insert(0, os.path.join(sys.argv[2], "tools"))
 sys.path.insert(0, os.path.join(sys.argv[2], "tests", "sim"))
 from slamtools import link as slamlink  # noqa: E402
+from slamtools import pngtext  # noqa: E402
 from simtest import Sim  # noqa: E402
 
 sim = Sim()
@@ -50,11 +55,27 @@ def read(path):
         return f.read()
 
 
-def screenshot(target):
+SHOT_WINDOW = (1400, 1180)
+PAGE_FILES = (".html", ".js", ".css")
+
+
+def shot_run():
+    """The screenshot's run, its telemetry's path and the digest of what the picture shows."""
     log = sim.out("shot.tel")
     sim.run("--duration", 600, "--room", sim.room("obstacles.room"), "--seed", 2, "--out",
             sim.out("shot"), "--telemetry", log)
-    drv = webtest.browser(1400, 1180)
+    h = hashlib.sha256(b"window %dx%d\n" % SHOT_WINDOW)
+    h.update(read(log))
+    web = os.path.join(sim.src, "tools", "web")
+    for name in sorted(n for n in os.listdir(web) if n.endswith(PAGE_FILES)):
+        h.update(b"\n" + name.encode() + b"\n")
+        h.update(read(os.path.join(web, name)))
+    return log, h.hexdigest()
+
+
+def screenshot(target):
+    log, source = shot_run()
+    drv = webtest.browser(*SHOT_WINDOW)
     try:
         webtest.load_page(drv, sim.src)
         open_recording(drv, log, 100)
@@ -68,9 +89,14 @@ def screenshot(target):
         webtest.errors(drv)
     finally:
         webtest.quit(drv)
+    pngtext.add_text(target, "source", source)
     print("wrote %s" % target)
 
 
+if "--screenshot-source" in sys.argv:
+    print(shot_run()[1])
+    sim.done()
+    sys.exit(0)
 if "--screenshot" in sys.argv:
     screenshot(os.path.abspath(sys.argv[sys.argv.index("--screenshot") + 1]))
     sim.done()
