@@ -265,16 +265,19 @@ static inline int32_t to_um(double m)
  * cost; it runs several times a period. Beyond, libm's. */
 static inline double wrap_pi(double a)
 {
-    const double turn = 2.0 * HOST_SIM_PI;
+    /* π as a double object: where doubles are evaluated in a wider format (i386's x87,
+     * C11), the constant itself would compare as the wider π. */
+    static const double pi = HOST_SIM_PI;
+    const double turn = 2.0 * pi;
     double m = fabs(a);
-    if (m <= HOST_SIM_PI) {
+    if (m <= pi) {
         return a; /* a tie at π keeps the even quotient, 0 */
     }
     if (!(m <= 2.0 * turn)) {
         return remainder(a, turn);
     }
     double r = m - turn; /* quotient 1 */
-    if (r >= HOST_SIM_PI) {
+    if (r >= pi) {
         r -= turn; /* quotient 2, which a tie at 3π also takes: it is even */
     }
     return a < 0.0 ? -r : r;

@@ -64,6 +64,20 @@ def check(cond, msg):
     print("ok: " + msg)
 
 
+# Where the simulated world is not the reference one, a claim about where given runs go
+# (that they touch nothing), measured on the 64-bit builds' runs, is shown, not checked:
+# in host-m32, i386's C library computes atan2, log and exp on the x87 unit and rounds
+# otherwise, so the same seed drives another path (tests/sim/CMakeLists.txt sets it).
+PATHS_VARY = os.environ.get("SLAM_SIM_PATHS_VARY") == "1"
+
+
+def check_path(cond, msg):
+    if PATHS_VARY and not cond:
+        print("not checked in this build (SLAM_SIM_PATHS_VARY): " + msg)
+        return
+    check(cond, msg)
+
+
 def mean(xs):
     xs = list(xs)
     return sum(xs) / len(xs)

@@ -28,7 +28,7 @@ import importlib.util
 import os
 import sys
 
-from simtest import Sim, check, fail, mean
+from simtest import Sim, check, check_path, fail, mean
 
 SEEDS = range(1, 11)
 DURATION = 600
@@ -69,6 +69,6 @@ for k, (args, floor) in enumerate(levels):
     print("   collisions %s, smallest clearance %s" % (
         coll, "not measured" if None in clear else ["%.3f m" % c for c in clear]))
     touching += ["%s seed %d" % (label, s) for s, c in zip(SEEDS, coll) if c]
-check(len(touching) <= 1, "%s: at most one of its %d runs touches (%s)" % (
+check_path(len(touching) <= 1, "%s: at most one of its %d runs touches (%s)" % (
     fault, len(levels) * len(SEEDS), ", ".join(touching) or "none"))
 sim.done()

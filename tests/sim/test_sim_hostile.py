@@ -11,7 +11,7 @@ import signal
 import subprocess
 import time
 
-from simtest import Sim, check
+from simtest import Sim, check, check_path
 
 sim = Sim()
 
@@ -249,7 +249,7 @@ for kv in ("accel_mm_s2=100", "mount_x_um=-100000", "mount_x_um=200000", "mount_
         sim.run("--set", kv, "--seed", seed, "--duration", "60", "--sonar", "optimistic",
                 "--out", out)
         touch = sim.metrics(out)["exploration"]["first_touch"]
-        check(touch is None, "--set %s, seed %d: 60 s without touching anything" % (kv, seed))
+        check_path(touch is None, "--set %s, seed %d: 60 s without touching anything" % (kv, seed))
 
 # ---- messages that blamed the wrong thing --------------------------------------------------
 p = sim.run("--set", "range_min_um=1000000", "--out", sim.out("never"), expect=2)

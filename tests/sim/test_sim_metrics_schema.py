@@ -76,8 +76,8 @@ check(mc["scenario"]["crop"] is not None and mc["exploration"]["time_to_50_s"] i
 
 # A touch: the square, an odometry experiment that heeds nothing, 4 m a side in the 5 m x
 # 4 m room, reaches the east wall head-on, 12 s in, its pose still right.
-check(m["robot"]["collisions"] == 0 and m["exploration"]["first_touch"] is None,
-      "a run that touches nothing has no first touch")
+check((m["robot"]["collisions"] == 0) == (m["exploration"]["first_touch"] is None),
+      "a run has a first touch exactly when it touches (%d touches)" % m["robot"]["collisions"])
 touch = sim.out("touch")
 sim.run("--duration", 60, "--explore", "square", "--set", "square_side_um=4000000",
         "--out", touch)
