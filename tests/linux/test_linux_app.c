@@ -178,8 +178,10 @@ static void test_run_drives_the_firmware_and_stops_the_motors(void **state)
     assert_string_equal(tmptree_read(root, "pwmchip0/pwm0/duty_cycle"), "0\n");
     assert_string_equal(tmptree_read(root, "pwmchip0/pwm0/enable"), "0\n");
     assert_string_equal(tmptree_read(root, "pwmchip0/pwm1/enable"), "0\n");
-    /* The maps: the robot stood at the start cell for every tick, so TM there is full. */
+    /* The maps: the robot stood at the start cell for every tick, so TM there is full. They
+     * are the whole capacity (grid_a = grid_b = 0), at least a 12 m home at 50 mm. */
     assert_non_null(strstr(out_buf, "maps written to"));
+    assert_true(SLAM_GRID_A >= 240u && SLAM_GRID_B >= 240u);
     unsigned a0 = SLAM_GRID_A / 2u;
     unsigned b0 = SLAM_GRID_B / 2u;
     assert_int_equal(pgm_cell("maps/tm.pgm", a0, b0), 0);
@@ -212,7 +214,11 @@ static void test_run_saves_and_streams_while_the_tick_runs(void **state)
 {
     (void)state;
     char text[4096];
-    snprintf(text, sizeof text, "save_period_s = 1\n%s", tmptree_read(root, "robot.conf"));
+    /* A 160 x 160 grid: its save (some 200 calls of robot_idle()) fits the run's ticks. */
+    snprintf(text, sizeof text,
+             "save_period_s = 1\ngrid_a = 160\ngrid_b = 160\nstart_cell_a = 80\n"
+             "start_cell_b = 80\n%s",
+             tmptree_read(root, "robot.conf"));
     strcat(text, "telemetry = pty\n");
     tmptree_file(root, "robot.conf", text);
     assert_int_equal(run("--config", conf, "--ticks", "1000", NULL), APP_EXIT_OK);

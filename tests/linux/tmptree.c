@@ -62,7 +62,7 @@ void tmptree_pwm_channel(const char *root, unsigned chip, unsigned channel)
 
 const char *tmptree_read(const char *root, const char *rel)
 {
-    static char buf[65536];
+    static char buf[(512u * 512u) + 65536u]; /* a PGM of the Linux core's largest grid */
     char path[512];
     tmptree_path(path, sizeof path, root, rel);
     FILE *f = fopen(path, "r");
