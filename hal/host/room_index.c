@@ -498,6 +498,36 @@ int room_index_near(const room_t *r, double x, double y, double cap, double *cir
     return 0;
 }
 
+bool room_index_seg_near(const room_t *r, double x, double y, double d2, uint32_t self)
+{
+    const room_index_t *ix = r->index;
+    uint32_t stack[BVH_STACK];
+    unsigned top = 0u;
+    if (ix->nodes != NULL) {
+        stack[top++] = 0u;
+    }
+    while (top > 0u) {
+        const room_bvh_node_t *n = &ix->nodes[stack[--top]];
+        /* A box is left out only beyond d2 by a margin far above any rounding. */
+        if (box_dist2(n, x, y) > d2 * (1.0 + 1e-9)) {
+            continue;
+        }
+        if (n->count == 0u) {
+            stack[top++] = n->first;
+            stack[top++] = n->first + 1u;
+            continue;
+        }
+        for (uint32_t k = 0; k < n->count; k++) {
+            uint32_t id = ix->leaf_ids[n->first + k];
+            examined++;
+            if (id < r->nsegs && id != self && room_seg_dist2(&r->segs[id], x, y) < d2) {
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 /* The ray's walk through the index cells, testing the objects of each until a hit lies
  * within the cells walked. */
 double room_index_ray(const room_t *r, double ox, double oy, double dx, double dy, double max_m,

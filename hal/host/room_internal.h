@@ -282,6 +282,12 @@ int room_index_near(const room_t *r, double x, double y, double cap, double *cir
                     double *seg_d2);
 
 /**
+ * Whether a segment other than segment @p self passes nearer than √d2 to (x, y): the same
+ * answer as a look at every segment (room_seg_dist2() < d2), from the index's tree.
+ */
+bool room_index_seg_near(const room_t *r, double x, double y, double d2, uint32_t self);
+
+/**
  * room_ray()'s segments and circles through the index: the nearest hit, or INFINITY.
  * @param id  out (may be NULL): the object hit, as the index numbers it (segment i as i,
  *            circle i as nsegs + i); set only with a hit

@@ -317,6 +317,78 @@ static void test_world_in_a_large_room(void **state)
     room_free(&r);
 }
 
+/* A wall's free end (no other segment within 1 mm) becomes a post, and with many walls the
+ * index finds the others: the posts are those of a look at every segment, in the same
+ * order, for walls that meet end to end, meet another's side, or miss it by 0.9 or 1.1 mm. */
+static void test_wall_ends_as_every_segment_says(void **state)
+{
+    (void)state;
+    const uint32_t n = 3000u;
+    size_t cap = (size_t)n * 80u + 256u;
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t k = (size_t)snprintf(text, cap, "poly 0 0 30 0 30 30 0 30\nstart 15 15 0\n");
+    room_segment_t *w = calloc(n, sizeof *w);
+    assert_non_null(w);
+    test_rng_t rng;
+    test_rng_seed(&rng, 31u);
+    for (uint32_t i = 0; i < n; i++) {
+        double x = 1.0 + 28.0 * test_rng_unit(&rng);
+        double y = 1.0 + 28.0 * test_rng_unit(&rng);
+        if (i > 0u && test_rng_unit(&rng) < 0.6) {
+            /* From a point of an earlier wall (an end or along it), maybe a hair aside. */
+            const room_segment_t *o = &w[test_rng_range(&rng, 0, (int32_t)i - 1)];
+            double t = test_rng_unit(&rng) < 0.5 ? 1.0 : test_rng_unit(&rng);
+            double off =
+                (double)test_rng_range(&rng, 0, 2) * (test_rng_unit(&rng) < 0.5 ? 0.0009 : 0.0011);
+            x = o->x1 + t * (o->x2 - o->x1) + off;
+            y = o->y1 + t * (o->y2 - o->y1);
+        }
+        if (fabs(x - 15.0) < 1.0 && fabs(y - 15.0) < 1.0) {
+            x += 2.0;
+        }
+        double a = 2.0 * TEST_PI * test_rng_unit(&rng);
+        w[i] = (room_segment_t){x, y, fmin(29.5, fmax(0.5, x + 0.6 * cos(a))),
+                                fmin(29.5, fmax(0.5, y + 0.6 * sin(a)))};
+        k += (size_t)snprintf(text + k, cap - k, "wall %.7f %.7f %.7f %.7f\n", w[i].x1, w[i].y1,
+                              w[i].x2, w[i].y2);
+    }
+    free(w);
+    room_t r;
+    char err[300] = "";
+    if (room_parse(&r, "ends.room", text, strlen(text), err, sizeof err) != 0) {
+        fail_msg("%s", err);
+    }
+    free(text);
+    assert_non_null(r.index);
+    size_t posts = 0u;
+    size_t joined = 0u;
+    for (size_t i = 0; i < r.nsegs; i++) {
+        for (int e = 0; e < 2; e++) {
+            double x = e == 0 ? r.segs[i].x1 : r.segs[i].x2;
+            double y = e == 0 ? r.segs[i].y1 : r.segs[i].y2;
+            bool near = false;
+            for (size_t j = 0; j < r.nsegs && !near; j++) {
+                near = j != i && room_seg_dist2(&r.segs[j], x, y) < 1e-6;
+            }
+            if (near) {
+                joined++;
+                continue;
+            }
+            assert_true(posts < r.ncircles);
+            const room_circle_t *c = &r.circles[posts++];
+            if (c->cx != x || c->cy != y || c->r != ROOM_WALL_END_M) {
+                fail_msg("post %zu at (%.9g, %.9g), the end of segment %zu at (%.9g, %.9g)",
+                         posts - 1u, c->cx, c->cy, i, x, y);
+            }
+        }
+    }
+    print_message("%zu ends: %zu posts, %zu joined\n", 2u * r.nsegs, posts, joined);
+    assert_int_equal(posts, r.ncircles);
+    assert_true(posts > 500u && joined > 500u);
+    room_free(&r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -325,6 +397,7 @@ int main(void)
         cmocka_unit_test(test_queries_look_nearby),
         cmocka_unit_test(test_crowds_stay_cheap),
         cmocka_unit_test(test_world_in_a_large_room),
+        cmocka_unit_test(test_wall_ends_as_every_segment_says),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
