@@ -53,16 +53,21 @@ static char *scattered_room(uint32_t n, double wall_len, uint64_t seed)
     return text;
 }
 
-/* Loads scattered_room(n, wall_len, seed), which is large enough for an index. */
-static void load(room_t *r, uint32_t n, double wall_len, uint64_t seed)
+/* A room from a .room text the test made (freed), large enough for an index. */
+static void parse(room_t *r, const char *name, char *text)
 {
-    char *text = scattered_room(n, wall_len, seed);
     char err[300] = "";
-    if (room_parse(r, "scattered.room", text, strlen(text), err, sizeof err) != 0) {
+    if (room_parse(r, name, text, strlen(text), err, sizeof err) != 0) {
         fail_msg("%s", err);
     }
     free(text);
     assert_non_null(r->index);
+}
+
+/* Loads scattered_room(n, wall_len, seed). */
+static void load(room_t *r, uint32_t n, double wall_len, uint64_t seed)
+{
+    parse(r, "scattered.room", scattered_room(n, wall_len, seed));
     /* The index grows with the file: a few entries an object, however long they are. */
     assert_true(room_index_entries(r) <= 8u * (r->nsegs + r->ncircles + r->nboxes));
 }
@@ -240,12 +245,7 @@ static void test_crowds_stay_cheap(void **state)
     for (int posts = 0; posts < 2; posts++) {
         char *text = crowded_room(100000u, posts != 0);
         room_t r;
-        char err[300] = "";
-        if (room_parse(&r, "crowd.room", text, strlen(text), err, sizeof err) != 0) {
-            fail_msg("%s", err);
-        }
-        free(text);
-        assert_non_null(r.index);
+        parse(&r, "crowd.room", text);
         room_t l = linear(&r);
         test_rng_t rng;
         test_rng_seed(&rng, 5u);
@@ -355,12 +355,7 @@ static void test_wall_ends_as_every_segment_says(void **state)
     }
     free(w);
     room_t r;
-    char err[300] = "";
-    if (room_parse(&r, "ends.room", text, strlen(text), err, sizeof err) != 0) {
-        fail_msg("%s", err);
-    }
-    free(text);
-    assert_non_null(r.index);
+    parse(&r, "ends.room", text);
     size_t posts = 0u;
     size_t joined = 0u;
     for (size_t i = 0; i < r.nsegs; i++) {

@@ -61,15 +61,23 @@ CASES = (("text.pgm", b"P2\n2 2\n255\n0 0 0 0\n"), ("short.pgm", b"P5\n4 4\n255\
          ("maxval.pgm", b"P5\n2 2\n65535\n" + bytes(8)), ("header.pgm", b"P5\n2"),
          ("huge.pgm", b"P5\n65535 65535\n255\n" + bytes(4)), ("zero.pgm", b"P5\n0 3\n255\n"),
          ("empty.pgm", b""), ("comment.pgm", b"P5\n# never ends"))
-for name, data in CASES:
-    path = sim.out(name)
-    with open(path, "wb") as f:
-        f.write(data)
-    try:
-        pgm.read(path)
-        check(False, "%s: read, but it is malformed" % name)
-    except errors.ToolError as e:
-        check(e.exit_code == 2 and path in str(e), "%s refused: %s" % (name, e))
+
+
+def check_refused(read, cases, what):
+    """Each (name, bytes) written to a file that read() refuses with a ToolError (exit 2)
+    naming it."""
+    for name, data in cases:
+        path = sim.out(name)
+        with open(path, "wb") as f:
+            f.write(data)
+        try:
+            read(path)
+            check(False, "%s: read, but it is %s" % (name, what))
+        except errors.ToolError as e:
+            check(e.exit_code == 2 and path in str(e), "%s refused: %s" % (name, e))
+
+
+check_refused(pgm.read, CASES, "malformed")
 path = sim.out("good.pgm")
 with open(path, "wb") as f:
     f.write(b"P5\n# a comment\n3 2\n255\n" + bytes(range(6)))
@@ -96,15 +104,8 @@ with open(copy, "rb") as f:
 check(texts.get("probe") == "a b c" and "source" in texts and kinds[-2:] == [b"tEXt", b"IEND"]
       and [k for k, _, _ in pngtext.chunks(png, shot)] == kinds[:-2] + [b"IEND"],
       "a text chunk added to the screenshot reads back before its IEND: %s" % texts)
-for name, data in (("cut.png", png[:len(png) // 2]), ("text.png", b"not a png")):
-    path = sim.out(name)
-    with open(path, "wb") as f:
-        f.write(data)
-    try:
-        pngtext.read_text(path)
-        check(False, "%s: read, but it is no whole PNG" % name)
-    except errors.ToolError as e:
-        check(e.exit_code == 2 and path in str(e), "%s refused: %s" % (name, e))
+check_refused(pngtext.read_text, (("cut.png", png[:len(png) // 2]), ("text.png", b"not a png")),
+              "no whole PNG")
 
 # A tool ends on it as every tool does: `prog: message`, exit 2, no traceback.
 p = subprocess.run(["/usr/bin/python3", os.path.join(TOOLS, "mapscore.py"), sim.out("short.pgm"),
