@@ -71,7 +71,7 @@ int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m,
                 }
             }
             if (faces && near) {
-                r->wall[i] = 1u;
+                r->wall_left[i >> 6] |= 1ull << (i & 63u);
                 r->wall_cells++;
             }
         }
@@ -143,24 +143,34 @@ void walls_ping(run_t *r, double sx, double sy, double bearing, double t)
     sector_bounds(r, sx, sy, bearing, b);
     double cos_half = cos(r->half_cone);
     for (long y = b[2]; y <= b[3]; y++) {
-        for (long x = b[0]; x <= b[1]; x++) {
-            size_t i = (size_t)y * g->a + (size_t)x;
-            if (!r->wall[i] || r->wall_seen[i]) {
-                continue;
+        /* The row's cells b[0]..b[1] in ascending order, 64 at a time, only those left. */
+        size_t lo = (size_t)y * g->a + (size_t)b[0];
+        size_t hi = (size_t)y * g->a + (size_t)b[1];
+        for (size_t w = lo >> 6; w <= hi >> 6; w++) {
+            uint64_t bits = r->wall_left[w];
+            if (w == lo >> 6) {
+                bits &= ~0ull << (lo & 63u);
             }
-            double dx = g->origin_x + ((double)x + 0.5) * g->cell_m - sx;
-            double dy = g->origin_y + ((double)y + 0.5) * g->cell_m - sy;
-            double d = hypot(dx, dy);
-            if (d >= r->rc_m ||
-                (d > 0.0 && (dx * cos(bearing) + dy * sin(bearing)) < d * cos_half)) {
-                continue;
+            if (w == hi >> 6) {
+                bits &= ~0ull >> (63u - (hi & 63u));
             }
-            if (d > g->cell_m &&
-                room_ray(r->room, sx, sy, atan2(dy, dx), d, NULL) < d - g->cell_m) {
-                continue;
+            for (; bits != 0u; bits &= bits - 1u) {
+                size_t i = (w << 6) + (size_t)__builtin_ctzll(bits);
+                long x = (long)(i - (size_t)y * g->a);
+                double dx = g->origin_x + ((double)x + 0.5) * g->cell_m - sx;
+                double dy = g->origin_y + ((double)y + 0.5) * g->cell_m - sy;
+                double d = hypot(dx, dy);
+                if (d >= r->rc_m ||
+                    (d > 0.0 && (dx * cos(bearing) + dy * sin(bearing)) < d * cos_half)) {
+                    continue;
+                }
+                if (d > g->cell_m &&
+                    room_ray(r->room, sx, sy, atan2(dy, dx), d, NULL) < d - g->cell_m) {
+                    continue;
+                }
+                r->wall_left[i >> 6] &= ~(1ull << (i & 63u));
+                r->walls_covered++;
             }
-            r->wall_seen[i] = 1u;
-            r->walls_covered++;
         }
     }
     for (int k = 0; k < 3; k++) {

@@ -319,8 +319,8 @@ typedef struct {
     size_t nseries;
     /* Wall coverage (coverage.c). */
     const room_t *room;
-    uint8_t *wall;      /* the wall cells the robot could map (1) */
-    uint8_t *wall_seen; /* of which inside the confidence sector of a ping so far */
+    uint64_t *wall_left; /* bit i: cell i is a wall cell the robot could map, not yet inside
+                            the confidence sector of a ping */
     uint32_t wall_cells, walls_covered;
     double wall_time_to[3]; /* to 50, 80, 90 % of the wall cells; < 0: not reached */
     double rc_m, half_cone, body_m;
@@ -354,7 +354,7 @@ typedef struct {
 
 /**
  * Find the wall cells the robot could map (truth cells facing the open space around the
- * start, within rc of a cell its centre can reach) into r->wall; needs r->truth and
+ * start, within rc of a cell its centre can reach) into r->wall_left; needs r->truth and
  * r->reachable. Also readies the clearance watch. 0, or -1 when out of memory.
  */
 int walls_init(run_t *r, const room_t *room, const sim_params_t *p, double rc_m, uint32_t start);

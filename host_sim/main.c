@@ -114,8 +114,7 @@ static int alloc_buffers(held_t *h)
         r->observable = calloc(ncells, 1u);
         r->reachable = calloc(ncells, 1u);
         r->seen = calloc(ncells, 1u);
-        r->wall = calloc(ncells, 1u);
-        r->wall_seen = calloc(ncells, 1u);
+        r->wall_left = calloc((ncells + 63u) / 64u, sizeof *r->wall_left);
     }
     e->post = calloc(ncells, 1u);
     e->ideal_post = calloc(ncells, 1u);
@@ -123,8 +122,8 @@ static int alloc_buffers(held_t *h)
     e->scratch = calloc(2u, SLAM_GRID_A);
     e->ps = calloc(1, sizeof *e->ps);
     if (r == NULL || r->truth == NULL || r->observable == NULL || r->reachable == NULL ||
-        r->seen == NULL || r->wall == NULL || r->wall_seen == NULL || e->post == NULL ||
-        e->ideal_post == NULL || e->work == NULL || e->scratch == NULL || e->ps == NULL) {
+        r->seen == NULL || r->wall_left == NULL || e->post == NULL || e->ideal_post == NULL ||
+        e->work == NULL || e->scratch == NULL || e->ps == NULL) {
         fprintf(stderr, "host_sim: out of memory\n");
         return 1;
     }
@@ -138,8 +137,7 @@ static void free_buffers(held_t *h)
         free(h->r->observable);
         free(h->r->reachable);
         free(h->r->seen);
-        free(h->r->wall);
-        free(h->r->wall_seen);
+        free(h->r->wall_left);
         free(h->r);
         h->r = NULL;
     }

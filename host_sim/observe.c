@@ -219,12 +219,14 @@ static void ideal_echo(run_t *r, firmware_t *fw, const odom_pose_t *truth_pose, 
     double sn = sin(bearing);
     size_t n = 0;
     for (double t = 0.0; t <= reach && n < AXIS_CELLS; t += 0.25 * g->cell_m) {
-        double fa = floor((sx + t * c - g->origin_x) / g->cell_m);
-        double fb = floor((sy + t * sn - g->origin_y) / g->cell_m);
-        if (fa < 0.0 || fb < 0.0 || fa >= (double)g->a || fb >= (double)g->b) {
+        /* In the grid exactly when the floors are: qa >= 0 and qa < a, and then the
+         * conversion is the floor, with no floor() to compute. */
+        double qa = (sx + t * c - g->origin_x) / g->cell_m;
+        double qb = (sy + t * sn - g->origin_y) / g->cell_m;
+        if (!(qa >= 0.0 && qb >= 0.0 && qa < (double)g->a && qb < (double)g->b)) {
             continue;
         }
-        uint32_t i = (uint32_t)fb * g->a + (uint32_t)fa;
+        uint32_t i = (uint32_t)qb * g->a + (uint32_t)qa;
         if (n == 0u || cells[n - 1u] != i) {
             cells[n] = i;
             before[n++] = fw->ideal_grid.om[i];
