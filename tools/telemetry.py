@@ -74,6 +74,9 @@ class Source:
     # KeyboardInterrupt stop() raises can be lost, when it lands in code that swallows
     # exceptions (a finalizer inside matplotlib, say); this cannot.
     stopping = False
+    # While a picture is being saved a Ctrl-C only sets stopping: interrupted inside
+    # savefig(), matplotlib can be left unable to save the last picture.
+    holding = False
 
     def __init__(self, path, baud=115200, follow=False, until_idle=None):
         try:
@@ -243,10 +246,14 @@ def cmd_view(args):
     last = time.time()
 
     def save():
-        draw(fig, axes, m)
-        tmp = args.png + ".tmp.png"
-        fig.savefig(tmp, dpi=80)
-        os.replace(tmp, args.png)  # a viewer of the file never sees half a picture
+        Source.holding = True
+        try:
+            draw(fig, axes, m)
+            tmp = args.png + ".tmp.png"
+            fig.savefig(tmp, dpi=80)
+            os.replace(tmp, args.png)  # a viewer of the file never sees half a picture
+        finally:
+            Source.holding = False
 
     if not args.png:
         plt.ion()
@@ -556,7 +563,8 @@ def main(argv=None):
 
 def stop(signum, frame):
     Source.stopping = True
-    raise KeyboardInterrupt
+    if not Source.holding:
+        raise KeyboardInterrupt
 
 
 def frames(path, baud=115200, follow=False):

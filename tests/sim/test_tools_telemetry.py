@@ -120,8 +120,10 @@ for _ in range(600):
 running = proc.poll() is None
 proc.send_signal(signal.SIGINT)
 out, err = proc.communicate(timeout=120)
-check(running and os.path.exists(png) and "Traceback" not in err and "wrote " + png in out,
-      "view --follow --png writes the picture while it follows, and on Ctrl-C a last time")
+ok = running and os.path.exists(png) and "Traceback" not in err and "wrote " + png in out
+check(ok, "view --follow --png writes the picture while it follows, and on Ctrl-C a last time%s"
+      % ("" if ok else " (running when signalled: %s, exit %d, stdout %r, stderr %r)"
+         % (running, proc.returncode, out[-500:], err[-1500:])))
 
 # A Ctrl-C whose KeyboardInterrupt is lost (raised inside code that swallows exceptions)
 # still ends a followed source: it stops waiting once the signal has come.
