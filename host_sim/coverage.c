@@ -142,6 +142,9 @@ void walls_ping(run_t *r, double sx, double sy, double bearing, double t)
     long b[4];
     sector_bounds(r, sx, sy, bearing, b);
     double cos_half = cos(r->half_cone);
+    if (b[1] < b[0]) {
+        return; /* the sector lies beside the grid */
+    }
     for (long y = b[2]; y <= b[3]; y++) {
         /* The row's cells b[0]..b[1] in ascending order, 64 at a time, only those left. */
         size_t lo = (size_t)y * g->a + (size_t)b[0];
