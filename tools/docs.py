@@ -13,11 +13,12 @@ rewritten in place. With --check they are made in a temporary folder and compare
 the committed ones: text exactly, except the line of wall time and speed, which follows
 the machine; pictures byte for byte (tools/plot_run.py renders with matplotlib's Agg
 backend and no version in the file, so the same build on the same Debian draws the same
-bytes), except the web viewer's screenshot: each Chromium version draws the page in other
-bytes, so it carries the digest of what it shows (the run's telemetry and the page's
-files) and is compared, and drawn again, by that digest alone. The simulator is deterministic and callgrind, QEMU -icount and unicorn count
-instructions exactly: the same build gives the same numbers. Wall-clock speeds, which do
-not repeat, are never in a block.
+bytes), except the web viewer's screenshot: another machine's Chromium can draw the page
+in other bytes, so it carries the digest of what it shows (the run's telemetry and the
+page's files) and is compared, and drawn again, by that digest alone. The simulator is
+deterministic and callgrind, QEMU -icount and unicorn count instructions exactly: the same
+build gives the same numbers. Wall-clock speeds, which do not repeat, are never in a
+block.
 
 Generators:
   make-sim   README.md: what `make sim` prints; host_sim/figures/default_room.png, its
@@ -259,7 +260,7 @@ def calibrate(host_sim, work):
 
 
 class Drawn:
-    """A picture a browser draws: its bytes follow the Chromium version, so it is compared
+    """A picture a browser draws: its bytes follow the machine's Chromium, so it is compared
     by the digest of what it shows (a tEXt chunk "source") and drawn only when that differs."""
 
     def __init__(self, source, draw):

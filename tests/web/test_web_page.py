@@ -11,8 +11,8 @@ counts are telemetry.py's, and it tells the run, the robot's state and its answe
 With --screenshot the page plays a ten-minute run of the obstacles room instead and its
 picture is written to FILE (the README's, tools/web/screenshot.png), with what it shows
 in a tEXt chunk: "source", a SHA-256 of the run's telemetry, the window's size and the
-page's files. --screenshot-source prints that digest alone, without Chromium: each
-Chromium version draws the same page in other bytes, so make docs-check compares this."""
+page's files. --screenshot-source prints that digest alone, without Chromium: another
+machine's Chromium can draw the same page in other bytes, so make docs-check compares this."""
 import hashlib
 import json
 import os
