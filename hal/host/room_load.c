@@ -333,33 +333,41 @@ static int room_statement(room_build_t *b, room_t *r, unsigned *start_line, char
  * a real screen or partition, which has a thickness: it becomes a circle of
  * ROOM_WALL_END_M, which the sonar answers from and the body meets. Joined ends (a room's
  * corners, a box's or polygon's) get none. */
+#define WALL_JOIN2_M2 1e-6 /* (1 mm)² */
+
+/* Whether a segment other than segment i passes within 1 mm of (x, y): through the index
+ * of the segments where there are enough for one (room_index_seg_near() answers the same),
+ * else by looking at every one. */
+static bool end_joined(const room_t *segs_only, size_t i, double x, double y)
+{
+    if (segs_only->index != NULL) {
+        return room_index_seg_near(segs_only, x, y, WALL_JOIN2_M2, (uint32_t)i);
+    }
+    for (size_t j = 0; j < segs_only->nsegs; j++) {
+        if (j != i && room_seg_dist2(&segs_only->segs[j], x, y) < WALL_JOIN2_M2) {
+            return true;
+        }
+    }
+    return false;
+}
+
 static int add_wall_ends(room_build_t *b)
 {
-    const room_segment_t *segs = b->segs.v;
-    size_t n = b->segs.n;
-    /* Another segment near an end: by the index of the segments alone where there are
-     * many (a file of 10^5 walls took half a minute looking at every one for each end). */
+    /* The segments alone, indexed: a file of 10^5 walls took half a minute looking at
+     * every one for each end. */
     room_t alone = {0};
     alone.segs = b->segs.v;
-    alone.nsegs = n;
+    alone.nsegs = b->segs.n;
     room_bounds(&alone);
     if (room_index_build(&alone) != 0) {
         return -1;
     }
     int rc = 0;
-    for (size_t i = 0; i < n && rc == 0; i++) {
+    for (size_t i = 0; i < alone.nsegs && rc == 0; i++) {
         for (int e = 0; e < 2 && rc == 0; e++) {
-            double x = e == 0 ? segs[i].x1 : segs[i].x2;
-            double y = e == 0 ? segs[i].y1 : segs[i].y2;
-            bool joined = false;
-            if (alone.index != NULL) {
-                joined = room_index_seg_near(&alone, x, y, 1e-6, (uint32_t)i);
-            } else {
-                for (size_t j = 0; j < n && !joined; j++) {
-                    joined = j != i && room_seg_dist2(&segs[j], x, y) < 1e-6;
-                }
-            }
-            if (!joined) {
+            double x = e == 0 ? alone.segs[i].x1 : alone.segs[i].x2;
+            double y = e == 0 ? alone.segs[i].y1 : alone.segs[i].y2;
+            if (!end_joined(&alone, i, x, y)) {
                 room_circle_t c = {x, y, ROOM_WALL_END_M};
                 rc = vec_push(&b->circles, &c, sizeof c);
             }

@@ -149,6 +149,9 @@ static void test_hardware_failure_exits_1(void **state)
     assert_non_null(strstr(err_buf, "sonar_trigger: line 5 is in use by 'someone'"));
 }
 
+/* The Linux program's capacity holds at least a 12 m home at 50 mm. */
+_Static_assert(SLAM_GRID_A >= 240u && SLAM_GRID_B >= 240u, "the Linux grid capacity is below 12 m");
+
 /* The grey level of a map cell in a written PGM (north up, as mapfile writes it). */
 static int pgm_cell(const char *rel, unsigned a, unsigned b)
 {
@@ -179,9 +182,8 @@ static void test_run_drives_the_firmware_and_stops_the_motors(void **state)
     assert_string_equal(tmptree_read(root, "pwmchip0/pwm0/enable"), "0\n");
     assert_string_equal(tmptree_read(root, "pwmchip0/pwm1/enable"), "0\n");
     /* The maps: the robot stood at the start cell for every tick, so TM there is full. They
-     * are the whole capacity (grid_a = grid_b = 0), at least a 12 m home at 50 mm. */
+     * are the whole capacity (grid_a = grid_b = 0), pgm_cell() reads them at its size. */
     assert_non_null(strstr(out_buf, "maps written to"));
-    assert_true(SLAM_GRID_A >= 240u && SLAM_GRID_B >= 240u);
     unsigned a0 = SLAM_GRID_A / 2u;
     unsigned b0 = SLAM_GRID_B / 2u;
     assert_int_equal(pgm_cell("maps/tm.pgm", a0, b0), 0);

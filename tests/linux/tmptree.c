@@ -10,6 +10,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "slam/grid.h"
+
 static void tmptree_die(const char *what, const char *path)
 {
     fprintf(stderr, "tmptree: %s %s failed\n", what, path);
@@ -62,7 +64,7 @@ void tmptree_pwm_channel(const char *root, unsigned chip, unsigned channel)
 
 const char *tmptree_read(const char *root, const char *rel)
 {
-    static char buf[(512u * 512u) + 65536u]; /* a PGM of the Linux core's largest grid */
+    static char buf[SLAM_GRID_CELLS + 65536u]; /* a PGM of the largest grid, and more */
     char path[512];
     tmptree_path(path, sizeof path, root, rel);
     FILE *f = fopen(path, "r");
