@@ -21,8 +21,11 @@
 #include "slam/fixed.h"
 #include "slam/grid.h"
 
-#define EXPLORE_POINTS 16u     /**< obstacle points remembered */
-#define EXPLORE_TRAIL 8u       /**< trail positions kept */
+#define EXPLORE_POINTS 16u /**< obstacle points remembered */
+#define EXPLORE_TRAIL 8u   /**< trail positions kept */
+#define EXPLORE_PROGRESS_KEPT                                                                      \
+    8u                         /**< places of progress kept, the way escapes back out (a           \
+                                    power of two: a ring) */
 #define EXPLORE_BLOCK_SHIFT 4u /**< frontier blocks are 16 x 16 cells */
 /* The blocks of the capacity, for the bit maps; a run's grid uses the first of them. */
 #define EXPLORE_BLOCKS_A ((SLAM_GRID_A + 15u) >> EXPLORE_BLOCK_SHIFT)
@@ -78,7 +81,7 @@ typedef struct {
     uint32_t leaves;     /**< walls mode: walls left for the least visited way */
     uint32_t doors;      /**< walls mode: openings passed */
     uint32_t seeks;      /**< walls mode: frontier blocks crossed to */
-    uint32_t escapes;    /**< places left for want of progress, and marked blocked */
+    uint32_t escapes;    /**< places backed out of for want of progress */
 } explore_count_t;
 
 /** machine.c: the state, its clock and the random stream. */
@@ -160,15 +163,25 @@ typedef struct {
     int32_t leg_x_um, leg_y_um;   /**< where the last turn ended, or the stall that backing
                                        off began from */
     uint32_t look_mark;           /**< LOOK: `now` when its sweep was complete; 0 before */
-    uint8_t after_turn;           /**< the state LOOK hands over to */
-    uint8_t trail_head;           /**< the newest trail position */
-    uint8_t trail_len;            /**< trail positions held */
-    uint8_t back_left;            /**< BACK: trail positions still to reach */
-    uint8_t holds;                /**< HOLD: stalls since the backing off began */
-    bool hold_back;               /**< HOLD: back off after it (else look) */
-    bool trail_fresh;             /**< a trail position was added: the walls mode looks at it */
-    bool one_wheel;               /**< set by the caller with `stalled`: only one wheel stalled,
-                                       the other turning (motion_one_wheel()) */
+    int32_t prog_x_um[EXPLORE_PROGRESS_KEPT]; /**< where the robot made progress, a ring
+                                                   (moves.c's explore_progress()) */
+    int32_t prog_y_um[EXPLORE_PROGRESS_KEPT];
+    uint32_t prog_at;    /**< `now` when it came to the newest of them */
+    uint32_t trust_from; /**< `now` from which escapes trust the places (a wheel's count
+                              that stopped puts them wrong) */
+    uint8_t prog_head;   /**< the newest place's slot */
+    uint8_t prog_n;      /**< places held (1 .. EXPLORE_PROGRESS_KEPT) */
+    uint8_t after_turn;  /**< the state LOOK hands over to */
+    uint8_t trail_head;  /**< the newest trail position */
+    uint8_t trail_len;   /**< trail positions held */
+    uint8_t back_left;   /**< BACK: trail positions still to reach */
+    uint8_t holds;       /**< HOLD: stalls since the backing off began */
+    bool hold_back;      /**< HOLD: back off after it (else look) */
+    bool escaping;       /**< BACK: out of a place without progress, along the
+                              places of progress (prog_x/y) */
+    bool trail_fresh;    /**< a trail position was added: the walls mode looks at it */
+    bool one_wheel;      /**< set by the caller with `stalled`: only one wheel stalled,
+                              the other turning (motion_one_wheel()) */
 } explore_moves_t;
 
 /** decide.c: the weighing of candidate headings under way (DECIDE). */

@@ -85,6 +85,7 @@ static void follow(explore_t *e, const odom_pose_t *pose, const grid_t *g, int32
  */
 static void trail_look(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
+    explore_progress(e, pose);
     grid_cell_t here;
     if (grid_cell_of(g, pose->x_um, pose->y_um, &here) == 0) {
         explore_seek_here(e, here);

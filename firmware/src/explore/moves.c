@@ -21,6 +21,20 @@
  * seconds, and three seconds did no better against stopped encoders (experiments.md). */
 #define EXPLORE_HOLD_TICKS 100u
 #define EXPLORE_HOLDS_MAX 3u
+/* A robot that turns about in one place for this long (among a chair's legs, every way
+ * closer than avoid_um) backs out the way it came: along the places where it made
+ * progress, whose cells its body swept on the way in. */
+#define EXPLORE_PROGRESS_UM 250000
+#define EXPLORE_STUCK_TICKS 2000u
+#define EXPLORE_ESCAPE_BACK 3u
+#define EXPLORE_BACK_PLACES 0xFFu /* back_left: BACK's first tick takes the places */
+/* A wheel that stalled alone (a count that stopped: motion_one_wheel()) puts the places
+ * where the odometry says, not where the body went: no escape for a minute after it. */
+#define EXPLORE_DOUBT_TICKS 6000u
+_Static_assert(EXPLORE_ESCAPE_BACK <= EXPLORE_PROGRESS_KEPT && EXPLORE_ESCAPE_BACK <= EXPLORE_TRAIL,
+               "an escape backs out along places of progress kept, as its trail");
+_Static_assert((EXPLORE_PROGRESS_KEPT & (EXPLORE_PROGRESS_KEPT - 1u)) == 0u,
+               "the places of progress are a ring indexed by a mask");
 
 void explore_moves_init(explore_t *e, const slam_config_t *cfg)
 {
@@ -30,14 +44,90 @@ void explore_moves_init(explore_t *e, const slam_config_t *cfg)
     mv->trail_x_um[0] = cfg->start_x_um;
     mv->trail_y_um[0] = cfg->start_y_um;
     mv->trail_len = 1u;
+    for (uint32_t k = 0u; k < EXPLORE_PROGRESS_KEPT; k++) {
+        mv->prog_x_um[k] = cfg->start_x_um; /* (the place before the first: the start too) */
+        mv->prog_y_um[k] = cfg->start_y_um;
+    }
+    mv->prog_n = 1u;
     mv->target_heading = fix_bam_from_mdeg(cfg->start_heading_mdeg);
     mv->after_turn = EXPLORE_FORWARD;
+}
+
+/* ---- progress and escapes --------------------------------------------------------------- */
+
+/* The slot of the place of progress k places older than the newest. */
+static inline uint32_t place(const explore_moves_t *mv, uint32_t k)
+{
+    return (mv->prog_head - k) & (EXPLORE_PROGRESS_KEPT - 1u);
+}
+
+void explore_progress(explore_t *e, const odom_pose_t *pose)
+{
+    explore_moves_t *mv = &e->moves;
+    uint64_t p = EXPLORE_PROGRESS_UM;
+    uint32_t h = mv->prog_head;
+    uint32_t before = place(mv, 1u);
+    if (explore_dist2(pose, mv->prog_x_um[h], mv->prog_y_um[h]) < p * p ||
+        explore_dist2(pose, mv->prog_x_um[before], mv->prog_y_um[before]) < p * p) {
+        return; /* (the place before it too: going to and fro is no progress) */
+    }
+    h = (h + 1u) & (EXPLORE_PROGRESS_KEPT - 1u);
+    mv->prog_x_um[h] = pose->x_um;
+    mv->prog_y_um[h] = pose->y_um;
+    mv->prog_head = (uint8_t)h;
+    mv->prog_n = (uint8_t)(mv->prog_n < EXPLORE_PROGRESS_KEPT ? mv->prog_n + 1u : mv->prog_n);
+    mv->prog_at = e->machine.now;
+}
+
+/* About to turn: after EXPLORE_STUCK_TICKS without progress, back out the way it came
+ * instead (BACK's first tick takes the places to back out along: this tick has begun a
+ * turn's work). */
+static bool escape(explore_t *e, const odom_pose_t *pose)
+{
+    explore_moves_t *mv = &e->moves;
+    explore_progress(e, pose);
+    if (e->machine.blind || e->machine.now - mv->prog_at < EXPLORE_STUCK_TICKS ||
+        (int32_t)(e->machine.now - mv->trust_from) < 0) {
+        return false;
+    }
+    e->count.escapes++;
+    e->memory.narrow = false;
+    e->wall.door = false;
+    mv->escaping = true;
+    mv->back_left = EXPLORE_BACK_PLACES;
+    mv->prog_at = e->machine.now;
+    explore_enter(e, EXPLORE_BACK);
+    return true;
+}
+
+/* The newest EXPLORE_ESCAPE_BACK places of progress become the trail to back out along;
+ * all but the oldest of them leave the list: a robot that goes back into the same place
+ * backs out further the next time. */
+static void escape_trail(explore_moves_t *mv, const odom_pose_t *pose)
+{
+    uint32_t oldest = mv->prog_n < EXPLORE_ESCAPE_BACK ? mv->prog_n - 1u : EXPLORE_ESCAPE_BACK - 1u;
+    for (uint32_t k = 0u; k < EXPLORE_ESCAPE_BACK; k++) {
+        uint32_t i = place(mv, k < oldest ? k : oldest);
+        mv->trail_x_um[EXPLORE_ESCAPE_BACK - 1u - k] = mv->prog_x_um[i];
+        mv->trail_y_um[EXPLORE_ESCAPE_BACK - 1u - k] = mv->prog_y_um[i];
+    }
+    mv->prog_head = (uint8_t)place(mv, oldest);
+    mv->prog_n = (uint8_t)(mv->prog_n - oldest);
+    mv->trail_head = (uint8_t)(EXPLORE_ESCAPE_BACK - 1u);
+    mv->trail_len = (uint8_t)EXPLORE_ESCAPE_BACK;
+    mv->back_left = (uint8_t)EXPLORE_ESCAPE_BACK;
+    mv->leg_x_um = pose->x_um;
+    mv->leg_y_um = pose->y_um;
+    mv->holds = 0u;
 }
 
 /* ---- turning and facing ----------------------------------------------------------------- */
 
 void explore_turn_by(explore_t *e, const odom_pose_t *pose, int32_t angle, explore_state_t then)
 {
+    if (escape(e, pose)) {
+        return;
+    }
     e->moves.target_heading = pose->heading + (bam32_t)angle;
     e->moves.after_turn = (uint8_t)then;
     e->count.turns++;
@@ -163,6 +253,9 @@ bool explore_stall(explore_t *e, const odom_pose_t *pose)
      * turned: no body against anything (that stops both), a wheel or its count that
      * failed; backing off on that count would go blind, so stand, then look. */
     bool reversing = s == EXPLORE_BACK || s == EXPLORE_DOOR;
+    if (mv->one_wheel) {
+        mv->trust_from = e->machine.now + EXPLORE_DOUBT_TICKS;
+    }
     if (reversing || mv->one_wheel) {
         mv->hold_back = s == EXPLORE_BACK;
         mv->holds = (uint8_t)(mv->holds + reversing);
@@ -197,9 +290,16 @@ void explore_hold_step(explore_t *e)
 bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_s[2])
 {
     explore_moves_t *mv = &e->moves;
+    if (mv->back_left == EXPLORE_BACK_PLACES) {
+        escape_trail(mv, pose);
+        return false; /* (the wheels at rest this tick) */
+    }
     int64_t back = EXPLORE_BACK_UM;
-    if (explore_dist2(pose, mv->leg_x_um, mv->leg_y_um) >= (uint64_t)(back * back) ||
+    if ((mv->escaping
+             ? mv->back_left == 0u
+             : explore_dist2(pose, mv->leg_x_um, mv->leg_y_um) >= (uint64_t)(back * back)) ||
         e->machine.ticks > EXPLORE_TURN_MAX_TICKS || mv->holds > EXPLORE_HOLDS_MAX) {
+        mv->escaping = false;
         mv->trail_len = 1u;
         mv->trail_x_um[mv->trail_head] = pose->x_um;
         mv->trail_y_um[mv->trail_head] = pose->y_um;

@@ -35,6 +35,11 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um);
 
 #define EXPLORE_TRAIL_STEP_UM 50000 /* one trail position each 50 mm driven */
 
+/* Progress: the robot has come EXPLORE_PROGRESS_UM from the last two places where it made
+ * progress; if so, here is the newest. Checked at each turn begun (moves.c) and, in the
+ * walls mode, at each trail position (a job of its own tick, not the trail's). */
+void explore_progress(explore_t *e, const odom_pose_t *pose);
+
 /* Driving on: a new trail position each EXPLORE_TRAIL_STEP_UM (trail_fresh tells the
  * mode). Inline: the tick makes it whenever the robot drives. */
 static inline void explore_trail_step(explore_t *e, const odom_pose_t *pose)
