@@ -20,7 +20,9 @@ standard error and the bad 5 % (the 5th percentile of F1, the 95th of the others
 the raw F1 of OM built from the robot's own pose (metrics.json maps.odometry.raw.f1), of
 the gap (the same F1 from the true poses less it, as tools/pose_report.py has it), of the
 final position and heading error; the runs that touch an obstacle and their touches; the
-mean wall coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
+runs that went STUCK_S (30 s) or more without 0.2 m of progress and the longest such time
+(metrics.json exploration.longest_without_progress_s, issue 29's goal); the mean wall
+coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
 the shipped rooms and building maps one by one. A run whose room does not fit the
 simulator's grid (fits_grid()) is counted as such and not scored.
 Progress and the total time go to stderr; every run's figures and every summary to --json
@@ -53,6 +55,7 @@ BANDS = ((0, 12, "under 12 m²"), (12, 25, "12–25 m²"), (25, 40, "25–40 m²
 BULKY = ("readings.csv", "trajectory.csv")  # and every .pgm
 BUILDING_SEEDS = 3
 NOT_FIT = "does not fit the grid"
+STUCK_S = 30.0  # a run this long without progress is stuck (issue 29)
 
 
 def fits_grid(m):
@@ -167,6 +170,7 @@ def figures(m):
             "position_m": m["odometry"]["final_position_m"],
             "heading_deg": m["odometry"]["final_heading_deg"],
             "touches": m["robot"]["collisions"],
+            "stuck_s": m["exploration"]["longest_without_progress_s"],
             "wall_coverage": m["exploration"]["wall_coverage"]}
 
 
@@ -202,7 +206,9 @@ def summarise(runs):
            "not_fitting": sum(1 for status, _ in runs if status == NOT_FIT),
            "failed": sum(1 for status, _ in runs if status == "failed"),
            "touching_runs": sum(1 for f in ok if f["touches"] > 0),
-           "touches": sum(f["touches"] for f in ok)}
+           "touches": sum(f["touches"] for f in ok),
+           "stuck_runs": sum(1 for f in ok if f["stuck_s"] >= STUCK_S),
+           "stuck_longest_s": max((f["stuck_s"] for f in ok), default=math.nan)}
     for key in ("f1", "gap", "position_m", "heading_deg", "wall_coverage"):
         xs = [f[key] for f in ok]
         out[key] = {"mean": statistics.mean(xs) if xs else math.nan,
@@ -213,7 +219,8 @@ def summarise(runs):
 
 HEAD = ("| %s | runs | F1 own pose | F1 5th pct | gap | gap 95th pct | position (m) "
         "| position 95th pct | heading (°) | heading 95th pct | touching runs (touches) "
-        "| wall coverage |\n|---|---|---|---|---|---|---|---|---|---|---|---|")
+        "| runs stuck 30 s (longest s) | wall coverage |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def pm(s, fmt):
@@ -228,11 +235,12 @@ def row(label, s):
             x for x in ("%d %s" % (s["not_fitting"], NOT_FIT) if s["not_fitting"] else "",
                         "%d failed" % s["failed"] if s["failed"] else "") if x)
     if not s["scored"]:
-        return "| %s | %s |%s" % (label, runs, " – |" * 10)
-    return "| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %s |" % (
+        return "| %s | %s |%s" % (label, runs, " – |" * 11)
+    return "| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %d (%.0f) | %s |" % (
         label, runs, pm(s["f1"], "%.3f"), s["f1"]["p5"], pm(s["gap"], "%.3f"), s["gap"]["p95"],
         pm(s["position_m"], "%.2f"), s["position_m"]["p95"], pm(s["heading_deg"], "%.1f"),
-        s["heading_deg"]["p95"], s["touching_runs"], s["touches"], pm(s["wall_coverage"], "%.3f"))
+        s["heading_deg"]["p95"], s["touching_runs"], s["touches"], s["stuck_runs"],
+        s["stuck_longest_s"], pm(s["wall_coverage"], "%.3f"))
 
 
 TITLES = {"shipped": ("Shipped rooms", "room", "host_sim/rooms, seeds 1–%d"),
