@@ -174,12 +174,39 @@ static void test_no_escape_after_a_count_stopped(void **state)
     assert_int_equal(ex.count.escapes, 1u);
 }
 
+/* No way in known (boxed in where it started, so one place of progress only): the escape
+ * squeezes instead of backing out, the body's own corridor ahead (memory.narrow) until the
+ * robot makes progress; then the usual corridor again. */
+static void test_no_way_in_squeezes(void **state)
+{
+    (void)state;
+    setup_mode(EXPLORE_TM);
+    box(0.0, 0.0, 3.0);
+    box(0.0, 0.0, 0.25);
+    while (ex.count.escapes == 0u && ex.machine.now < 4000u) {
+        world_tick();
+    }
+    assert_int_equal(ex.count.escapes, 1u);
+    assert_int_equal(ex.moves.prog_n, 1u);
+    assert_true(ex.memory.narrow && ex.moves.squeezing);
+    assert_int_not_equal(ex.machine.state, EXPLORE_BACK);
+    nwalls -= 4u; /* the box round the start opens */
+    uint32_t squeezed = ex.machine.now;
+    while (ex.moves.prog_n == 1u && ex.machine.now < 10000u) {
+        world_tick();
+    }
+    printf("progress %u ticks after the box opened\n", ex.machine.now - squeezed);
+    assert_int_equal(ex.moves.prog_n, 2u);
+    assert_false(ex.memory.narrow || ex.moves.squeezing);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_places_of_progress),
         cmocka_unit_test(test_turning_about_escapes_the_way_it_came),
         cmocka_unit_test(test_no_escape_after_a_count_stopped),
+        cmocka_unit_test(test_no_way_in_squeezes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -30,7 +30,8 @@
  *   and look instead.
  * - Escapes: the places where the robot made progress (each 0.25 m from the last two). A
  *   robot about to turn 20 s after its last progress backs out along the newest of them
- *   instead, the way it came, and drops them from the list; not for a minute after a
+ *   instead, the way it came, and drops them from the list; with no way in known it
+ *   squeezes (the body's corridor ahead until it gets on). Not for a minute after a
  *   wheel stalled alone (its count may have stopped: the places are then wrong).
  *
  * The modes:

@@ -179,6 +179,7 @@ typedef struct {
     bool hold_back;      /**< HOLD: back off after it (else look) */
     bool escaping;       /**< BACK: out of a place without progress, along the
                               places of progress (prog_x/y) */
+    bool squeezing;      /**< no way in known: the body's corridor ahead until progress */
     bool trail_fresh;    /**< a trail position was added: the walls mode looks at it */
     bool one_wheel;      /**< set by the caller with `stalled`: only one wheel stalled,
                               the other turning (motion_one_wheel()) */

@@ -77,6 +77,10 @@ void explore_progress(explore_t *e, const odom_pose_t *pose)
     mv->prog_head = (uint8_t)h;
     mv->prog_n = (uint8_t)(mv->prog_n < EXPLORE_PROGRESS_KEPT ? mv->prog_n + 1u : mv->prog_n);
     mv->prog_at = e->machine.now;
+    if (mv->squeezing) {
+        mv->squeezing = false;
+        e->memory.narrow = false;
+    }
 }
 
 /* About to turn: after EXPLORE_STUCK_TICKS without progress, back out the way it came
@@ -91,11 +95,18 @@ static bool escape(explore_t *e, const odom_pose_t *pose)
         return false;
     }
     e->count.escapes++;
+    mv->prog_at = e->machine.now;
+    if (mv->prog_n == 1u) {
+        /* No way in known (it started here, or backed out all it knew): squeeze instead,
+         * the body's own corridor ahead (as through an opening) until it gets on. */
+        e->memory.narrow = true;
+        mv->squeezing = true;
+        return false;
+    }
     e->memory.narrow = false;
     e->wall.door = false;
     mv->escaping = true;
     mv->back_left = EXPLORE_BACK_PLACES;
-    mv->prog_at = e->machine.now;
     explore_enter(e, EXPLORE_BACK);
     return true;
 }
