@@ -12,8 +12,6 @@
 #include "explore_world.h"
 #include "moves.h"
 
-#define STUCK_TICKS 2000u /* moves.c's EXPLORE_STUCK_TICKS */
-
 /* The place of progress k places older than the newest: its x. */
 static int32_t place_x(uint32_t k)
 {
@@ -121,7 +119,7 @@ static void test_turning_about_escapes_the_way_it_came(void **state)
            closest);
     assert_true(moved < 60000.0 && closest > 150000.0);
     assert_true(ex.count.turns - turns >= 5u);
-    assert_true(waited >= STUCK_TICKS && waited < STUCK_TICKS + 400u);
+    assert_true(waited >= EXPLORE_STUCK_TICKS && waited < EXPLORE_STUCK_TICKS + 400u);
     assert_int_equal(ex.machine.state, EXPLORE_BACK);
     double wide = 0.0;
     while (ex.machine.state == EXPLORE_BACK && n++ < 20000u) {
@@ -163,11 +161,11 @@ static void test_no_escape_after_a_count_stopped(void **state)
     ex.moves.one_wheel = false;
     assert_int_equal(ex.count.stalls, 1u);
     uint32_t stood = ex.machine.now;
-    while (ex.machine.now - stood < 5800u) {
+    while (ex.machine.now - stood < EXPLORE_DOUBT_TICKS - 200u) {
         world_tick();
     }
     assert_int_equal(ex.count.escapes, 0u);
-    while (ex.count.escapes == 0u && ex.machine.now - stood < 9000u) {
+    while (ex.count.escapes == 0u && ex.machine.now - stood < EXPLORE_DOUBT_TICKS + 3000u) {
         world_tick();
     }
     printf("the first escape %u ticks after the stall\n", ex.machine.now - stood);

@@ -219,7 +219,7 @@ def summarise(runs):
 
 HEAD = ("| %s | runs | F1 own pose | F1 5th pct | gap | gap 95th pct | position (m) "
         "| position 95th pct | heading (°) | heading 95th pct | touching runs (touches) "
-        "| runs stuck 30 s (longest s) | wall coverage |\n"
+        "| runs stuck " + "%g" % STUCK_S + " s (longest s) | wall coverage |\n"
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 

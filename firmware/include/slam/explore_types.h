@@ -21,12 +21,10 @@
 #include "slam/fixed.h"
 #include "slam/grid.h"
 
-#define EXPLORE_POINTS 16u /**< obstacle points remembered */
-#define EXPLORE_TRAIL 8u   /**< trail positions kept */
-#define EXPLORE_PROGRESS_KEPT                                                                      \
-    8u                         /**< places of progress kept, the way escapes back out (a           \
-                                    power of two: a ring) */
-#define EXPLORE_BLOCK_SHIFT 4u /**< frontier blocks are 16 x 16 cells */
+#define EXPLORE_POINTS 16u       /**< obstacle points remembered */
+#define EXPLORE_TRAIL 8u         /**< trail positions kept */
+#define EXPLORE_PROGRESS_KEPT 8u /**< places of progress kept (a ring: a power of two) */
+#define EXPLORE_BLOCK_SHIFT 4u   /**< frontier blocks are 16 x 16 cells */
 /* The blocks of the capacity, for the bit maps; a run's grid uses the first of them. */
 #define EXPLORE_BLOCKS_A ((SLAM_GRID_A + 15u) >> EXPLORE_BLOCK_SHIFT)
 #define EXPLORE_BLOCKS_B ((SLAM_GRID_B + 15u) >> EXPLORE_BLOCK_SHIFT)

@@ -21,16 +21,12 @@
  * seconds, and three seconds did no better against stopped encoders (experiments.md). */
 #define EXPLORE_HOLD_TICKS 100u
 #define EXPLORE_HOLDS_MAX 3u
-/* A robot that turns about in one place for this long (among a chair's legs, every way
- * closer than avoid_um) backs out the way it came: along the places where it made
- * progress, whose cells its body swept on the way in. */
+/* A robot that turns about in one place for EXPLORE_STUCK_TICKS (among a chair's legs,
+ * every way closer than avoid_um) backs out the way it came: along the places where it
+ * made progress, whose cells its body swept on the way in. */
 #define EXPLORE_PROGRESS_UM 250000
-#define EXPLORE_STUCK_TICKS 2000u
 #define EXPLORE_ESCAPE_BACK 3u
 #define EXPLORE_BACK_PLACES 0xFFu /* back_left: BACK's first tick takes the places */
-/* A wheel that stalled alone (a count that stopped: motion_one_wheel()) puts the places
- * where the odometry says, not where the body went: no escape for a minute after it. */
-#define EXPLORE_DOUBT_TICKS 6000u
 _Static_assert(EXPLORE_ESCAPE_BACK <= EXPLORE_PROGRESS_KEPT && EXPLORE_ESCAPE_BACK <= EXPLORE_TRAIL,
                "an escape backs out along places of progress kept, as its trail");
 _Static_assert((EXPLORE_PROGRESS_KEPT & (EXPLORE_PROGRESS_KEPT - 1u)) == 0u,

@@ -35,6 +35,11 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um);
 
 #define EXPLORE_TRAIL_STEP_UM 50000 /* one trail position each 50 mm driven */
 
+#define EXPLORE_STUCK_TICKS 2000u /* turning about this long without progress: an escape */
+/* A wheel that stalled alone (a count that stopped: motion_one_wheel()) puts the places
+ * where the odometry says, not where the body went: no escape for this long after it. */
+#define EXPLORE_DOUBT_TICKS 6000u
+
 /* Progress: the robot has come EXPLORE_PROGRESS_UM from the last two places where it made
  * progress; if so, here is the newest. Checked at each turn begun (moves.c) and, in the
  * walls mode, at each trail position (a job of its own tick, not the trail's). */
