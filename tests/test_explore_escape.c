@@ -61,6 +61,34 @@ static void test_places_of_progress(void **state)
     assert_int_equal(place_x(0u), x0 + 750000 + 250000 * (2 * (int32_t)EXPLORE_PROGRESS_KEPT - 1));
 }
 
+/* An escape that gets nowhere (it stalls as it begins to back out) is no progress where it
+ * began, though the places it would have backed out along have left the list; 0.25 m on
+ * from there is. */
+static void test_an_escape_that_got_nowhere_is_no_progress(void **state)
+{
+    (void)state;
+    setup_mode(EXPLORE_TM);
+    for (uint32_t k = 1u; k <= 4u; k++) {
+        progress_at((int32_t)(250000u * k), 100u * k);
+    }
+    assert_int_equal(ex.moves.prog_n, 5u);
+    odom_pose_t p = {cfg.start_x_um + 1000000, cfg.start_y_um, 0};
+    ex.machine.now = 400u + EXPLORE_STUCK_TICKS;
+    explore_turn_by(&ex, &p, (int32_t)EXPLORE_DEG(45), EXPLORE_FORWARD);
+    assert_int_equal(ex.count.escapes, 1u);
+    assert_int_equal(ex.machine.state, EXPLORE_BACK);
+    int32_t target_mm_s[2] = {0, 0};
+    (void)explore_back_step(&ex, &p, target_mm_s); /* takes the places */
+    assert_int_equal(ex.moves.prog_n, 3u);
+    assert_int_equal(place_x(0u), cfg.start_x_um + 500000); /* 0.5 m behind */
+    progress_at(1000000 - 10000, 3000u);
+    assert_int_equal(ex.moves.prog_n, 3u);
+    assert_int_equal(ex.moves.prog_at, 400u + EXPLORE_STUCK_TICKS);
+    progress_at(1000000 + 250000, 3100u);
+    assert_int_equal(ex.moves.prog_n, 4u);
+    assert_int_equal(ex.moves.prog_at, 3100u);
+}
+
 /* Walls round a point, `half_m` from it on every side. */
 static void box(double x_m, double y_m, double half_m)
 {
@@ -202,6 +230,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_places_of_progress),
+        cmocka_unit_test(test_an_escape_that_got_nowhere_is_no_progress),
         cmocka_unit_test(test_turning_about_escapes_the_way_it_came),
         cmocka_unit_test(test_no_escape_after_a_count_stopped),
         cmocka_unit_test(test_no_way_in_squeezes),

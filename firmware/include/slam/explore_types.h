@@ -164,6 +164,8 @@ typedef struct {
     int32_t prog_x_um[EXPLORE_PROGRESS_KEPT]; /**< where the robot made progress, a ring
                                                    (moves.c's explore_progress()) */
     int32_t prog_y_um[EXPLORE_PROGRESS_KEPT];
+    int32_t stuck_x_um; /**< where the last escape began: no progress near it */
+    int32_t stuck_y_um;
     uint32_t prog_at;    /**< `now` when it came to the newest of them */
     uint32_t trust_from; /**< `now` from which escapes trust the places (a wheel's count
                               that stopped puts them wrong) */

@@ -40,6 +40,8 @@ void explore_moves_init(explore_t *e, const slam_config_t *cfg)
     mv->trail_x_um[0] = cfg->start_x_um;
     mv->trail_y_um[0] = cfg->start_y_um;
     mv->trail_len = 1u;
+    mv->stuck_x_um = cfg->start_x_um;
+    mv->stuck_y_um = cfg->start_y_um;
     for (uint32_t k = 0u; k < EXPLORE_PROGRESS_KEPT; k++) {
         mv->prog_x_um[k] = cfg->start_x_um; /* (the place before the first: the start too) */
         mv->prog_y_um[k] = cfg->start_y_um;
@@ -63,9 +65,12 @@ void explore_progress(explore_t *e, const odom_pose_t *pose)
     uint64_t p = EXPLORE_PROGRESS_UM;
     uint32_t h = mv->prog_head;
     uint32_t before = place(mv, 1u);
+    /* (The place before it too: going to and fro is no progress. Nor is an escape that
+     * got nowhere: its places have left the list, and those before lie further off.) */
     if (explore_dist2(pose, mv->prog_x_um[h], mv->prog_y_um[h]) < p * p ||
-        explore_dist2(pose, mv->prog_x_um[before], mv->prog_y_um[before]) < p * p) {
-        return; /* (the place before it too: going to and fro is no progress) */
+        explore_dist2(pose, mv->prog_x_um[before], mv->prog_y_um[before]) < p * p ||
+        explore_dist2(pose, mv->stuck_x_um, mv->stuck_y_um) < p * p) {
+        return;
     }
     h = (h + 1u) & (EXPLORE_PROGRESS_KEPT - 1u);
     mv->prog_x_um[h] = pose->x_um;
@@ -92,6 +97,8 @@ static bool escape(explore_t *e, const odom_pose_t *pose)
     }
     e->count.escapes++;
     mv->prog_at = e->machine.now;
+    mv->stuck_x_um = pose->x_um;
+    mv->stuck_y_um = pose->y_um;
     if (mv->prog_n == 1u) {
         /* No way in known (it started here, or backed out all it knew): squeeze instead,
          * the body's own corridor ahead (as through an opening) until it gets on. */
@@ -324,7 +331,9 @@ bool explore_back_step(explore_t *e, const odom_pose_t *pose, int32_t target_mm_
             mv->back_left--; /* reached: on to the older one */
             continue;
         }
-        int32_t turn = e->cfg.turn_mm_s / 2;
+        /* Half the turning speed, but an escape's whole: bringing the rear round to the
+         * first place took most of an escape's time (experiments.md). */
+        int32_t turn = mv->escaping ? e->cfg.turn_mm_s : e->cfg.turn_mm_s / 2;
         if (ahead > 0 || 2 * mag > -ahead) {
             /* Bring the rear round to it: a point to the left swings the rear left,
              * which is a clockwise turn. */

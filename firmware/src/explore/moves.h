@@ -41,8 +41,9 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um);
 #define EXPLORE_DOUBT_TICKS 6000u
 
 /* Progress: the robot has come EXPLORE_PROGRESS_UM from the last two places where it made
- * progress; if so, here is the newest. Checked at each turn begun (moves.c) and, in the
- * walls mode, at each trail position (a job of its own tick, not the trail's). */
+ * progress, and from where the last escape began; if so, here is the newest. Checked at
+ * each turn begun (moves.c) and, in the walls mode, at each trail position (a job of its
+ * own tick, not the trail's). */
 void explore_progress(explore_t *e, const odom_pose_t *pose);
 
 /* Driving on: a new trail position each EXPLORE_TRAIL_STEP_UM (trail_fresh tells the
