@@ -24,7 +24,9 @@ runs that went STUCK_S (30 s) or more without 0.2 m of progress and the longest 
 (metrics.json exploration.longest_without_progress_s, issue 29's goal); the mean wall
 coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
 the shipped rooms and building maps one by one. A run whose room does not fit the
-simulator's grid (fits_grid()) is counted as such and not scored.
+simulator's grid (fits_grid()) is counted as such and not scored. A last table says what
+each touching run met first (metrics.json exploration.first_touch: the obstacle nearest
+the body's centre, roomfile.touched(), "map" in a building map) and where on the body.
 Progress and the total time go to stderr; every run's figures and every summary to --json
 (default DIR/corpus.json). Each run's folder keeps metrics.json and the small files only
 (readings.csv, trajectory.csv and the images are deleted) unless --keep. A run of the same
@@ -163,15 +165,35 @@ def run(bin_, out, job, keep):
     return ("ok" if fits_grid(m) else NOT_FIT), m
 
 
-def figures(m):
-    """The figures of one run that the tables summarise."""
+_ROOMS = {}
+
+
+def first_touch(m, room):
+    """What a run's first touch met and where on the body (roomfile.TOUCH_KINDS or "map",
+    roomfile.touch_side()), or None without one."""
+    t = m["exploration"]["first_touch"]
+    if t is None:
+        return None
+    kind = "map"
+    if room.endswith(".room"):
+        if room not in _ROOMS:
+            with open(room) as f:
+                _ROOMS[room] = roomfile.parse(f.read(), room)
+        kind = roomfile.touched(_ROOMS[room], t["x_m"], t["y_m"])
+    return {"kind": kind, "side": roomfile.touch_side(t["bearing_deg"])}
+
+
+def figures(m, room):
+    """The figures of one run that the tables summarise (room: its .room file, or the
+    building map's)."""
     own = m["maps"]["odometry"]["raw"]["f1"]
     return {"f1": own, "gap": round(m["maps"]["perfect_odometry"]["raw"]["f1"] - own, 4),
             "position_m": m["odometry"]["final_position_m"],
             "heading_deg": m["odometry"]["final_heading_deg"],
             "touches": m["robot"]["collisions"],
             "stuck_s": m["exploration"]["longest_without_progress_s"],
-            "wall_coverage": m["exploration"]["wall_coverage"]}
+            "wall_coverage": m["exploration"]["wall_coverage"],
+            "first_touch": first_touch(m, room)}
 
 
 def run_all(args, jobs):
@@ -190,7 +212,7 @@ def run_all(args, jobs):
             if status == "failed":
                 failed.append(m)
                 print("corpus_report: FAILED %s" % m, file=sys.stderr)
-            done[job.name] = (status, figures(m) if status == "ok" else None)
+            done[job.name] = (status, figures(m, job.room) if status == "ok" else None)
             if k % step == 0 or k == len(jobs):
                 print("corpus_report: %d of %d runs done, %.0f s" % (k, len(jobs),
                                                                      time.monotonic() - t0),
@@ -275,18 +297,46 @@ def report(args, jobs, done):
     return summaries
 
 
+TOUCHED = roomfile.TOUCH_KINDS + ("map",)
+SIDES = ("front", "left", "right", "behind")
+SIDE_HEADS = {"front": "in front", "left": "on the left", "right": "on the right",
+              "behind": "behind"}
+
+
+def touch_table(jobs, done):
+    """What the touching runs met first, group by group; returns its rows for the JSON."""
+    print("### What the touching runs met first\n")
+    print("| group | touching runs | " + " | ".join(TOUCHED) + " | " + " | ".join(
+        SIDE_HEADS[s] for s in SIDES) + " |")
+    print("|---" * (2 + len(TOUCHED) + len(SIDES)) + "|")
+    rows = []
+    for group in ("shipped", "rooms", "flats", "buildings"):
+        for dur in sorted({j.duration for j in jobs if j.group == group}):
+            met = [done[j.name][1]["first_touch"] for j in jobs
+                   if j.group == group and j.duration == dur and done[j.name][0] == "ok"
+                   and done[j.name][1]["first_touch"]]
+            counts = {k: sum(1 for t in met if t["kind"] == k) for k in TOUCHED}
+            counts.update({s: sum(1 for t in met if t["side"] == s) for s in SIDES})
+            print("| %s, %s | %d | %s |" % (TITLES[group][0], minutes(dur), len(met), " | ".join(
+                "%d" % counts[k] for k in TOUCHED + SIDES)))
+            rows.append(dict(counts, group=group, duration_s=dur, touching_runs=len(met)))
+    print()
+    return rows
+
+
 def minutes(s):
     return "%g min" % (s / 60.0)
 
 
-def write_json(path, args, jobs, done, summaries, wall):
+def write_json(path, args, jobs, done, summaries, touched, wall):
     """Every run's figures and every table's summary."""
     runs = [dict(name=j.name, group=j.group, duration_s=j.duration, row=j.row, room=j.room,
                  seed=j.seed, area_m2=j.area, status=done[j.name][0], **(done[j.name][1] or {}))
             for j in jobs]
     with open(path, "w") as f:
         json.dump(no_nan({"host_sim": args.host_sim, "host_args": args.host_arg, "jobs": args.jobs,
-                          "wall_s": round(wall, 1), "runs": runs, "summaries": summaries}),
+                          "wall_s": round(wall, 1), "runs": runs, "summaries": summaries,
+                          "first_touches": touched}),
                   f, indent=1, allow_nan=False)
         f.write("\n")
 
@@ -359,11 +409,12 @@ def main():
     summaries = report(args, jobs, done)
     if not buildings:
         print("(no building maps at %s: their table is left out)\n" % args.maps)
+    touched = touch_table(jobs, done)
     not_fit = sum(1 for status, _ in done.values() if status == NOT_FIT)
     print("%d runs: %d scored, %d that do not fit the grid, %d failed." % (
         len(done), len(done) - not_fit - len(failed), not_fit, len(failed)))
     path = args.json or os.path.join(args.out, "corpus.json")
-    write_json(path, args, jobs, done, summaries, wall)
+    write_json(path, args, jobs, done, summaries, touched, wall)
     print("corpus_report: %d runs in %.0f s on %d jobs; figures in %s" % (
         len(done), wall, args.jobs, path), file=sys.stderr)
     for msg in failed:

@@ -1,9 +1,11 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
 """tools/corpus_report.py: the grid's fit test, the summaries against cases worked by hand,
---quick end to end (its tables, its JSON, the bulky files gone, --keep), a host_sim that
-refuses every room as too large (counted, not scored), --shift-start's start, and bad
-options."""
+what a touch met (roomfile.touched(), touch_side()) and the table of it, --quick end to end
+(its tables, its JSON, the bulky files gone, --keep), a host_sim that refuses every room as
+too large (counted, not scored), --shift-start's start, and bad options."""
+import contextlib
+import io
 import json
 import math
 import os
@@ -16,6 +18,7 @@ from simtest import Sim, check
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
 import corpus_report as cr  # noqa: E402
+from slamtools import roomfile  # noqa: E402
 
 REPORT = os.path.join(sim.src, "tools", "corpus_report.py")
 
@@ -56,6 +59,49 @@ check("1 %s" % cr.NOT_FIT in cr.row("x", none) and "nan" not in cr.row("x", none
       "a row of runs that do not fit says so, and no figure")
 
 
+# What a touch met, by hand: the body (radius 0.09 m) against a room of four walls, a
+# partition with a free end at (2, 1), a box, a table's leg and a bin.
+ROOM = """wall 0 0 4 0
+wall 4 0 4 3
+wall 4 3 0 3
+wall 0 3 0 0
+wall 2 0 2 1
+box 3 2 0.5 0.5
+circle 1 2 0.012
+circle 1 1 0.15
+start 0.5 0.5 0
+"""
+room = roomfile.parse(ROOM)
+d = 0.09 / math.sqrt(2)
+for x, y, kind in ((2.0, 1.09, "wall end"), (3 - d, 2 - d, "corner"), (3.25, 1.91, "face"),
+                   (1.0, 2 - 0.102, "leg"), (1.0, 1 - 0.24, "round"), (2.5, 0.09, "face"),
+                   (0.09, 0.09, "face"), (3.5 + d, 2.5 + d, "corner")):
+    check(roomfile.touched(room, x, y) == kind, "the body at (%.3f, %.3f) met a %s (%s)" % (
+        x, y, kind, roomfile.touched(room, x, y)))
+check([roomfile.touch_side(b) for b in (0, 30, 31, -31, 135, 136, -136)] ==
+      ["front", "front", "left", "right", "left", "behind", "behind"],
+      "the side of a touch from its bearing: front within 30°, behind beyond 135°")
+path = sim.out("touch.room")
+with open(path, "w") as f:
+    f.write(ROOM)
+touch = {"t_s": 1.0, "x_m": 3 - d, "y_m": 2 - d, "heading_deg": 45.0, "bearing_deg": 2,
+         "position_error_m": 0.0, "heading_error_deg": 0.0}
+check(cr.first_touch({"exploration": {"first_touch": touch}}, path) ==
+      {"kind": "corner", "side": "front"} and
+      cr.first_touch({"exploration": {"first_touch": touch}}, "x.yaml")["kind"] == "map" and
+      cr.first_touch({"exploration": {"first_touch": None}}, path) is None,
+      "a run's first touch: what it met in a .room file, a building map's, none")
+jobs = [cr.Job("rooms", 600, "x", path, k) for k in (1, 2, 3)]
+jobs.append(cr.Job("flats", 3600, "x", path, 1))
+met = ({"kind": "corner", "side": "front"}, {"kind": "leg", "side": "behind"}, None, None)
+done = {j.name: ("ok", dict(fig(0.8), first_touch=t)) for j, t in zip(jobs, met)}
+with contextlib.redirect_stdout(io.StringIO()) as text:
+    rows = cr.touch_table(jobs, done)
+check("| Generated rooms, 10 min | 2 | 1 | 0 | 0 | 1 | 0 | 0 | 1 | 0 | 0 | 1 |" in text.getvalue()
+      and "| Generated flats, 60 min | 0 |" in text.getvalue() and rows[0]["corner"] == 1,
+      "the table of first touches: 2 runs, a corner in front and a leg behind")
+
+
 def report(*args):
     return subprocess.run(["/usr/bin/python3", REPORT, "--maps", sim.out("no-maps")] +
                           [str(a) for a in args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -86,8 +132,11 @@ with open(os.path.join(out, r0["name"], "metrics.json")) as f:
     m = json.load(f)
 check(r0["f1"] == m["maps"]["odometry"]["raw"]["f1"] and
       abs(r0["gap"] - (m["maps"]["perfect_odometry"]["raw"]["f1"] - r0["f1"])) < 1e-9 and
-      r0["touches"] == m["robot"]["collisions"],
+      r0["touches"] == m["robot"]["collisions"] and
+      (r0["first_touch"] is None) == (m["exploration"]["first_touch"] is None),
       "a run's figures are its metrics.json's (F1 %.4f, gap %.4f)" % (r0["f1"], r0["gap"]))
+check("### What the touching runs met first" in p.stdout and
+      len(doc["first_touches"]) == 3, "the table of first touches, and its rows in the JSON")
 allrow = [x for x in doc["summaries"] if x["group"] == "shipped" and x["rows"] == "all"][0]
 shown = [r for r in rows if r[0] == "**all**"][0]
 check(abs(float(shown[2]) - allrow["f1"]["mean"]) < 0.0005 + 1e-9,

@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""A .room file in Python: read it, its extent, whether every part is reachable, a drawing.
+"""A .room file in Python: read it, its extent, whether every part is reachable, what a
+touch met, a drawing.
 
 tools/roomgen.py checks what it draws with reach_problem() before writing a file,
-tools/corpus_report.py takes a room's extent for the grid, and the tests check the files
-themselves. Only what the generated rooms use is checked (axis-parallel walls, boxes,
-circles); any .room file reads and draws.
+tools/corpus_report.py takes a room's extent for the grid and what its touches met, and
+the tests check the files themselves. Only what the generated rooms use is checked
+(axis-parallel walls, boxes, circles); any .room file reads and draws.
 """
 import math
 from collections import deque
@@ -190,6 +191,61 @@ def check(room):
     return problems + ([p] if p else [])
 
 
+# --- what a touch met ---------------------------------------------------------------
+
+THIN = 0.05  # m: a circle thinner than this is a leg; else a round thing (a bin, a pot)
+TOUCH_KINDS = ("corner", "face", "wall end", "leg", "round")
+SAME = 0.001  # m: ends this close meet
+
+
+def edges(room):
+    """Every straight side in a room: walls, the boxes' four sides, the polygons' edges,
+    each (x0, y0, x1, y1) in metres."""
+    out = list(room.walls)
+    for x, y, w, h in room.boxes:
+        out += [(x, y, x + w, y), (x + w, y, x + w, y + h), (x + w, y + h, x, y + h),
+                (x, y + h, x, y)]
+    for p in room.polys:
+        pts = list(zip(p[0::2], p[1::2]))
+        out += [a + b for a, b in zip(pts, pts[1:] + pts[:1])]
+    return out
+
+
+def touched(room, x, y):
+    """What the body whose centre is at (x, y) met: the kind (TOUCH_KINDS) of the obstacle
+    nearest that centre. A side's end nearest it is a corner where another side ends too
+    (met point first, it is convex on the robot's side: a box's, an L-shaped room's inner
+    corner), else a wall's free end; a side's inside is a face."""
+    sides = edges(room)
+    ends = [e[:2] for e in sides] + [e[2:] for e in sides]
+    best, kind = math.inf, None
+    for x0, y0, x1, y1 in sides:
+        vx, vy = x1 - x0, y1 - y0
+        n2 = vx * vx + vy * vy
+        t = 0.0 if n2 == 0 else max(0.0, min(1.0, ((x - x0) * vx + (y - y0) * vy) / n2))
+        px, py = x0 + t * vx, y0 + t * vy
+        d = math.hypot(x - px, y - py)
+        if d < best:
+            best = d
+            if 0.0 < t < 1.0:
+                kind = "face"
+            else:
+                met = sum(1 for ex, ey in ends if math.hypot(ex - px, ey - py) <= SAME)
+                kind = "corner" if met > 1 else "wall end"
+    for cx, cy, r in room.circles:
+        d = math.hypot(x - cx, y - cy) - r
+        if d < best:
+            best, kind = d, "leg" if r < THIN else "round"
+    return kind
+
+
+def touch_side(bearing_deg):
+    """Where on the body a touch was, from its bearing (degrees, left positive): front
+    within 30° of straight ahead, behind beyond 135°, else left or right."""
+    b = abs(bearing_deg)
+    return "front" if b <= 30 else "behind" if b > 135 else "left" if bearing_deg > 0 else "right"
+
+
 # --- drawing -----------------------------------------------------------------------
 
 def draw(room, ax, title=None):
@@ -205,7 +261,7 @@ def draw(room, ax, title=None):
         ax.add_patch(Rectangle((x, y), w, h, color="0.35" if inner else "tab:brown",
                                alpha=1.0 if inner else 0.7, lw=0))
     for cx, cy, r in room.circles:
-        thin = r < 0.05
+        thin = r < THIN
         ax.add_patch(Circle((cx, cy), max(r, 0.03) if thin else r,
                             color="black" if thin else "tab:green", alpha=0.9 if thin else 0.6,
                             lw=0))
