@@ -37,6 +37,7 @@ y: the same rooms with their walls met by the cells elsewhere, every run drawn a
 Exit status: 0 done, 1 a run failed, 2 bad options or no host_sim.
 """
 import argparse
+import functools
 import hashlib
 import json
 import math
@@ -87,16 +88,22 @@ def band_of(area):
     return next(label for lo, hi, label in BANDS if lo <= area < hi)
 
 
+@functools.lru_cache(maxsize=None)
+def read_room(path):
+    """A .room file, parsed once however many runs use it."""
+    with open(path) as f:
+        try:
+            return roomfile.parse(f.read(), path)
+        except ValueError as e:
+            raise ToolError(str(e))
+
+
 def shifted_start(room, mm):
     """host_sim's --start for a .room file's start moved mm along x and y: the grid follows
     the start, so the walls meet the cells mm further along. Nothing when mm is 0."""
     if mm == 0:
         return []
-    with open(room) as f:
-        try:
-            x, y, th = roomfile.parse(f.read(), room).start
-        except ValueError as e:
-            raise ToolError(str(e))
+    x, y, th = read_room(room).start
     return ["--start", "%.4f" % (x + mm / 1000.0), "%.4f" % (y + mm / 1000.0), "%g" % th]
 
 
@@ -165,21 +172,14 @@ def run(bin_, out, job, keep):
     return ("ok" if fits_grid(m) else NOT_FIT), m
 
 
-_ROOMS = {}
-
-
 def first_touch(m, room):
     """What a run's first touch met and where on the body (roomfile.TOUCH_KINDS or "map",
     roomfile.touch_side()), or None without one."""
     t = m["exploration"]["first_touch"]
     if t is None:
         return None
-    kind = "map"
-    if room.endswith(".room"):
-        if room not in _ROOMS:
-            with open(room) as f:
-                _ROOMS[room] = roomfile.parse(f.read(), room)
-        kind = roomfile.touched(_ROOMS[room], t["x_m"], t["y_m"])
+    kind = roomfile.touched(read_room(room), t["x_m"], t["y_m"]) if room.endswith(".room") \
+        else "map"
     return {"kind": kind, "side": roomfile.touch_side(t["bearing_deg"])}
 
 
@@ -258,7 +258,8 @@ def row(label, s):
                         "%d failed" % s["failed"] if s["failed"] else "") if x)
     if not s["scored"]:
         return "| %s | %s |%s" % (label, runs, " – |" * 11)
-    return "| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %d (%.0f) | %s |" % (
+    return ("| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %d (%.0f) "
+            "| %s |") % (
         label, runs, pm(s["f1"], "%.3f"), s["f1"]["p5"], pm(s["gap"], "%.3f"), s["gap"]["p95"],
         pm(s["position_m"], "%.2f"), s["position_m"]["p95"], pm(s["heading_deg"], "%.1f"),
         s["heading_deg"]["p95"], s["touching_runs"], s["touches"], s["stuck_runs"],
@@ -271,29 +272,34 @@ TITLES = {"shipped": ("Shipped rooms", "room", "host_sim/rooms, seeds 1–%d"),
           "buildings": ("Building maps", "map", "the crops of tools/sim_report.py, seeds 1–%d")}
 
 
+def tables(jobs):
+    """Each table's group, duration and runs, in the order they are printed."""
+    for group in ("shipped", "rooms", "flats", "buildings"):
+        for dur in sorted({j.duration for j in jobs if j.group == group}):
+            yield group, dur, [j for j in jobs if j.group == group and j.duration == dur]
+
+
 def report(args, jobs, done):
     """Prints the tables; returns the summaries for the JSON file."""
     summaries = []
-    for group in ("shipped", "rooms", "flats", "buildings"):
-        for dur in sorted({j.duration for j in jobs if j.group == group}):
-            mine = [j for j in jobs if j.group == group and j.duration == dur]
-            title, what, source = TITLES[group]
-            if "%d" in source:
-                last = max(j.seed for j in mine)
-                source = source.replace("s 1–%d", " 1") if last == 1 else source % last
-            print("### %s, %s (%d runs; %s)\n" % (title, minutes(dur), len(mine), source))
-            print(HEAD % (what or "group"))
-            labels = [label for _, _, label in BANDS] if group == "rooms" else \
-                sorted({j.row for j in mine}) if group != "flats" else []
-            for label in labels:
-                s = summarise([done[j.name] for j in mine if j.row == label])
-                if s["runs"]:
-                    print(row(label, s))
-                    summaries.append(dict(s, group=group, duration_s=dur, rows=label))
-            s = summarise([done[j.name] for j in mine])
-            print(row("**all**" if labels else "all", s))
-            summaries.append(dict(s, group=group, duration_s=dur, rows="all"))
-            print()
+    for group, dur, mine in tables(jobs):
+        title, what, source = TITLES[group]
+        if "%d" in source:
+            last = max(j.seed for j in mine)
+            source = source.replace("s 1–%d", " 1") if last == 1 else source % last
+        print("### %s, %s (%d runs; %s)\n" % (title, minutes(dur), len(mine), source))
+        print(HEAD % (what or "group"))
+        labels = [label for _, _, label in BANDS] if group == "rooms" else \
+            sorted({j.row for j in mine}) if group != "flats" else []
+        for label in labels:
+            s = summarise([done[j.name] for j in mine if j.row == label])
+            if s["runs"]:
+                print(row(label, s))
+                summaries.append(dict(s, group=group, duration_s=dur, rows=label))
+        s = summarise([done[j.name] for j in mine])
+        print(row("**all**" if labels else "all", s))
+        summaries.append(dict(s, group=group, duration_s=dur, rows="all"))
+        print()
     return summaries
 
 
@@ -310,16 +316,14 @@ def touch_table(jobs, done):
         SIDE_HEADS[s] for s in SIDES) + " |")
     print("|---" * (2 + len(TOUCHED) + len(SIDES)) + "|")
     rows = []
-    for group in ("shipped", "rooms", "flats", "buildings"):
-        for dur in sorted({j.duration for j in jobs if j.group == group}):
-            met = [done[j.name][1]["first_touch"] for j in jobs
-                   if j.group == group and j.duration == dur and done[j.name][0] == "ok"
-                   and done[j.name][1]["first_touch"]]
-            counts = {k: sum(1 for t in met if t["kind"] == k) for k in TOUCHED}
-            counts.update({s: sum(1 for t in met if t["side"] == s) for s in SIDES})
-            print("| %s, %s | %d | %s |" % (TITLES[group][0], minutes(dur), len(met), " | ".join(
-                "%d" % counts[k] for k in TOUCHED + SIDES)))
-            rows.append(dict(counts, group=group, duration_s=dur, touching_runs=len(met)))
+    for group, dur, mine in tables(jobs):
+        met = [done[j.name][1]["first_touch"] for j in mine
+               if done[j.name][0] == "ok" and done[j.name][1]["first_touch"]]
+        counts = {k: sum(1 for t in met if t["kind"] == k) for k in TOUCHED}
+        counts.update({s: sum(1 for t in met if t["side"] == s) for s in SIDES})
+        print("| %s, %s | %d | %s |" % (TITLES[group][0], minutes(dur), len(met), " | ".join(
+            "%d" % counts[k] for k in TOUCHED + SIDES)))
+        rows.append(dict(counts, group=group, duration_s=dur, touching_runs=len(met)))
     print()
     return rows
 
