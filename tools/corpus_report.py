@@ -59,6 +59,7 @@ BULKY = ("readings.csv", "trajectory.csv")  # and every .pgm
 BUILDING_SEEDS = 3
 NOT_FIT = "does not fit the grid"
 STUCK_S = 30.0  # a run this long without progress is stuck (issue 29)
+GROUPS = ("shipped", "rooms", "flats", "buildings")  # in the order of the tables
 
 
 def fits_grid(m):
@@ -192,6 +193,8 @@ def figures(m, room):
             "heading_deg": m["odometry"]["final_heading_deg"],
             "touches": m["robot"]["collisions"],
             "stuck_s": m["exploration"]["longest_without_progress_s"],
+            "escapes": m["robot"]["escapes"],
+            "recovery_s": m["exploration"]["longest_touch_recovery_s"],
             "wall_coverage": m["exploration"]["wall_coverage"],
             "first_touch": first_touch(m, room)}
 
@@ -274,7 +277,7 @@ TITLES = {"shipped": ("Shipped rooms", "room", "host_sim/rooms, seeds 1–%d"),
 
 def tables(jobs):
     """Each table's group, duration and runs, in the order they are printed."""
-    for group in ("shipped", "rooms", "flats", "buildings"):
+    for group in GROUPS:
         for dur in sorted({j.duration for j in jobs if j.group == group}):
             yield group, dur, [j for j in jobs if j.group == group and j.duration == dur]
 

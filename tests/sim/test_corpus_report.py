@@ -132,7 +132,8 @@ with open(os.path.join(out, r0["name"], "metrics.json")) as f:
     m = json.load(f)
 check(r0["f1"] == m["maps"]["odometry"]["raw"]["f1"] and
       abs(r0["gap"] - (m["maps"]["perfect_odometry"]["raw"]["f1"] - r0["f1"])) < 1e-9 and
-      r0["touches"] == m["robot"]["collisions"] and
+      r0["touches"] == m["robot"]["collisions"] and r0["escapes"] == m["robot"]["escapes"] and
+      r0["recovery_s"] == m["exploration"]["longest_touch_recovery_s"] and
       (r0["first_touch"] is None) == (m["exploration"]["first_touch"] is None),
       "a run's figures are its metrics.json's (F1 %.4f, gap %.4f)" % (r0["f1"], r0["gap"]))
 check("### What the touching runs met first" in p.stdout and
