@@ -30,7 +30,6 @@ import json
 import math
 import os
 import statistics
-import sys
 
 import corpus_report as cr
 from slamtools.errors import ToolError, main as tool_main
@@ -208,4 +207,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(tool_main(main))
+    tool_main(main)
