@@ -199,6 +199,12 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
     if (o->has_explore) {
         cfg->explore_mode = (uint8_t)o->explore;
     }
+    if (o->has_sonar1) {
+        /* A fitted second sonar is mapped (--set sonar1_map=0 leaves it unused): its beam,
+         * DEG left of the heading, is the servo angle 90 - DEG. */
+        cfg->sonar1_map = 1u;
+        cfg->sonar1_mdeg = (int32_t)lround((90.0 - o->sonar1_deg) * 1000.0);
+    }
     /* The run's seed (1 unless given) seeds the exploration too, unless a file says
      * otherwise: host_sim and host_sim --seed 1 are one run. */
     if (o->has_seed || (cfgtext_where_line(&w.file, "explore_seed") == 0u &&
@@ -238,6 +244,22 @@ int build_config(options_t *o, const room_t *room, double sx, double sy, double 
     }
     if (check_config(&w, cfg) != 0) {
         return -1;
+    }
+    if (cfg->sonar1_map != 0u && !o->has_sonar1) {
+        fprintf(stderr, "host_sim: sonar1_map = 1, but the simulated robot has no sonar 1: "
+                        "fit one with --sonar1 X Y DEG\n");
+        return -1;
+    }
+    if (o->has_sonar1 && cfg->sonar1_map != 0u) {
+        /* The firmware maps it from the swept sonar's mount. */
+        double off =
+            hypot(o->sonar1_x - cfg->mount_x_um * 1e-6, o->sonar1_y - cfg->mount_y_um * 1e-6);
+        if (off >= 0.0005) {
+            fprintf(stderr,
+                    "host_sim: warning: sonar 1 sits %.0f mm from the servo's axis, where the "
+                    "firmware maps it from: its hits land as far off\n",
+                    off * 1000.0);
+        }
     }
 
     /* The start pose is the scenario's (the room's, or --start). */

@@ -346,7 +346,8 @@ typedef struct {
     /* Truth cells (walls) the readings lowered in the perfect-odometry map: by echoes that
      * came by a mirror path (SIM_PING_MULTIPATH), and by the others (observe.c). */
     uint32_t walls_lowered[2];
-    FILE *estimates; /* --scoring: the estimated pose of every reading's ping */
+    FILE *estimates;      /* --scoring: the estimated pose of every reading's ping */
+    uint32_t sonar1_seen; /* the second sonar's readings observed (robot.sonar1.readings) */
 } run_t;
 
 /** Clearance is looked for this far beyond the body, m. */

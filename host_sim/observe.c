@@ -259,21 +259,32 @@ static char *estimate_stats(char *e, const loc_t *l)
     return fmt_fixed(e, m->last_step[2] * 1e-5, 5, '\n');
 }
 
-/* The reading of this tick, with the pose of its ping: odometry and truth. It marks what
- * became observable and the walls it covered, goes into the perfect-odometry maps, and is
- * logged to readings.csv (and its estimated pose to scoring_estimate.csv). */
-static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const sim_params_t *p,
-                            FILE *readings, double t)
+/* A reading as both sonars give it: its beam as a servo angle, its echo, and the pose of
+ * its ping, odometry and truth. */
+typedef struct {
+    int32_t servo_mdeg;
+    bam32_t servo;
+    bool echo;
+    uint32_t range_um;
+    const odom_pose_t *odom;
+    sim_ping_t ping;
+    double mount_x, mount_y; /* where the sonar sits on the robot, m */
+    bool mark;               /* its sonar position marks what is observable */
+} reading_t;
+
+/* A reading, with the pose of its ping: odometry and truth. It marks what became
+ * observable and the walls it covered, goes into the perfect-odometry maps, and is logged
+ * to readings.csv (and its estimated pose to scoring_estimate.csv). */
+static void observe_reading(run_t *r, firmware_t *fw, const reading_t *rd, FILE *readings, double t)
 {
     const robot_t *robot = &fw->robot;
-    const sweep_out_t *sw = &robot->last;
-    sim_ping_t ping = sim_last_ping(sim);
-    const odom_pose_t *op = &robot->mapper.ping_pose;
-    double sx = ping.x + p->sonar_x_m * cos(ping.th) - p->sonar_y_m * sin(ping.th);
-    double sy = ping.y + p->sonar_x_m * sin(ping.th) + p->sonar_y_m * cos(ping.th);
+    const sim_ping_t ping = rd->ping;
+    const odom_pose_t *op = rd->odom;
+    double sx = ping.x + rd->mount_x * cos(ping.th) - rd->mount_y * sin(ping.th);
+    double sy = ping.y + rd->mount_x * sin(ping.th) + rd->mount_y * cos(ping.th);
     /* Cells within rc of a sonar position are observable; a new disc only once the
      * sonar has moved by a cell (the disc's edge is then within a cell of exact). */
-    if (hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m) {
+    if (rd->mark && hypot(sx - r->marked_x, sy - r->marked_y) >= r->geom.cell_m) {
         mark_disc(&r->geom, r->observable, sx, sy, robot->cfg.confidence_radius_um * 1e-6);
         r->marked_x = sx;
         r->marked_y = sy;
@@ -281,19 +292,18 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
     walls_ping(r, sx, sy, ping.bearing, t);
     char line[512];
     char *e = fmt_fixed(line, t, CSV_TIME_DECIMALS, ',');
-    e = fmt_fixed(e, sw->reading.servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
-    uint32_t d = 0u;
+    e = fmt_fixed(e, rd->servo_mdeg / 1000.0, CSV_SERVO_DECIMALS, ',');
+    uint32_t d = rd->echo ? rd->range_um : 0u;
     odom_pose_t truth_pose = {to_um(ping.x), to_um(ping.y), to_bam(ping.th)};
-    if (sw->reading.echo) {
-        d = sonar_range_um(&robot->mapper.sonar, sw->reading.echo_us);
+    if (rd->echo) {
         e = fmt_fixed(e, d * 1e-6, CSV_LENGTH_DECIMALS, ',');
-        ideal_echo(r, fw, &truth_pose, sw->reading.servo, d, sx, sy, ping.bearing,
+        ideal_echo(r, fw, &truth_pose, rd->servo, d, sx, sy, ping.bearing,
                    ping.kind == SIM_PING_MULTIPATH);
     } else {
         *e++ = ',';
         mapper_timeout(&fw->ideal_mapper, &fw->ideal_grid, &truth_pose);
     }
-    const char *status = reading_status(&robot->mapper.sonar, sw->reading.echo, d);
+    const char *status = reading_status(&robot->mapper.sonar, rd->echo, d);
     size_t n = strlen(status);
     memcpy(e, status, n);
     e += n;
@@ -315,6 +325,47 @@ static void observe_reading(run_t *r, firmware_t *fw, const sim_t *sim, const si
         e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, ',');
         e = estimate_stats(e, &robot->loc);
         fwrite(line, 1, (size_t)(e - line), r->estimates);
+    }
+}
+
+/* The sweep's reading of this tick, and the second sonar's that robot_idle() mapped after
+ * it (the firmware maps it from the servo's axis, and so do the perfect-odometry maps;
+ * walls are looked at from where it sits; the swept sonar's positions alone mark what is
+ * observable, a few centimetres from its own). */
+static void observe_readings(run_t *r, firmware_t *fw, const sim_t *sim, const sim_params_t *p,
+                             FILE *readings, double t)
+{
+    const robot_t *robot = &fw->robot;
+    const robot_sonar1_t *s1 = &robot->sonar1;
+    const sweep_out_t *sw = &robot->last;
+    if (sw->reading_ready) {
+        const reading_t rd = {
+            .servo_mdeg = sw->reading.servo_mdeg,
+            .servo = sw->reading.servo,
+            .echo = sw->reading.echo,
+            .range_um =
+                sw->reading.echo ? sonar_range_um(&robot->mapper.sonar, sw->reading.echo_us) : 0u,
+            .odom = &robot->mapper.ping_pose,
+            .ping = sim_last_ping(sim),
+            .mount_x = p->sonar_x_m,
+            .mount_y = p->sonar_y_m,
+            .mark = true,
+        };
+        observe_reading(r, fw, &rd, readings, t);
+    }
+    if (s1->readings != r->sonar1_seen) {
+        r->sonar1_seen = s1->readings;
+        const reading_t rd = {
+            .servo_mdeg = robot->cfg.sonar1_mdeg,
+            .servo = s1->servo,
+            .echo = s1->reading.echo,
+            .range_um = s1->reading.range_um,
+            .odom = &s1->reading.ping,
+            .ping = sim_last_ping_on(sim, HAL_SONAR_FIXED),
+            .mount_x = p->extra_sonar[0].x_m,
+            .mount_y = p->extra_sonar[0].y_m,
+        };
+        observe_reading(r, fw, &rd, readings, t);
     }
 }
 
@@ -348,7 +399,5 @@ void observe_tick(run_t *r, firmware_t *fw, const sim_t *sim, const sim_truth_t 
     if (tick % TRAJECTORY_EVERY == 0u || last) {
         trajectory_row(logs->trajectory, t, ox, oy, oth, &tr);
     }
-    if (robot->last.reading_ready) {
-        observe_reading(r, fw, sim, p, logs->readings, t);
-    }
+    observe_readings(r, fw, sim, p, logs->readings, t);
 }

@@ -66,8 +66,8 @@ static void usage(FILE *f)
         "                       %s; hal/host/README.md gives the sources. --error refines it\n"
         "  --sonar1 X Y DEG     fit a second sonar (HAL instance 1, off by default), fixed\n"
         "                       X m ahead of and Y m left of the axle, its beam DEG from\n"
-        "                       the heading (90: looking left); the firmware does not use\n"
-        "                       it yet\n"
+        "                       the heading (-90..90; 90: looking left), and map it\n"
+        "                       (sonar1_map = 1) as if it sat on the servo's axis\n"
         "  --bumpers            fit two bump switches (HAL bump 0 front left, 1 front right)\n"
         "  --ideal              turn every error source off\n"
         "  --paper              the paper's method: OM counts hits (Eq. 6), post-processing\n"
@@ -321,7 +321,7 @@ int parse_options(int argc, char **argv, options_t *o)
                 return fail_usage("--sonar1 needs X Y DEG");
             }
             double *v[3] = {&o->sonar1_x, &o->sonar1_y, &o->sonar1_deg};
-            const double lim[3] = {1.0, 1.0, 360.0};
+            const double lim[3] = {1.0, 1.0, 90.0};
             for (int k = 0; k < 3; k++) {
                 num_t r = parse_double(argv[i - 2 + k], -lim[k], lim[k], v[k]);
                 if (r != NUM_OK) {

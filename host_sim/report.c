@@ -301,11 +301,13 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r, const 
             "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
             "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
             "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u, "
-            "\"escapes\": %u, \"bumped_ticks\": %u},\n",
+            "\"escapes\": %u, \"bumped_ticks\": %u, \"sonar1_readings\": %u, "
+            "\"sonar1_echoes\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near, m->outside,
             tr.collisions, robot->explore.count.turns, robot->explore.count.avoidances,
             robot->explore.count.stalls, robot->explore.count.leaves, robot->explore.count.doors,
-            robot->explore.count.seeks, robot->explore.count.escapes, robot->bumped);
+            robot->explore.count.seeks, robot->explore.count.escapes, robot->bumped,
+            robot->sonar1.readings, robot->sonar1.echoes);
     json_pings(f, sim, r);
     const loc_t *lo = &robot->loc;
     fprintf(f,

@@ -245,6 +245,87 @@ static void test_a_bump_switch_stops_the_drive(void **state)
     }
 }
 
+/* The second sonar, asked for (sonar1_map) with the board fitted: robot_idle() pings it,
+ * never the tick, only while the sweep's sonar waits for no echo and 60 ms after its own
+ * last ping; each echo is mapped where a wall 0.6 m to the left of the servo's axis
+ * stands (its beam at servo angle 0, the robot standing at the origin facing +x), and a
+ * ping that gets no answer is given up after the sweep's echo timeout. */
+static void test_second_sonar_is_pinged_from_idle_and_mapped(void **state)
+{
+    (void)state;
+    test_config_default(&cfg);
+    cfg.explore_mode = EXPLORE_OFF;
+    cfg.localize = 0u; /* the evidence map alone: the reading mapped where odometry says */
+    cfg.om_mode = OM_MODE_EVIDENCE;
+    cfg.sonar1_map = 1u;
+    cfg.sonar1_mdeg = 0;
+    fake_hal.sonars = 2u;
+    assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+    assert_true(robot.sonar1.on);
+    /* A wall 0.6 m left of the sonar: the echo of 1.2 m of sound at 343 m/s. */
+    const uint32_t echo_us = (uint32_t)(1.2 / 343.0 * 1e6 + 0.5);
+    uint32_t last_ping_us = 0u;
+    unsigned pings = 0u;
+    for (uint32_t t = 0; t < 600u; t++) {
+        fake_hal.time_us += SLAM_TICK_US;
+        unsigned calls = fake_hal.calls_trigger1 + fake_hal.calls_poll1;
+        robot_tick(&robot);
+        assert_int_equal(fake_hal.calls_trigger1 + fake_hal.calls_poll1, calls); /* never */
+        bool sweep_listens = sweep_waiting(&robot.sweep);
+        unsigned triggers = fake_hal.calls_trigger1;
+        robot_idle(&robot);
+        if (fake_hal.calls_trigger1 != triggers) {
+            assert_false(sweep_listens);
+            assert_true(pings == 0u || fake_hal.time_us - last_ping_us >= 60000u);
+            last_ping_us = fake_hal.time_us;
+            pings++;
+            /* The first 300 ticks' pings are answered at the next call, the rest never. */
+            fake_hal.sonar1_next = t < 300u ? HAL_SONAR_ECHO : HAL_SONAR_BUSY;
+            fake_hal.sonar1_echo_us = echo_us;
+        }
+    }
+    assert_true(pings > 50u);
+    assert_int_equal(fake_hal.calls_bad_instance, 0u);
+    /* Every ping but perhaps the last is a reading: the answered ones echoes, the others
+     * given up. */
+    assert_true(robot.sonar1.readings + 1u >= pings && robot.sonar1.readings <= pings);
+    assert_true(robot.sonar1.echoes > 20u && robot.sonar1.echoes < robot.sonar1.readings);
+    /* Mapped at (0.05, 0.6) m: the servo's axis 50 mm ahead of the axle, the wall beyond. */
+    grid_cell_t wall;
+    grid_cell_t near;
+    assert_int_equal(grid_cell_of(&robot.grid, 50000, 600000, &wall), SLAM_OK);
+    assert_int_equal(grid_cell_of(&robot.grid, 50000, 300000, &near), SLAM_OK);
+    assert_int_equal(grid_state(&robot.grid, grid_index(&robot.grid, wall)), GRID_OCCUPIED);
+    assert_int_equal(grid_state(&robot.grid, grid_index(&robot.grid, near)), GRID_FREE);
+    assert_true(robot.mapper.hits >= robot.sonar1.echoes);
+}
+
+/* It stays off where it cannot be: a board without it, and the tick mapping OM itself
+ * (the paper's map without the pose correction), which the background loop must not
+ * write at the same time. */
+static void test_second_sonar_off_where_it_cannot_be(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 2; k++) {
+        fake_hal_reset();
+        test_config_default(&cfg);
+        cfg.sonar1_map = 1u;
+        fake_hal.sonars = k == 0 ? 1u : 2u;
+        if (k == 1) {
+            slam_config_paper(&cfg);
+            cfg.sonar1_map = 1u;
+        }
+        assert_int_equal(robot_init(&robot, &cfg), SLAM_OK);
+        assert_false(robot.sonar1.on);
+        for (uint32_t t = 0; t < 100u; t++) {
+            fake_hal.time_us += SLAM_TICK_US;
+            robot_tick(&robot);
+            robot_idle(&robot);
+        }
+        assert_int_equal(fake_hal.calls_trigger1 + fake_hal.calls_bad_instance, 0u);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -255,6 +336,8 @@ int main(void)
         cmocka_unit_test_setup(test_idle_feeds_watchdog_only_while_ticking, setup),
         cmocka_unit_test_setup(test_held_means_the_ramp_is_at_rest, setup),
         cmocka_unit_test_setup(test_a_bump_switch_stops_the_drive, setup),
+        cmocka_unit_test_setup(test_second_sonar_is_pinged_from_idle_and_mapped, setup),
+        cmocka_unit_test_setup(test_second_sonar_off_where_it_cannot_be, setup),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -622,6 +622,10 @@ static const char *const released_keys[] = {
     "follow_um",
     "umbmark_runs",
     "umbmark_pause_s",
+    "grid_a",
+    "grid_b",
+    "sonar1_map",
+    "sonar1_mdeg",
 };
 
 /* Every row's key reads and writes its own field with the row's type and liveness, and

@@ -43,6 +43,13 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
     r->hold = 0u;
     r->held = false;
     r->pending = 0u;
+    /* The second sonar's readings are mapped in robot_idle(), where the deferred readings
+     * are: with the tick mapping OM itself, the two would write cells at once. */
+    r->sonar1 = (robot_sonar1_t){
+        .on = cfg->sonar1_map != 0u && hal_sonar_count() > HAL_SONAR_FIXED && r->readq.deferred,
+        .servo = fix_bam_from_mdeg(cfg->sonar1_mdeg),
+        .ping_us = r->tick_us,
+    };
     return SLAM_OK;
 }
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* The robot's background loop: commands over the link, the watchdog, saves, telemetry. */
+/* The robot's background loop: commands over the link, the watchdog, the readings, the
+ * second sonar, saves, telemetry. */
 #include "slam/robot.h"
 
 #include "hal/hal.h"
@@ -145,6 +146,47 @@ static void robot_readings(robot_t *r)
     }
 }
 
+/* The second sonar: a ping while the sweep's sonar waits for no echo and
+ * ping_interval_ticks after its own last one; its echo, or none, within the sweep's echo
+ * timeout, mapped as robot_readings() maps a sweep reading. */
+static void robot_sonar1(robot_t *r)
+{
+    robot_sonar1_t *s = &r->sonar1;
+    uint32_t now = hal_time_us();
+    if (s->waiting) {
+        uint32_t echo_us = 0u;
+        int st = hal_sonar_poll(HAL_SONAR_FIXED, &echo_us);
+        if (st != HAL_SONAR_ECHO && st != HAL_SONAR_TIMEOUT &&
+            now - s->ping_us < (uint32_t)r->cfg.echo_timeout_ticks * SLAM_TICK_US) {
+            return;
+        }
+        s->waiting = false;
+        s->reading.echo = st == HAL_SONAR_ECHO;
+        s->reading.range_um = s->reading.echo ? sonar_range_um(&r->mapper.sonar, echo_us) : 0u;
+        s->readings++;
+        s->echoes += s->reading.echo ? 1u : 0u;
+        if (r->loc.on) {
+            loc_reading(&r->loc, &r->mapper, &r->grid, &s->reading);
+        } else {
+            readq_map(&s->reading, &r->mapper, &r->grid);
+        }
+        return;
+    }
+    if (sweep_waiting(&r->sweep) ||
+        now - s->ping_us < (uint32_t)r->cfg.ping_interval_ticks * SLAM_TICK_US) {
+        return;
+    }
+    /* The pose is three words the tick rewrites: copy it in one piece, at the ping. */
+    hal_irq_state_t irq = hal_critical_enter();
+    odom_pose_t pose = odom_pose(&r->odom);
+    hal_critical_exit(irq);
+    s->ping_us = now;
+    if (hal_sonar_trigger(HAL_SONAR_FIXED) == HAL_OK) {
+        s->waiting = true;
+        s->reading = (readq_reading_t){.ping = pose, .servo = s->servo};
+    }
+}
+
 /* Commands from the UART, then what waits for the robot to stand. Kept out of line, so
  * its buffers are not on the stack while robot_idle() saves the maps. */
 __attribute__((noinline)) static void robot_commands(robot_t *r, uint32_t ticks)
@@ -178,6 +220,9 @@ void robot_idle(robot_t *r)
     }
     robot_commands(r, ticks);
     robot_readings(r);
+    if (r->sonar1.on) {
+        robot_sonar1(r);
+    }
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;

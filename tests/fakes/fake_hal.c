@@ -38,7 +38,7 @@ int hal_tick_start(hal_tick_fn fn, void *ctx)
 
 uint32_t hal_time_us(void)
 {
-    return 0u;
+    return fake_hal.time_us;
 }
 
 uint32_t hal_tick_overruns(void)
@@ -92,6 +92,7 @@ int hal_sonar_trigger(uint8_t sonar)
     }
     if (sonar != HAL_SONAR_SWEPT) {
         fake_hal.calls_other_instance++;
+        fake_hal.calls_trigger1 += sonar == 1u ? 1u : 0u;
         return HAL_OK;
     }
     fake_hal.calls_trigger++;
@@ -106,7 +107,18 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
     }
     if (sonar != HAL_SONAR_SWEPT) {
         fake_hal.calls_other_instance++;
-        return HAL_SONAR_IDLE;
+        if (sonar != 1u) {
+            return HAL_SONAR_IDLE;
+        }
+        fake_hal.calls_poll1++;
+        hal_sonar_status_t s1 = fake_hal.sonar1_next;
+        if (s1 == HAL_SONAR_ECHO) {
+            *echo_us = fake_hal.sonar1_echo_us;
+        }
+        if (s1 == HAL_SONAR_ECHO || s1 == HAL_SONAR_TIMEOUT) {
+            fake_hal.sonar1_next = HAL_SONAR_IDLE; /* reported once */
+        }
+        return (int)s1;
     }
     fake_hal.calls_poll++;
     hal_sonar_status_t s = fake_hal.sonar_next;

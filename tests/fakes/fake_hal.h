@@ -19,21 +19,25 @@
 
 typedef struct {
     /* Set by the test. */
-    uint16_t encoder[2];           /**< what hal_encoder_count() returns */
-    hal_sonar_status_t sonar_next; /**< what the next hal_sonar_poll() of sonar 0 returns */
-    uint32_t sonar_echo_us;        /**< width returned with HAL_SONAR_ECHO */
-    int trigger_result;            /**< what hal_sonar_trigger() of sonar 0 returns */
-    uint8_t servos;                /**< what hal_servo_count() returns (fake_hal_reset(): 1) */
-    uint8_t sonars;                /**< what hal_sonar_count() returns (1); sonars past 0 are
-                                        idle and take every ping */
-    uint8_t bumps;                 /**< what hal_bump_count() returns (0: HAL_ENOSYS) */
-    bool bump_pressed[8];          /**< what hal_bump_read() says of each switch */
-    size_t storage_size;           /**< what hal_storage_size() returns */
-    size_t uart_room;              /**< bytes hal_uart_write() takes per call (0: all) */
-    bool uart_no_reader;           /**< hal_uart_has_reader() answers false */
-    uint8_t rx[4096];              /**< bytes hal_uart_read() hands out, in order */
-    size_t rx_len;                 /**< bytes in rx */
-    size_t rx_pos;                 /**< bytes already read */
+    uint16_t encoder[2];            /**< what hal_encoder_count() returns */
+    hal_sonar_status_t sonar_next;  /**< what the next hal_sonar_poll() of sonar 0 returns */
+    uint32_t sonar_echo_us;         /**< width returned with HAL_SONAR_ECHO */
+    int trigger_result;             /**< what hal_sonar_trigger() of sonar 0 returns */
+    uint8_t servos;                 /**< what hal_servo_count() returns (fake_hal_reset(): 1) */
+    uint8_t sonars;                 /**< what hal_sonar_count() returns (1); sonars past 0 are
+                                         idle and take every ping */
+    hal_sonar_status_t sonar1_next; /**< what the next hal_sonar_poll() of sonar 1 returns
+                                         (IDLE) */
+    uint32_t sonar1_echo_us;        /**< width returned with it */
+    uint32_t time_us;               /**< what hal_time_us() returns (0) */
+    uint8_t bumps;                  /**< what hal_bump_count() returns (0: HAL_ENOSYS) */
+    bool bump_pressed[8];           /**< what hal_bump_read() says of each switch */
+    size_t storage_size;            /**< what hal_storage_size() returns */
+    size_t uart_room;               /**< bytes hal_uart_write() takes per call (0: all) */
+    bool uart_no_reader;            /**< hal_uart_has_reader() answers false */
+    uint8_t rx[4096];               /**< bytes hal_uart_read() hands out, in order */
+    size_t rx_len;                  /**< bytes in rx */
+    size_t rx_pos;                  /**< bytes already read */
 
     /* Recorded from the firmware. */
     int16_t motor[2];                 /**< last duty per wheel */
@@ -45,6 +49,8 @@ typedef struct {
     unsigned calls_trigger;        /**< hal_sonar_trigger() of sonar 0 */
     unsigned calls_poll;           /**< hal_sonar_poll() of sonar 0 */
     unsigned calls_other_instance; /**< servo and sonar calls of an instance past 0 */
+    unsigned calls_trigger1;       /**< hal_sonar_trigger() of sonar 1 */
+    unsigned calls_poll1;          /**< hal_sonar_poll() of sonar 1 */
     unsigned calls_bad_instance;   /**< calls refused with HAL_EINVAL (no such instance) */
     unsigned calls_bump;
     unsigned calls_watchdog;

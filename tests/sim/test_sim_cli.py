@@ -37,6 +37,8 @@ for args, what in [
     (["--error", "dropout=2"], "0..1"),
     (["--set", "wheel_base_um=0"], "wheel_base_um"),
     (["--set", "nonsense=1"], "unknown key"),
+    (["--sonar1", "0.05", "0", "120"], "--sonar1: '120' is out of range -90..90"),
+    (["--set", "sonar1_map=1"], "sonar1_map = 1, but the simulated robot has no sonar 1"),
     (["--room"], "--room"),
 ]:
     out = sim.out("never")

@@ -18,6 +18,25 @@ check(filecmp.cmp(os.path.join(run, "om.yaml"), os.path.join(rep, "om.yaml"), sh
 m = sim.metrics(run)
 check(m["robot"]["om_hits"] > 100, "the log had something to replay (%d OM hits)" % m["robot"]["om_hits"])
 
+# With a second sonar mapped (looking left from the servo's axis), its readings are in the
+# log too, at servo angle 0, between the sweep's; the replay maps them as the run did.
+run1 = sim.out("run_sonar1")
+sim.run("--duration", 60, "--seed", 5, "--room", sim.room("obstacles.room"), "--sonar1", 0.05, 0,
+        90, "--out", run1)
+m1 = sim.metrics(run1)
+with open(os.path.join(run1, "readings.csv")) as f:
+    rows = [ln.split(",") for ln in f if ln[:1].isdigit()]
+left = [r for r in rows if float(r[1]) == 0.0]
+sweep = len(rows) - len(left)
+check(m1["robot"]["sonar1_readings"] > 300 and len(left) == m1["robot"]["sonar1_readings"] and
+      m1["robot"]["pings"] - 1 <= sweep <= m1["robot"]["pings"],
+      "the second sonar's %d readings are logged at servo angle 0, with the sweep's %d"
+      % (len(left), sweep))
+rep1 = sim.out("replay_sonar1")
+sim.run("--replay", os.path.join(run1, "readings.csv"), "--out", rep1)
+check(filecmp.cmp(os.path.join(run1, "om.pgm"), os.path.join(rep1, "om.pgm"), shallow=False),
+      "a run with the second sonar replays byte-identically")
+
 # A damaged log is refused, naming the line.
 bad = sim.out("bad.csv")
 with open(os.path.join(run, "readings.csv")) as f:

@@ -86,7 +86,9 @@
   {"default": 6, "hi": 255, "id": 49, "live": false, "lo": 1, "name": "ping_interval_ticks", "type": "U8", "wire": "U8", "words": "1..255"},
   {"default": 300000, "hi": 2000000, "id": 50, "live": true, "lo": 50000, "name": "follow_um", "type": "U32", "wire": "U32", "words": "50000..2000000, above clearance_um"},
   {"default": 5, "hi": 50, "id": 51, "live": true, "lo": 1, "name": "umbmark_runs", "type": "U8", "wire": "U8", "words": "1..50 (runs each way)"},
-  {"default": 90, "hi": 3600, "id": 52, "live": true, "lo": 1, "name": "umbmark_pause_s", "type": "U16", "wire": "U16", "words": "1..3600 (standing still before and after each run)"}
+  {"default": 90, "hi": 3600, "id": 52, "live": true, "lo": 1, "name": "umbmark_pause_s", "type": "U16", "wire": "U16", "words": "1..3600 (standing still before and after each run)"},
+  {"default": 0, "hi": 1, "id": 55, "live": false, "lo": 0, "name": "sonar1_map", "type": "U8", "wire": "U8", "words": "0..1 (1: HAL sonar 1 pinged and mapped)"},
+  {"default": 0, "hi": 180000, "id": 56, "live": false, "lo": 0, "name": "sonar1_mdeg", "type": "I32", "wire": "I32", "words": "0..180000 (its beam as a servo angle: 0 looks left, 180000 right)"}
  ],
  "flags": {
   "pending": 2,

@@ -164,6 +164,12 @@ typedef struct {
     uint8_t umbmark_runs;     /**< runs in each direction, 1..50; 5 (Borenstein & Feng) */
     uint16_t umbmark_pause_s; /**< standing still before and after each run, to measure
                                    and put the robot back, 1..3600 s; 90 */
+    /* A second sonar (HAL sonar 1): a fixed HC-SR04 on the servo's axis. */
+    uint8_t sonar1_map;  /**< 1: ping it from robot_idle() between the sweep's pings and map
+                              its readings as the sweep's (when readings are deferred:
+                              localize = 1 or om_mode = 1); 0 */
+    int32_t sonar1_mdeg; /**< the way its beam faces, as a servo angle: 0 looks left, 90
+                              ahead, 180 right (millidegrees); 0 */
 } slam_config_t;
 
 /** Fill @p cfg with the defaults above. */

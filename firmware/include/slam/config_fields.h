@@ -153,7 +153,11 @@
     /* Calibration. */                                                                             \
     X(umbmark_runs, U8, 5, 1, 50, NONE, 51, LIVE, "1..50 (runs each way)")                         \
     X(umbmark_pause_s, U16, 90, 1, 3600, NONE, 52, LIVE,                                           \
-      "1..3600 (standing still before and after each run)")
+      "1..3600 (standing still before and after each run)")                                        \
+    /* The second sonar. */                                                                        \
+    X(sonar1_map, U8, 0, 0, 1, NONE, 55, FIXED, "0..1 (1: HAL sonar 1 pinged and mapped)")         \
+    X(sonar1_mdeg, I32, 0, 0, 180000, NONE, 56, FIXED,                                             \
+      "0..180000 (its beam as a servo angle: 0 looks left, 180000 right)")
 
 /** Each field's row number (SLAM_CONFIG_ROW_<name>) and how many rows there are. The
  *  names are the members' own, so these constants are not upper case. */

@@ -30,6 +30,23 @@
 #include "slam/telemetry.h"
 #include "slam/umbmark.h"
 
+/**
+ * The second sonar (HAL_SONAR_FIXED), when sonar1_map asks for it and the board has it:
+ * pinged by robot_idle(), never by the tick, and only while the sweep's sonar waits for no
+ * echo, ping_interval_ticks after its own last ping; each reading mapped as a sweep
+ * reading at the servo angle its beam faces (sonar1_mdeg), from the swept sonar's mount.
+ */
+typedef struct {
+    bool on;                 /**< asked for, the board has it, and readings are deferred */
+    bool waiting;            /**< a ping is out */
+    bam32_t servo;           /**< its beam as a servo angle */
+    uint32_t ping_us;        /**< hal_time_us() at the last ping (or ping refused) */
+    readq_reading_t reading; /**< the reading under way (its ping's odometry pose), then
+                                  the last one mapped */
+    uint32_t readings;       /**< readings mapped */
+    uint32_t echoes;         /**< of which echoes */
+} robot_sonar1_t;
+
 /** All state of the robot's firmware. */
 typedef struct {
     slam_config_t cfg;    /**< the configuration in use */
@@ -54,12 +71,13 @@ typedef struct {
     volatile uint8_t hold;        /**< why robot_idle() asks the tick to stop the robot
                                        (ROBOT_HOLD_* bits); 0: drive */
     volatile bool held;           /**< the tick says the robot stands still under hold */
-    uint8_t pending;  /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
-    uint8_t bumps;    /**< the board's bump switches (hal_bump_count()), read every tick */
-    bool bump_closed; /**< a bump switch was closed in the last tick */
-    bool bump_news;   /**< one closed since the exploration last took a stall */
-    uint32_t bumped;  /**< ticks in which a bump switch closed (the first of each contact) */
-    telem_t telem;    /**< telemetry: posted by the tick, sent by robot_idle() */
+    uint8_t pending;       /**< commands that wait for the robot to stand (ROBOT_PENDING_*) */
+    uint8_t bumps;         /**< the board's bump switches (hal_bump_count()), read every tick */
+    bool bump_closed;      /**< a bump switch was closed in the last tick */
+    bool bump_news;        /**< one closed since the exploration last took a stall */
+    uint32_t bumped;       /**< ticks in which a bump switch closed (the first of each contact) */
+    robot_sonar1_t sonar1; /**< the second sonar, run by robot_idle() */
+    telem_t telem;         /**< telemetry: posted by the tick, sent by robot_idle() */
 } robot_t;
 
 /** Reasons to hold the robot still: a save beginning, a command waiting to be applied,
@@ -92,7 +110,8 @@ void robot_tick(robot_t *r);
  * Background work, from the main loop; never called from the tick: feeds the watchdog
  * while ticks progress, takes commands from the UART (telemetry.h: at most
  * ROBOT_RX_BYTES a call, each answered), maps the readings the tick queued (readings.h;
- * through the pose correction when it is on), sends telemetry, and saves the maps (every
+ * through the pose correction when it is on), pings and maps the second sonar
+ * (robot_sonar1_t), sends telemetry, and saves the maps (every
  * save_period_s, and on request) a chunk per call. A command that changes the
  * configuration or the exploration mode waits until the tick has brought the robot to a
  * stand, then re-initialises what the configuration feeds (odometry gains, keeping the

@@ -94,6 +94,9 @@ void hal_motor_set(hal_wheel_t wheel, int16_t duty);
 /** The paper's sonar, on the sweep servo. */
 #define HAL_SONAR_SWEPT ((uint8_t)0u)
 
+/** The optional second sonar, fixed (robot_idle() maps it when sonar1_map is 1). */
+#define HAL_SONAR_FIXED ((uint8_t)1u)
+
 /** How many servos the backend has: instances 0 .. count - 1 (at least 1). ISR-safe. */
 uint8_t hal_servo_count(void);
 

@@ -163,6 +163,11 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         lhal_shutdown();
         return APP_EXIT_USAGE;
     }
+    if (core->sonar1_map != 0u && !app_robot.sonar1.on) {
+        fprintf(err, APP_NAME ": warning: sonar1_map = 1, but %s: the second sonar is not used\n",
+                hal_sonar_count() < 2u ? "robot.conf gives no sonar1_trigger and sonar1_echo"
+                                       : "it needs localize = 1 or om_mode = 1");
+    }
     if (strcmp(lc->telemetry, "none") != 0) {
         fprintf(out, "telemetry on %s\n", lhal_telemetry_name());
     }
