@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "explore_world.h"
+#include "modes.h"
 #include "moves.h"
 
 /* The place of progress k places older than the newest: its x. */
@@ -226,6 +227,39 @@ static void test_no_way_in_squeezes(void **state)
     assert_false(ex.memory.narrow || ex.moves.squeezing);
 }
 
+/* Boxed in, in the walls mode: a full circle of 45° looks, every one blocked, backs out
+ * the way it came at once, however lately the robot made progress; a robot that knows no
+ * way in squeezes and weighs the ways instead. */
+static void test_a_circle_of_blocked_looks_backs_out_at_once(void **state)
+{
+    (void)state;
+    static const uint32_t known[] = {4u, 1u}; /* places of progress, the start's included */
+    for (size_t i = 0u; i < sizeof known / sizeof known[0]; i++) {
+        uint32_t places = known[i];
+        setup_mode(EXPLORE_WALLS);
+        for (uint32_t k = 1u; k < places; k++) {
+            progress_at((int32_t)(250000u * k), 100u * k);
+        }
+        odom_pose_t p = {cfg.start_x_um + 250000 * ((int32_t)places - 1), cfg.start_y_um, 0};
+        ex.machine.now = 100u * places + 1u; /* just after its last progress */
+        ex.moves.after_turn = EXPLORE_FOLLOW;
+        for (uint32_t k = 0u; k < EXPLORE_LEFTS_MAX; k++) {
+            explore_walls_next(&ex, &p, EXPLORE_WHY_BLOCKED);
+            assert_int_equal(ex.machine.state, EXPLORE_TURN); /* on to the left, 45° */
+        }
+        assert_int_equal(ex.count.escapes, 0u);
+        explore_walls_next(&ex, &p, EXPLORE_WHY_BLOCKED); /* the circle is closed */
+        assert_int_equal(ex.count.escapes, 1u);
+        if (places > 1u) {
+            assert_int_equal(ex.machine.state, EXPLORE_BACK);
+            assert_true(ex.moves.escaping);
+        } else {
+            assert_true(ex.moves.squeezing && ex.memory.narrow);
+            assert_int_equal(ex.machine.state, EXPLORE_DECIDE);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -234,6 +268,7 @@ int main(void)
         cmocka_unit_test(test_turning_about_escapes_the_way_it_came),
         cmocka_unit_test(test_no_escape_after_a_count_stopped),
         cmocka_unit_test(test_no_way_in_squeezes),
+        cmocka_unit_test(test_a_circle_of_blocked_looks_backs_out_at_once),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

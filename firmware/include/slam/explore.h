@@ -29,8 +29,9 @@
  *   while the other turns (a wheel or an encoder failed, nothing touched) makes it stand
  *   and look instead.
  * - Escapes: the places where the robot made progress (each 0.25 m from the last two, and
- *   from where the last escape began). A robot about to turn 20 s after its last progress
- *   backs out along the newest of them instead, the way it came (its rear brought round at
+ *   from where the last escape began). A robot about to turn 20 s after its last progress,
+ *   or in the walls mode boxed in (a full circle of looks, every way blocked), backs out
+ *   along the newest of them instead, the way it came (its rear brought round at
  *   the full turning speed), and drops them from the list; with no way in known it
  *   squeezes (the body's corridor ahead until it gets on). Not for a minute after a
  *   wheel stalled alone (its count may have stopped: the places are then wrong).

@@ -10,7 +10,6 @@
 #define EXPLORE_LOST_UM 100000u     /* with nothing beside, straight on this far first */
 #define EXPLORE_ARC_MAX_TICKS 1500u /* then about a circle at most */
 #define EXPLORE_RETRACE_LEAVE 12u   /* leave after this many trail steps driven before */
-#define EXPLORE_LEFTS_MAX 8u        /* 45° left turns in a row (a circle), then the ways */
 #define EXPLORE_DOOR_PAST_UM 150000 /* an opening is measured once this far past it */
 
 /* Seek the nearest frontier block in sight and cross to it; without one, weigh the ways
@@ -163,7 +162,11 @@ static void looked(explore_t *e, const odom_pose_t *pose, bool blocked)
         return;
     }
     if (++e->walls.lefts > EXPLORE_LEFTS_MAX) {
+        /* Every way blocked: back out the way it came, else weigh the ways. */
         e->walls.lefts = 0u;
+        if (explore_escape_boxed(e, pose)) {
+            return;
+        }
         e->count.leaves++;
         explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
         return;

@@ -84,14 +84,14 @@ void explore_progress(explore_t *e, const odom_pose_t *pose)
     }
 }
 
-/* About to turn: after EXPLORE_STUCK_TICKS without progress, back out the way it came
- * instead (BACK's first tick takes the places to back out along: this tick has begun a
- * turn's work). */
-static bool escape(explore_t *e, const odom_pose_t *pose)
+/* About to turn: after EXPLORE_STUCK_TICKS without progress (at once when boxed in), back
+ * out the way it came instead (BACK's first tick takes the places to back out along: this
+ * tick has begun a turn's work). */
+static bool escape(explore_t *e, const odom_pose_t *pose, bool boxed)
 {
     explore_moves_t *mv = &e->moves;
     explore_progress(e, pose);
-    if (e->machine.blind || e->machine.now - mv->prog_at < EXPLORE_STUCK_TICKS ||
+    if (e->machine.blind || (!boxed && e->machine.now - mv->prog_at < EXPLORE_STUCK_TICKS) ||
         (int32_t)(e->machine.now - mv->trust_from) < 0) {
         return false;
     }
@@ -137,9 +137,14 @@ static void escape_trail(explore_moves_t *mv, const odom_pose_t *pose)
 
 /* ---- turning and facing ----------------------------------------------------------------- */
 
+bool explore_escape_boxed(explore_t *e, const odom_pose_t *pose)
+{
+    return escape(e, pose, true);
+}
+
 void explore_turn_by(explore_t *e, const odom_pose_t *pose, int32_t angle, explore_state_t then)
 {
-    if (escape(e, pose)) {
+    if (escape(e, pose, false)) {
         return;
     }
     e->moves.target_heading = pose->heading + (bam32_t)angle;

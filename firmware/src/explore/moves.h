@@ -46,6 +46,12 @@ int32_t explore_speed_mm_s(const explore_t *e, int32_t ahead_um);
  * own tick, not the trail's). */
 void explore_progress(explore_t *e, const odom_pose_t *pose);
 
+/* Boxed in (the mode has looked every way and every one is blocked): the escape, at once
+ * rather than EXPLORE_STUCK_TICKS after the last progress. True when it has begun (BACK);
+ * false when it may not (blind, or a wheel stalled alone lately) or no way in is known (it
+ * squeezes then, as an escape does). */
+bool explore_escape_boxed(explore_t *e, const odom_pose_t *pose);
+
 /* Driving on: a new trail position each EXPLORE_TRAIL_STEP_UM (trail_fresh tells the
  * mode). Inline: the tick makes it whenever the robot drives. */
 static inline void explore_trail_step(explore_t *e, const odom_pose_t *pose)

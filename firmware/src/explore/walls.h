@@ -12,6 +12,9 @@
 #define EXPLORE_LEFT_FIRST 1u
 #define EXPLORE_LEFT_SPAN 5u
 
+/* 45° left turns in a row, each looked along and blocked (a circle): boxed in. */
+#define EXPLORE_LEFTS_MAX 8u
+
 /* ---- seek.c ------------------------------------------------------------------------- */
 
 /* No block is sought yet. */
