@@ -21,8 +21,9 @@ the raw F1 of OM built from the robot's own pose (metrics.json maps.odometry.raw
 the gap (the same F1 from the true poses less it, as tools/pose_report.py has it), of the
 final position and heading error; the runs that touch an obstacle and their touches; the
 runs that went STUCK_S (30 s) or more without 0.2 m of progress and the longest such time
-(metrics.json exploration.longest_without_progress_s, issue 29's goal); the mean wall
-coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
+(metrics.json exploration.longest_without_progress_s, issue 29's goal); the runs with a
+touch left in over SLOW_S (5 s) and the longest (exploration.longest_touch_recovery_s);
+the mean wall coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
 the shipped rooms and building maps one by one. A run whose room does not fit the
 simulator's grid (fits_grid()) is counted as such and not scored. A last table says what
 each touching run met first (metrics.json exploration.first_touch: the obstacle nearest
@@ -59,6 +60,7 @@ BULKY = ("readings.csv", "trajectory.csv")  # and every .pgm
 BUILDING_SEEDS = 3
 NOT_FIT = "does not fit the grid"
 STUCK_S = 30.0  # a run this long without progress is stuck (issue 29)
+SLOW_S = 5.0  # a touch left in longer than this is not recovered (issue 29)
 GROUPS = ("shipped", "rooms", "flats", "buildings")  # in the order of the tables
 
 
@@ -233,7 +235,9 @@ def summarise(runs):
            "touching_runs": sum(1 for f in ok if f["touches"] > 0),
            "touches": sum(f["touches"] for f in ok),
            "stuck_runs": sum(1 for f in ok if f["stuck_s"] >= STUCK_S),
-           "stuck_longest_s": max((f["stuck_s"] for f in ok), default=math.nan)}
+           "stuck_longest_s": max((f["stuck_s"] for f in ok), default=math.nan),
+           "slow_runs": sum(1 for f in ok if (f["recovery_s"] or 0.0) > SLOW_S),
+           "slow_longest_s": max((f["recovery_s"] or 0.0 for f in ok), default=math.nan)}
     for key in ("f1", "gap", "position_m", "heading_deg", "wall_coverage"):
         xs = [f[key] for f in ok]
         out[key] = {"mean": statistics.mean(xs) if xs else math.nan,
@@ -244,8 +248,9 @@ def summarise(runs):
 
 HEAD = ("| %s | runs | F1 own pose | F1 5th pct | gap | gap 95th pct | position (m) "
         "| position 95th pct | heading (°) | heading 95th pct | touching runs (touches) "
-        "| runs stuck " + "%g" % STUCK_S + " s (longest s) | wall coverage |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        "| runs stuck " + "%g" % STUCK_S + " s (longest s) | runs with a touch left in over "
+        + "%g" % SLOW_S + " s (longest s) | wall coverage |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def pm(s, fmt):
@@ -260,13 +265,13 @@ def row(label, s):
             x for x in ("%d %s" % (s["not_fitting"], NOT_FIT) if s["not_fitting"] else "",
                         "%d failed" % s["failed"] if s["failed"] else "") if x)
     if not s["scored"]:
-        return "| %s | %s |%s" % (label, runs, " – |" * 11)
+        return "| %s | %s |%s" % (label, runs, " – |" * 12)
     return ("| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %d (%.0f) "
-            "| %s |") % (
+            "| %d (%.0f) | %s |") % (
         label, runs, pm(s["f1"], "%.3f"), s["f1"]["p5"], pm(s["gap"], "%.3f"), s["gap"]["p95"],
         pm(s["position_m"], "%.2f"), s["position_m"]["p95"], pm(s["heading_deg"], "%.1f"),
         s["heading_deg"]["p95"], s["touching_runs"], s["touches"], s["stuck_runs"],
-        s["stuck_longest_s"], pm(s["wall_coverage"], "%.3f"))
+        s["stuck_longest_s"], s["slow_runs"], s["slow_longest_s"], pm(s["wall_coverage"], "%.3f"))
 
 
 TITLES = {"shipped": ("Shipped rooms", "room", "host_sim/rooms, seeds 1–%d"),
