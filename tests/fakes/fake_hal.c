@@ -99,6 +99,20 @@ int hal_sonar_trigger(uint8_t sonar)
     return fake_hal.trigger_result;
 }
 
+/* A scripted sonar's answer: its echo's width with HAL_SONAR_ECHO, and ECHO or TIMEOUT
+ * reported once. */
+static int scripted_poll(hal_sonar_status_t *next, uint32_t width_us, uint32_t *echo_us)
+{
+    hal_sonar_status_t s = *next;
+    if (s == HAL_SONAR_ECHO) {
+        *echo_us = width_us;
+    }
+    if (s == HAL_SONAR_ECHO || s == HAL_SONAR_TIMEOUT) {
+        *next = HAL_SONAR_IDLE;
+    }
+    return (int)s;
+}
+
 int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
 {
     if (sonar >= fake_hal.sonars) {
@@ -111,24 +125,10 @@ int hal_sonar_poll(uint8_t sonar, uint32_t *echo_us)
             return HAL_SONAR_IDLE;
         }
         fake_hal.calls_poll1++;
-        hal_sonar_status_t s1 = fake_hal.sonar1_next;
-        if (s1 == HAL_SONAR_ECHO) {
-            *echo_us = fake_hal.sonar1_echo_us;
-        }
-        if (s1 == HAL_SONAR_ECHO || s1 == HAL_SONAR_TIMEOUT) {
-            fake_hal.sonar1_next = HAL_SONAR_IDLE; /* reported once */
-        }
-        return (int)s1;
+        return scripted_poll(&fake_hal.sonar1_next, fake_hal.sonar1_echo_us, echo_us);
     }
     fake_hal.calls_poll++;
-    hal_sonar_status_t s = fake_hal.sonar_next;
-    if (s == HAL_SONAR_ECHO) {
-        *echo_us = fake_hal.sonar_echo_us;
-    }
-    if (s == HAL_SONAR_ECHO || s == HAL_SONAR_TIMEOUT) {
-        fake_hal.sonar_next = HAL_SONAR_IDLE; /* reported once */
-    }
-    return (int)s;
+    return scripted_poll(&fake_hal.sonar_next, fake_hal.sonar_echo_us, echo_us);
 }
 
 uint8_t hal_bump_count(void)
