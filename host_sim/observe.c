@@ -357,7 +357,7 @@ static void observe_readings(run_t *r, firmware_t *fw, const sim_t *sim, const s
         r->sonar1_seen = s1->readings;
         const reading_t rd = {
             .servo_mdeg = robot->cfg.sonar1_mdeg,
-            .servo = s1->servo,
+            .servo = s1->reading.servo,
             .echo = s1->reading.echo,
             .range_um = s1->reading.range_um,
             .odom = &s1->reading.ping,

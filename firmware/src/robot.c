@@ -47,7 +47,6 @@ SLAM_START_UP int robot_init(robot_t *r, const slam_config_t *cfg)
      * are: with the tick mapping OM itself, the two would write cells at once. */
     r->sonar1 = (robot_sonar1_t){
         .on = cfg->sonar1_map != 0u && hal_sonar_count() > HAL_SONAR_FIXED && r->readq.deferred,
-        .servo = fix_bam_from_mdeg(cfg->sonar1_mdeg),
         .ping_us = r->tick_us,
     };
     return SLAM_OK;

@@ -130,25 +130,32 @@ static void robot_command(robot_t *r, const telem_cmd_t *c)
 
 /* ---- the readings the tick posted ---------------------------------------------------------- */
 
-/* Each in turn: with the pose correction on, mapped and matched by it; off, mapped as the
- * mapper alone maps them (the tick cannot: a beam's ray is too much work for it). Counted
- * finished only after: the tick adopts what loc_reading() published once it is. */
+/* A reading of either sonar: with the pose correction on, mapped and matched by it; off,
+ * mapped as the mapper alone maps it (the tick cannot: a beam's ray is too much work for
+ * it). */
+static void robot_map(robot_t *r, const readq_reading_t *rd)
+{
+    if (r->loc.on) {
+        loc_reading(&r->loc, &r->mapper, &r->grid, rd);
+    } else {
+        readq_map(rd, &r->mapper, &r->grid);
+    }
+}
+
+/* Each in turn, counted finished only after: the tick adopts what loc_reading() published
+ * once it is. */
 static void robot_readings(robot_t *r)
 {
     readq_reading_t rd;
     while (readq_take(&r->readq, &rd)) {
-        if (r->loc.on) {
-            loc_reading(&r->loc, &r->mapper, &r->grid, &rd);
-        } else {
-            readq_map(&rd, &r->mapper, &r->grid);
-        }
+        robot_map(r, &rd);
         readq_done(&r->readq);
     }
 }
 
 /* The second sonar: a ping while the sweep's sonar waits for no echo and
  * ping_interval_ticks after its own last one; its echo, or none, within the sweep's echo
- * timeout, mapped as robot_readings() maps a sweep reading. */
+ * timeout, mapped as a sweep reading is. */
 static void robot_sonar1(robot_t *r)
 {
     robot_sonar1_t *s = &r->sonar1;
@@ -165,11 +172,7 @@ static void robot_sonar1(robot_t *r)
         s->reading.range_um = s->reading.echo ? sonar_range_um(&r->mapper.sonar, echo_us) : 0u;
         s->readings++;
         s->echoes += s->reading.echo ? 1u : 0u;
-        if (r->loc.on) {
-            loc_reading(&r->loc, &r->mapper, &r->grid, &s->reading);
-        } else {
-            readq_map(&s->reading, &r->mapper, &r->grid);
-        }
+        robot_map(r, &s->reading);
         return;
     }
     if (sweep_waiting(&r->sweep) ||
@@ -183,7 +186,8 @@ static void robot_sonar1(robot_t *r)
     s->ping_us = now;
     if (hal_sonar_trigger(HAL_SONAR_FIXED) == HAL_OK) {
         s->waiting = true;
-        s->reading = (readq_reading_t){.ping = pose, .servo = s->servo};
+        s->reading =
+            (readq_reading_t){.ping = pose, .servo = fix_bam_from_mdeg(r->cfg.sonar1_mdeg)};
     }
 }
 

@@ -39,7 +39,6 @@
 typedef struct {
     bool on;                 /**< asked for, the board has it, and readings are deferred */
     bool waiting;            /**< a ping is out */
-    bam32_t servo;           /**< its beam as a servo angle */
     uint32_t ping_us;        /**< hal_time_us() at the last ping (or ping refused) */
     readq_reading_t reading; /**< the reading under way (its ping's odometry pose), then
                                   the last one mapped */
