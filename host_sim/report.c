@@ -301,13 +301,13 @@ int write_metrics(const options_t *o, const room_t *room, const run_t *r, const 
             "\"om_hits\": %u, \"beyond_rc\": %u, \"too_close\": %u, \"outside_grid\": %u, "
             "\"collisions\": %u, \"turns\": %u, \"avoidances\": %u, \"stalls\": %u, "
             "\"walls_left\": %u, \"openings_passed\": %u, \"frontier_targets\": %u, "
-            "\"escapes\": %u, \"bumped_ticks\": %u, \"sonar1_readings\": %u, "
+            "\"escapes\": %u, \"ways\": %u, \"bumped_ticks\": %u, \"sonar1_readings\": %u, "
             "\"sonar1_echoes\": %u},\n",
             robot->ticks, sw->pings, sw->echoes, sw->timeouts, m->hits, m->far, m->near, m->outside,
             tr.collisions, robot->explore.count.turns, robot->explore.count.avoidances,
             robot->explore.count.stalls, robot->explore.count.leaves, robot->explore.count.doors,
-            robot->explore.count.seeks, robot->explore.count.escapes, robot->bumped,
-            robot->sonar1.readings, robot->sonar1.echoes);
+            robot->explore.count.seeks, robot->explore.count.escapes, robot->explore.count.ways,
+            robot->bumped, robot->sonar1.readings, robot->sonar1.echoes);
     json_pings(f, sim, r);
     const loc_t *lo = &robot->loc;
     fprintf(f,
@@ -396,6 +396,10 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
         }
     }
     printf("\n");
+    if (r->explored_at_s >= 0.0) {
+        printf("  explored        everything it could reach, at %.0f s: it stood from then on\n",
+               r->explored_at_s);
+    }
     printf("  calibration     %s\n", o->calibration != NULL ? o->calibration : "none");
     /* A first run is read by someone who has not met the paper's words yet. */
     printf("\n  what these mean (every term: host_sim/GLOSSARY.md)\n"
@@ -417,6 +421,8 @@ void print_summary(const options_t *o, const run_t *r, const chain_scores_t *odo
            "nearest approach\n"
            "    walls         the walls the sonar looked at from within 1 m (its confidence "
            "sector)\n"
+           "    explored      the robot found no frontier it could reach, twice a minute apart, "
+           "and stood\n"
            "    calibration   the wheels' correction in use (README.md, Calibration)\n\n",
            ps != NULL ? "; best TH, K: the steps'\n                  settings that would have "
                         "scored best"

@@ -227,6 +227,7 @@ void robot_idle(robot_t *r)
     if (r->sonar1.on) {
         robot_sonar1(r);
     }
+    explore_way_work(&r->explore.way, &r->grid);
 
     uint32_t period = (uint32_t)r->cfg.save_period_s * (1000000u / SLAM_TICK_US);
     bool due = period != 0u && (int32_t)(ticks - r->next_save) >= 0;
@@ -256,7 +257,8 @@ void robot_idle(robot_t *r)
         .saves = r->store.saves,
         .explore_mode = r->cfg.explore_mode,
         .flags = (uint8_t)(((r->hold & ROBOT_HOLD_STOP) != 0u ? TELEM_FLAG_STOPPED : 0u) |
-                           (r->pending != 0u ? TELEM_FLAG_PENDING : 0u)),
+                           (r->pending != 0u ? TELEM_FLAG_PENDING : 0u) |
+                           (explore_explored(&r->explore) ? TELEM_FLAG_EXPLORED : 0u)),
         .outside = r->grid.rejected,
     };
     telem_idle(&r->telem, &r->grid, &r->cfg, &st, ticks);

@@ -10,13 +10,13 @@ from simtest import Sim, check
 
 # The terms a newcomer meets first: the summary's, and the jargon of the README's tables.
 TERMS = ["Calibration", "Closest", "Confidence sector", "Coverage", "E_d, E_b", "E_max,syst",
-         "Exploration", "F1", "Free-space evidence", "Gap", "Ghosts", "HAL", "Insert", "K",
+         "Exploration", "Explored", "F1", "Free-space evidence", "Gap", "Ghosts", "HAL", "Insert", "K",
          "map_server", "OM", "Odometry", "Perfect odometry", "Pose", "Pose correction",
          "Precision", "Raw OM", "Recall", "Seed", "Sonar level", "Tick", "TH", "TM",
          "Trinary map", "UMBmark", "Walls"]
 # Each figure of the summary and the line that says what it means.
 MEANINGS = ["precision", "recall", "F1", "perfect odometry F1", "raw OM", "pose error",
-            "pose correction", "coverage", "walls", "calibration"]
+            "pose correction", "coverage", "walls", "explored", "calibration"]
 
 sim = Sim()
 glossary_path = sim.src + "/host_sim/GLOSSARY.md"

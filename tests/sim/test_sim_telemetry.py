@@ -76,4 +76,16 @@ said = [f["outside"] for f in telemetry.frames(tel, 115200, False)
 # (the hits still held back for matching when the run ends are placed after the last STATUS)
 check(said and 0 < said[-1] <= outside,
       "STATUS frames carry the points outside the grid (%s)" % said[-3:])
+
+# A robot that has explored everything it can reach says so: the STATUS frames carry the
+# flag from the second metrics.json gives (the default room, seed 9, is done at 928 s).
+done = sim.out("done")
+tel = sim.out("done.bin")
+sim.run("--duration", 1100, "--seed", 9, "--out", done, "--telemetry", tel)
+at = sim.metrics(done)["exploration"]["explored_at_s"]
+status = [f for f in telemetry.frames(tel, 115200, False) if f is not None and f["type"] == "status"]
+flagged = [f["ticks"] / 100.0 for f in status if f["flags"] & telemetry.slamlink.FLAG_EXPLORED]
+check(at is not None and flagged and at <= flagged[0] <= at + 1.0 and
+      len(flagged) == sum(1 for f in status if f["ticks"] / 100.0 >= at),
+      "STATUS says explored from %s s on (metrics.json: %s s)" % (flagged[:1], at))
 sim.done()

@@ -33,7 +33,7 @@ ERROR_TEXT = {
     "unsupported": "this robot cannot do that (no map storage)",
 }
 OUTCOMES = ("hit", "far", "near", "outside", "timeout")
-FLAG_STOPPED, FLAG_PENDING = 0x01, 0x02
+FLAG_STOPPED, FLAG_PENDING, FLAG_EXPLORED = 0x01, 0x02, 0x04
 
 # What an OM cell holds (firmware/include/slam/grid.h) and how every exported map shows
 # it (hal_common/mapexport.h): one meaning for the C programs and these tools.
@@ -585,8 +585,9 @@ def describe(fr):
             "%s=%d" % (k, fr[k]) for k in _STATUS_NAMES[1:] if k in fr)
         if "flags" in fr:
             mode = MODES[fr["explore_mode"]] if fr["explore_mode"] < len(MODES) else fr["explore_mode"]
-            line += " mode=%s stopped=%d pending=%d" % (mode, bool(fr["flags"] & FLAG_STOPPED),
-                                                        bool(fr["flags"] & FLAG_PENDING))
+            line += " mode=%s stopped=%d pending=%d explored=%d" % (
+                mode, bool(fr["flags"] & FLAG_STOPPED), bool(fr["flags"] & FLAG_PENDING),
+                bool(fr["flags"] & FLAG_EXPLORED))
         if fr.get("outside"):
             line += " outside=%d" % fr["outside"]
         return line

@@ -217,6 +217,9 @@
       if (st.flags & T.flags.pending) {
         parts.push("A command waits for the robot to stand.");
       }
+      if (st.flags & T.flags.explored) {
+        parts.push("Explored: no frontier it can reach is left; it stands.");
+      }
     }
     return parts.join(" ");
   }

@@ -91,6 +91,7 @@
   {"default": 0, "hi": 180000, "id": 56, "live": false, "lo": 0, "name": "sonar1_mdeg", "type": "I32", "wire": "I32", "words": "0..180000 (its beam as a servo angle: 0 looks left, 180000 right)"}
  ],
  "flags": {
+  "explored": 4,
   "pending": 2,
   "stopped": 1
  },

@@ -123,6 +123,7 @@ typedef struct {
         explore_search_t search;
     };
     explore_seek_t seek; /**< the frontier of blocks */
+    explore_way_t way;   /**< the way to a frontier out of sight (robot_idle() works it out) */
     explore_door_t door; /**< an opening being measured and passed */
     explore_walls_t walls;
     explore_square_t square;
@@ -161,6 +162,13 @@ static inline bool explore_explored(const explore_t *e)
 {
     return e->machine.explored;
 }
+
+/**
+ * Background loop: a slice of the way the walls mode asked for (to the nearest frontier the
+ * robot can reach, when none is in sight), at most a few thousand grid cells read a call.
+ * Never from the tick; nothing to do unless a request waits.
+ */
+void explore_way_work(explore_way_t *w, const grid_t *g);
 
 /**
  * Whether a remembered obstacle lies in the corridor ahead of a pose, closer than

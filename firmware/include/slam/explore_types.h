@@ -31,6 +31,12 @@
 #define EXPLORE_BLOCKS (EXPLORE_BLOCKS_A * EXPLORE_BLOCKS_B)
 _Static_assert(EXPLORE_BLOCKS <= 0xFFFFu, "a block's number fits a uint16_t");
 #define EXPLORE_SEEK_CANDIDATES 4u /**< the nearest frontier blocks looked at */
+/* The way cells of the capacity (way.c): 5 x 5 grid cells at the least, so that the bit
+ * planes of the default 240 x 240 grid take 864 bytes. */
+#define EXPLORE_WAY_A ((SLAM_GRID_A + 4u) / 5u)
+#define EXPLORE_WAY_B ((SLAM_GRID_B + 4u) / 5u)
+#define EXPLORE_WAY_ROW ((EXPLORE_WAY_A + 7u) / 8u) /**< bytes of a row of a bit plane */
+#define EXPLORE_WAY_SLOTS 8u                        /**< frontiers put off, kept at once */
 
 /** A frame of the robot: fixed.h's, an origin and a heading by its cosine and sine. */
 typedef fix_frame_t explore_frame_t;
@@ -80,6 +86,7 @@ typedef struct {
     uint32_t doors;      /**< walls mode: openings passed */
     uint32_t seeks;      /**< walls mode: frontier blocks crossed to */
     uint32_t escapes;    /**< places backed out of for want of progress */
+    uint32_t ways;       /**< walls mode: ways taken to a frontier out of sight */
 } explore_count_t;
 
 /** machine.c: the state, its clock and the random stream. */
@@ -209,7 +216,53 @@ typedef struct {
     uint8_t n;                               /**< candidates found */
     uint8_t i;                               /**< the one whose line of sight is walked */
     uint8_t rounds;                          /**< sets of candidates tried */
+    bool asked;                              /**< a way was asked for (way.c) */
+    uint32_t asked_at;                       /**< `now` then */
 } explore_search_t;
+
+/** What the background loop answered to a request for a way (way.c). */
+typedef enum {
+    EXPLORE_WAY_NONE = 0, /**< no frontier can be reached: the exploration may be done */
+    EXPLORE_WAY_TO,       /**< the robot sees the way's point to go to (x_um, y_um) */
+    EXPLORE_WAY_PUT_OFF,  /**< none now, but frontiers not reached lately are put off */
+} explore_way_result_t;
+
+/**
+ * way.c: the way to the nearest frontier the robot can reach, worked out by robot_idle()
+ * over way cells (k x k grid cells, about EXPLORE_WAY_CELL_UM a side): a breadth-first
+ * search whose distances are kept modulo 3 in two bit planes (the way back needs no more),
+ * grown a wave at a time with whole rows of bits. The tick asks (asked, ask_*) and reads
+ * the answer once `answered` equals `asked`; the background loop writes `answered` last.
+ */
+typedef struct {
+    volatile uint16_t asked;             /**< requests the tick posted */
+    volatile uint16_t answered;          /**< the last request answered */
+    volatile int32_t ask_x_um, ask_y_um; /**< where the robot stood, set before `asked` */
+    volatile uint32_t ask_now;           /**< and when (`now`) */
+    volatile int32_t x_um, y_um;         /**< the answer: the point to go to */
+    volatile uint8_t result;             /**< an explore_way_result_t */
+    /* The background loop's side. */
+    uint8_t phase;                      /**< way.c's phases */
+    uint8_t k;                          /**< grid cells a way cell's side */
+    bool put_off;                       /**< the search skipped a frontier put off */
+    uint16_t na, nb;                    /**< way cells of the run's grid, a side */
+    uint16_t serving;                   /**< the request being worked on */
+    uint16_t wave;                      /**< the distance of the cells the search grows from */
+    uint16_t row;                       /**< the row of the wave under way */
+    uint16_t lo, hi;                    /**< the rows the last wave reached */
+    uint16_t next_lo, next_hi;          /**< and those this one reaches */
+    bool grew;                          /**< this wave reached a cell */
+    uint32_t start;                     /**< the robot's way cell */
+    uint32_t at;                        /**< the frontier found, then the way back to the robot */
+    uint16_t at_d;                      /**< its distance from the robot, in way cells */
+    uint32_t last;                      /**< the frontier last answered */
+    uint32_t off[EXPLORE_WAY_SLOTS];    /**< frontiers put off (way cell + 1; 0 none) */
+    uint32_t off_at[EXPLORE_WAY_SLOTS]; /**< `now` of the request that put it off */
+    uint8_t off_n[EXPLORE_WAY_SLOTS];   /**< times put off */
+    uint8_t off_next;                   /**< the ring's next slot */
+    uint8_t label[2][EXPLORE_WAY_B][EXPLORE_WAY_ROW]; /**< distance mod 3 + 1; 0 not reached */
+    uint8_t dead[EXPLORE_WAY_B][EXPLORE_WAY_ROW];     /**< frontiers given up */
+} explore_way_t;
 
 /** seek.c: the frontier at the scale of blocks (a bit a block), and the block crossed to. */
 typedef struct {
@@ -221,6 +274,8 @@ typedef struct {
     uint8_t explored[(EXPLORE_BLOCKS + 7u) / 8u]; /**< a known free cell lies in it */
     uint8_t dead[(EXPLORE_BLOCKS + 7u) / 8u];     /**< sought and not reached: given up */
     bool reached;                                 /**< the target was reached: seek the next */
+    uint8_t nones;                                /**< ways answered none in a row */
+    uint32_t none_at;                             /**< `now` at the first of them */
 } explore_seek_t;
 
 /** door.c: an opening in the wall on the right, measured on the map and passed. */

@@ -109,6 +109,9 @@ typedef enum {
 /** STATUS flags. */
 #define TELEM_FLAG_STOPPED 0x01u /**< STOP is in force */
 #define TELEM_FLAG_PENDING 0x02u /**< a command waits for the robot to stand */
+#define TELEM_FLAG_EXPLORED                                                                        \
+    0x04u /**< the exploration is done: it found no frontier it could                              \
+               reach, and stands (explore_explored()) */
 
 #define TELEM_CMD_PAYLOAD_MAX 5u /**< SET: key, value */
 #define TELEM_CMD_FRAME_MAX (6u + TELEM_CMD_PAYLOAD_MAX)

@@ -10,6 +10,12 @@
 #define EXPLORE_STEER_TARGET_MM_S 20  /* the steer toward a target while crossing */
 #define EXPLORE_SEEK_ROUNDS 4u        /* sets of four candidates tried in one search */
 #define EXPLORE_NONE 0xFFFFu
+#define EXPLORE_WAYPOINT 0xFFFEu       /* the target is a way's point, not a block */
+#define EXPLORE_WAY_WAIT_TICKS 500u    /* an answer later than 5 s is not waited for */
+#define EXPLORE_WAY_REACHED_UM 200000u /* a way's point this near is reached */
+#define EXPLORE_DONE_NONES 2u          /* answers of no way in a row, the first ... */
+#define EXPLORE_DONE_TICKS 6000u       /* ... at least a minute before the last: done */
+_Static_assert(EXPLORE_BLOCKS < EXPLORE_WAYPOINT, "a block's number is never a way's point");
 
 static bool bit(const uint8_t *map, uint32_t k)
 {
@@ -31,6 +37,7 @@ void explore_seek_init(explore_t *e)
     e->seek.target = EXPLORE_NONE;
     e->seek.blocks_a = (uint16_t)((e->cfg.grid_a + 15u) >> EXPLORE_BLOCK_SHIFT);
     e->seek.blocks_b = (uint16_t)((e->cfg.grid_b + 15u) >> EXPLORE_BLOCK_SHIFT);
+    explore_way_init(&e->way, &e->cfg);
 }
 
 void explore_seek_here(explore_t *e, grid_cell_t here)
@@ -150,6 +157,7 @@ void explore_seek(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     r->n = 0u;
     r->i = 0u;
     r->rounds = 0u;
+    r->asked = false;
     e->seek.target = EXPLORE_NONE;
     explore_enter(e, EXPLORE_SEEK);
 }
@@ -194,11 +202,68 @@ static void weigh_blocks(explore_t *e)
     }
 }
 
+/* Cross to a point: a block's centre or a way's point. */
+static void cross_to(explore_t *e, uint32_t target, int32_t x_um, int32_t y_um)
+{
+    explore_seek_t *s = &e->seek;
+    s->target = target;
+    s->target_since = e->machine.now;
+    s->target_x_um = x_um;
+    s->target_y_um = y_um;
+    explore_face(e, x_um, y_um, EXPLORE_FORWARD);
+}
+
+/*
+ * No frontier block in sight: the way to the nearest frontier the robot can reach, which
+ * the background loop works out while the robot stands. Without one, the ways to the left
+ * are weighed by TM as before; and when there has been none twice, a minute apart, with no
+ * way between, the exploration is done: it says so, and stands.
+ */
+static void way(explore_t *e, const odom_pose_t *pose)
+{
+    explore_search_t *r = &e->search;
+    explore_seek_t *s = &e->seek;
+    if (!r->asked) {
+        r->asked = true;
+        r->asked_at = e->machine.now;
+        explore_way_ask(&e->way, pose, e->machine.now);
+        return;
+    }
+    explore_way_result_t res;
+    int32_t x_um;
+    int32_t y_um;
+    if (!explore_way_answer(&e->way, &res, &x_um, &y_um)) {
+        if (e->machine.now - r->asked_at < EXPLORE_WAY_WAIT_TICKS) {
+            return;
+        }
+        res = EXPLORE_WAY_PUT_OFF; /* the background loop is late: not a way, nor none */
+    }
+    if (res == EXPLORE_WAY_TO) {
+        s->nones = 0u;
+        e->count.ways++;
+        cross_to(e, EXPLORE_WAYPOINT, x_um, y_um);
+        return;
+    }
+    if (res != EXPLORE_WAY_NONE) {
+        s->nones = 0u;
+    } else if (s->nones == 0u) {
+        s->none_at = e->machine.now;
+        s->nones = 1u;
+    } else if (++s->nones >= EXPLORE_DONE_NONES &&
+               e->machine.now - s->none_at >= EXPLORE_DONE_TICKS) {
+        e->machine.explored = true;
+        explore_enter(e, EXPLORE_STOP);
+        return;
+    }
+    e->count.leaves++;
+    explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
+}
+
 /*
  * SEEK, a tick at a time: the nearest frontier blocks within reach (the four nearest are
  * kept), then, nearest first, a straight line to each through the map: the first one no
  * occupied cell hides becomes the target and the robot turns to face it. Without one,
- * the ways to the left are weighed by TM as before.
+ * the way to a frontier out of sight (way()).
  */
 void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
@@ -231,17 +296,12 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
         int32_t ta;
         int32_t tb;
         block_centre(s, k, &ta, &tb);
-        s->target = (uint16_t)k;
-        s->target_since = e->machine.now;
-        s->target_x_um = g->origin_x_um + ta * (int32_t)g->cell_um;
-        s->target_y_um = g->origin_y_um + tb * (int32_t)g->cell_um;
         e->count.seeks++;
-        explore_face(e, s->target_x_um, s->target_y_um, EXPLORE_FORWARD);
+        cross_to(e, k, g->origin_x_um + ta * (int32_t)g->cell_um,
+                 g->origin_y_um + tb * (int32_t)g->cell_um);
         return;
     }
-    (void)pose;
-    e->count.leaves++;
-    explore_decide(e, EXPLORE_LEFT_FIRST, EXPLORE_LEFT_SPAN, EXPLORE_FORWARD);
+    way(e, pose);
 }
 
 int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *g)
@@ -254,7 +314,15 @@ int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *
         }
         return 0;
     }
-    if (e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
+    if (s->target == EXPLORE_WAYPOINT) {
+        if (explore_dist2(pose, s->target_x_um, s->target_y_um) <
+                (uint64_t)EXPLORE_WAY_REACHED_UM * EXPLORE_WAY_REACHED_UM ||
+            e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
+            s->target = EXPLORE_NONE; /* reached, or overdue: the next search */
+            explore_seek(e, pose, g);
+            return 0;
+        }
+    } else if (e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
         set_bit(s->dead, s->target);
         explore_seek(e, pose, g);
         return 0;

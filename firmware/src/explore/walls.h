@@ -6,6 +6,7 @@
 #define SLAM_EXPLORE_WALLS_H
 
 #include "moves.h"
+#include "way.h"
 
 /* The ways to the left, 30° to 150° (decide.c's candidates 1 to 5): not straight back,
  * which would put the wall just left on the blind side. */
