@@ -67,7 +67,7 @@ FAULTS = (
     ("dropout", "sonar dropouts (per ping)",
      ((["dropout=0.2"], 0.80), (["dropout=0.5"], 0.80), (["dropout=0.8"], 0.75))),
     ("ghost", "ghost echoes (per ping)",
-     ((["ghost=0.05"], 0.75), (["ghost=0.15"], 0.55), (["ghost=0.4"], 0.25))),
+     ((["ghost=0.05"], 0.75), (["ghost=0.15"], 0.50), (["ghost=0.4"], 0.25))),
     ("grazing", "grazing loss (echo up to this incidence, °)",
      ((["grazing=35"], 0.80), (["grazing=25"], 0.80), (["grazing=15"], 0.75))),
     ("echo_stuck", "echo line stuck high (episodes a second)",
