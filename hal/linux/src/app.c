@@ -183,6 +183,8 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
     char msg[256];
     lhal_fault_t fault = LHAL_FAULT_NONE;
     bool warned_stuck = false;
+    bool explored = false;
+    bool said_explored = false;
     uint32_t ticks = 0u;
     while (!app_stop_signal) {
         /* Everything that reads the robot's state runs inside the background loop's turn,
@@ -192,8 +194,17 @@ static int app_run(const slam_config_t *core, const lconf_t *lc, uint32_t tick_l
         if (lhal_idle_lock() == HAL_OK) {
             robot_idle(&app_robot);
             ticks = app_robot.ticks;
+            explored = explore_explored(&app_robot.explore);
             lhal_stats(&st);
             lhal_idle_unlock();
+        }
+        if (explored && !said_explored) {
+            fprintf(out,
+                    "explored everything it could reach after %u s: it stands (Ctrl-C "
+                    "writes the maps)\n",
+                    (unsigned)(ticks / (1000000u / SLAM_TICK_US)));
+            fflush(out);
+            said_explored = true;
         }
         fault = lhal_fault(msg, sizeof msg);
         if (fault != LHAL_FAULT_NONE || (tick_limit != 0u && ticks >= tick_limit)) {
