@@ -233,7 +233,8 @@ static void test_way_cells_at_every_cell_size(void **state)
                w->k * sizes[i] / 1000u, w->na, w->nb);
         assert_true(w->na <= EXPLORE_WAY_A && w->nb <= EXPLORE_WAY_B);
         assert_true((uint32_t)w->k * sizes[i] >= 200000u);
-        assert_true((uint32_t)w->na * w->k >= cfg.grid_a || cfg.grid_a == 0u);
+        assert_true((uint32_t)w->na * w->k >= grid_cells_a(&cfg)); /* the whole grid */
+        assert_true((uint32_t)w->nb * w->k >= grid_cells_b(&cfg));
     }
 }
 
