@@ -23,7 +23,9 @@ final position and heading error; the runs that touch an obstacle and their touc
 runs that went STUCK_S (30 s) or more without 0.2 m of progress and the longest such time
 (metrics.json exploration.longest_without_progress_s, issue 29's goal); the runs with a
 touch left in over SLOW_S (5 s) and the longest (exploration.longest_touch_recovery_s);
-the mean wall coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
+the runs the robot said it had explored everything it could reach (exploration.explored_at_s)
+and the mean wall coverage they had then (from exploration.wall_series); the mean wall
+coverage. Rooms are also shown by floor area (under 12, 12-25, 25-40, over 40 m²),
 the shipped rooms and building maps one by one. A run whose room does not fit the
 simulator's grid (fits_grid()) is counted as such and not scored. A last table says what
 each touching run met first (metrics.json exploration.first_touch: the obstacle nearest
@@ -186,6 +188,14 @@ def first_touch(m, room):
     return {"kind": kind, "side": roomfile.touch_side(t["bearing_deg"])}
 
 
+def coverage_at(m, t):
+    """The wall coverage a run had reached at t s (its metrics.json wall_series), or None
+    when t is None (the run never said it was done)."""
+    if t is None:
+        return None
+    return max((c for s, c in m["exploration"]["wall_series"] if s <= t), default=0.0)
+
+
 def figures(m, room):
     """The figures of one run that the tables summarise (room: its .room file, or the
     building map's)."""
@@ -197,6 +207,8 @@ def figures(m, room):
             "stuck_s": m["exploration"]["longest_without_progress_s"],
             "escapes": m["robot"]["escapes"],
             "recovery_s": m["exploration"]["longest_touch_recovery_s"],
+            "explored_s": m["exploration"]["explored_at_s"],
+            "explored_coverage": coverage_at(m, m["exploration"]["explored_at_s"]),
             "wall_coverage": m["exploration"]["wall_coverage"],
             "first_touch": first_touch(m, room)}
 
@@ -238,6 +250,9 @@ def summarise(runs):
            "stuck_longest_s": max((f["stuck_s"] for f in ok), default=math.nan),
            "slow_runs": sum(1 for f in ok if (f["recovery_s"] or 0.0) > SLOW_S),
            "slow_longest_s": max((f["recovery_s"] or 0.0 for f in ok), default=math.nan)}
+    done = [f["explored_coverage"] for f in ok if f.get("explored_s") is not None]
+    out["done_runs"] = len(done)
+    out["done_coverage"] = statistics.mean(done) if done else math.nan
     for key in ("f1", "gap", "position_m", "heading_deg", "wall_coverage"):
         xs = [f[key] for f in ok]
         out[key] = {"mean": statistics.mean(xs) if xs else math.nan,
@@ -249,8 +264,8 @@ def summarise(runs):
 HEAD = ("| %s | runs | F1 own pose | F1 5th pct | gap | gap 95th pct | position (m) "
         "| position 95th pct | heading (°) | heading 95th pct | touching runs (touches) "
         "| runs stuck " + "%g" % STUCK_S + " s (longest s) | runs with a touch left in over "
-        + "%g" % SLOW_S + " s (longest s) | wall coverage |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        + "%g" % SLOW_S + " s (longest s) | runs done (wall coverage then) | wall coverage |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 
 
 def pm(s, fmt):
@@ -265,13 +280,17 @@ def row(label, s):
             x for x in ("%d %s" % (s["not_fitting"], NOT_FIT) if s["not_fitting"] else "",
                         "%d failed" % s["failed"] if s["failed"] else "") if x)
     if not s["scored"]:
-        return "| %s | %s |%s" % (label, runs, " – |" * 12)
+        return "| %s | %s |%s" % (label, runs, " – |" * 13)
+    done = "%d" % s["done_runs"]
+    if s["done_runs"]:
+        done += " (%.3f)" % s["done_coverage"]
     return ("| %s | %s | %s | %.3f | %s | %.3f | %s | %.2f | %s | %.1f | %d (%d) | %d (%.0f) "
-            "| %d (%.0f) | %s |") % (
+            "| %d (%.0f) | %s | %s |") % (
         label, runs, pm(s["f1"], "%.3f"), s["f1"]["p5"], pm(s["gap"], "%.3f"), s["gap"]["p95"],
         pm(s["position_m"], "%.2f"), s["position_m"]["p95"], pm(s["heading_deg"], "%.1f"),
         s["heading_deg"]["p95"], s["touching_runs"], s["touches"], s["stuck_runs"],
-        s["stuck_longest_s"], s["slow_runs"], s["slow_longest_s"], pm(s["wall_coverage"], "%.3f"))
+        s["stuck_longest_s"], s["slow_runs"], s["slow_longest_s"], done,
+        pm(s["wall_coverage"], "%.3f"))
 
 
 TITLES = {"shipped": ("Shipped rooms", "room", "host_sim/rooms, seeds 1–%d"),

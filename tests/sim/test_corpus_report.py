@@ -37,13 +37,14 @@ check(cr.fits_grid(metrics(9.0, 9.0, 160, cell_mm=100)), "at 100 mm cells 9 m fi
 # By hand: F1 0.9, 0.7, 0.8 → mean 0.8, σ 0.1, standard error 0.1 / sqrt(3); the 5th
 # percentile lies a tenth of the way from 0.7 to 0.8; the runs that do not fit and the one
 # that failed are counted and left out.
-def fig(f1, touches=0, stuck_s=10.0, recovery_s=None):
+def fig(f1, touches=0, stuck_s=10.0, recovery_s=None, explored=None):
     return {"f1": f1, "gap": 1 - f1, "position_m": f1, "heading_deg": f1, "touches": touches,
-            "stuck_s": stuck_s, "recovery_s": recovery_s, "wall_coverage": f1}
+            "stuck_s": stuck_s, "recovery_s": recovery_s, "wall_coverage": f1,
+            "explored_s": None if explored is None else 100.0, "explored_coverage": explored}
 
 
-s = cr.summarise([("ok", fig(0.9, stuck_s=30.0)), ("ok", fig(0.7, 2, 29.9, 5.1)),
-                  ("ok", fig(0.8, 1, recovery_s=5.0)),
+s = cr.summarise([("ok", fig(0.9, stuck_s=30.0, explored=0.96)), ("ok", fig(0.7, 2, 29.9, 5.1)),
+                  ("ok", fig(0.8, 1, recovery_s=5.0, explored=0.9)),
                   (cr.NOT_FIT, None), (cr.NOT_FIT, None), ("failed", None)])
 check((s["runs"], s["scored"], s["not_fitting"], s["failed"]) == (6, 3, 2, 1),
       "6 runs: 3 scored, 2 not fitting, 1 failed")
@@ -56,8 +57,14 @@ check((s["stuck_runs"], s["stuck_longest_s"]) == (1, 30.0),
       "1 run stuck 30 s or more (29.9 s is not), the longest 30 s")
 check((s["slow_runs"], s["slow_longest_s"]) == (1, 5.1),
       "1 run with a touch left in over 5 s (5 s is not), the longest 5.1 s")
-check("| 2 (3) | 1 (30) | 1 (5) |" in cr.row("x", s),
-      "the row: touching runs (touches), stuck runs (longest), slow runs (longest)")
+check((s["done_runs"], round(s["done_coverage"], 9)) == (2, 0.93),
+      "2 runs done, their wall coverage then 0.93 on average")
+check("| 2 (3) | 1 (30) | 1 (5) | 2 (0.930) |" in cr.row("x", s),
+      "the row: touching runs (touches), stuck runs (longest), slow runs (longest), runs done")
+series = {"exploration": {"wall_series": [[10.0, 0.5], [20.0, 0.8], [30.0, 0.9]]}}
+check(cr.coverage_at(series, 25.0) == 0.8 and cr.coverage_at(series, 5.0) == 0.0 and
+      cr.coverage_at(series, None) is None,
+      "the wall coverage when done: the last of wall_series at or before that time")
 none = cr.summarise([(cr.NOT_FIT, None)])
 check("1 %s" % cr.NOT_FIT in cr.row("x", none) and "nan" not in cr.row("x", none),
       "a row of runs that do not fit says so, and no figure")
