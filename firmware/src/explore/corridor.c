@@ -47,49 +47,59 @@ void explore_corridor_begin(explore_t *e, const grid_t *g, const explore_frame_t
 bool explore_corridor_cells(explore_t *e, const grid_t *g)
 {
     explore_corridor_t *c = &e->corridor;
-    uint8_t total = (uint8_t)(c->along * c->across);
-    /* The walk's position in locals: OM's bytes may alias anything, so fields of e would
-     * be read again after every cell (this runs in the tick). */
-    uint8_t next = c->next;
-    uint8_t row = c->row;
-    uint8_t col = c->col;
-    int32_t x = c->x;
-    int32_t y = c->y;
+    /* The walk in locals, stored back once at the end: a store to a byte may alias
+     * anything, so with one in the loop every field of e and g would be read again after
+     * it (this runs in the tick). */
+    const uint32_t across = c->across;
+    const uint32_t total = (uint32_t)c->along * across;
+    const int32_t dx = c->dx;
+    const int32_t dy = c->dy;
     const uint32_t na = g->a_cells;
     const uint32_t nb = g->b_cells;
-    for (uint32_t n = 0; n < EXPLORE_MAP_CELLS && next < total; n++) {
+    const uint8_t *om = g->om;
+    /* grid_state()'s occupied, one compare a cell. A cell holding more than one hit's
+     * evidence, after the beams that passed through it, is no ghost: it stops the robot
+     * alone (the end of a thin screen, whose faces beyond the grazing angle send nothing
+     * back). */
+    const uint32_t occupied = grid_occupied_above(g->mode);
+    const uint32_t strong =
+        g->mode == OM_MODE_EVIDENCE ? GRID_EVIDENCE_ZERO + (uint32_t)g->hit : UINT32_MAX;
+    uint32_t next = c->next;
+    uint32_t row = c->row;
+    uint32_t col = c->col;
+    uint32_t hits = c->hits;
+    int32_t x = c->x;
+    int32_t y = c->y;
+    uint32_t end = next + EXPLORE_MAP_CELLS < total ? next + EXPLORE_MAP_CELLS : total;
+    for (; next < end; next++) {
         /* Sample next: row next / across (along the heading), column next % across (to
          * the right), kept as a running position. */
-        if (col == c->across) {
+        if (col == across) {
             col = 0u;
             row++;
-            x = c->fx + (int32_t)row * c->dx;
-            y = c->fy + (int32_t)row * c->dy;
+            x = c->fx + (int32_t)row * dx;
+            y = c->fy + (int32_t)row * dy;
         }
         uint32_t k = explore_cell_q16(na, nb, x, y);
-        x += c->dy; /* a cell to the right */
-        y -= c->dx;
+        x += dy; /* a cell to the right */
+        y -= dx;
         col++;
-        next++;
         /* A lone occupied cell is left alone (a ghost echo, or the cone's smear beside
          * an edge); the second one stops the robot: a wall fills several. */
-        if (k == EXPLORE_NO_CELL || grid_state(g, k) != GRID_OCCUPIED) {
+        if (k == EXPLORE_NO_CELL || om[k] <= occupied) {
             continue;
         }
-        /* A cell holding more than one hit's evidence, after the beams that passed
-         * through it, is no ghost: it stops the robot alone (the end of a thin screen,
-         * whose faces beyond the grazing angle send nothing back). */
-        c->hits =
-            (uint8_t)(c->hits + 1u +
-                      (g->mode == OM_MODE_EVIDENCE && g->om[k] > GRID_EVIDENCE_ZERO + g->hit));
-        if (c->hits >= 2u) {
+        hits += om[k] > strong ? 2u : 1u;
+        if (hits >= 2u) {
             c->work_um = (int32_t)(row + 1u) * (int32_t)e->cfg.cell_um;
             next = total; /* rows further on can only be further: done */
+            break;
         }
     }
-    c->next = next;
-    c->row = row;
-    c->col = col;
+    c->next = (uint8_t)next;
+    c->row = (uint8_t)row;
+    c->col = (uint8_t)col;
+    c->hits = (uint8_t)hits;
     c->x = x;
     c->y = y;
     return next >= total;

@@ -304,6 +304,16 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
     way(e, pose);
 }
 
+/* Whether a way's point is reached: within EXPLORE_WAY_REACHED_UM. The square around it
+ * first, in 32 bits: the 64-bit distance only near it (this runs in the tick). */
+static bool near_point(const odom_pose_t *pose, int32_t x_um, int32_t y_um)
+{
+    const uint32_t r = EXPLORE_WAY_REACHED_UM;
+    uint32_t dx = (uint32_t)pose->x_um - (uint32_t)x_um + r;
+    uint32_t dy = (uint32_t)pose->y_um - (uint32_t)y_um + r;
+    return dx < 2u * r && dy < 2u * r && explore_dist2(pose, x_um, y_um) < (uint64_t)r * r;
+}
+
 int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *g)
 {
     explore_seek_t *s = &e->seek;
@@ -315,8 +325,7 @@ int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *
         return 0;
     }
     if (s->target == EXPLORE_WAYPOINT) {
-        if (explore_dist2(pose, s->target_x_um, s->target_y_um) <
-                (uint64_t)EXPLORE_WAY_REACHED_UM * EXPLORE_WAY_REACHED_UM ||
+        if (near_point(pose, s->target_x_um, s->target_y_um) ||
             e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
             s->target = EXPLORE_NONE; /* reached, or overdue: the next search */
             explore_seek(e, pose, g);
