@@ -128,17 +128,19 @@ compare:
 	cmake --build build/compare -j $(JOBS)
 	tools/compare.py $(COMPARE_ARGS)
 
-# The HAL trace the STM32F4 self-test replays: one minute of the default room, recorded
-# by the simulator with the MCU's 160 x 160 grid placement. Record it again whenever the
-# firmware's behaviour changes (the test replay_host_matches_trace says when). The world
-# is the optimistic sonar's: the self-test must see the pose correction applied, and with
-# the typical sonar the robot hears too few walls in 110 s for one (26 hits, 56 refused).
-# The robot must not seek a frontier within it either: the frontier's rolling scan goes
-# over host_sim's 256 x 256 grid, not the MCU's, at its own pace, and the two part ways
-# from the first seek (seed 9 seeks at 108 s since the sweep reaches 90 deg right).
+# The HAL trace the STM32F4 self-test replays: 260 s of the clutter room, long enough for
+# the pose correction to apply matches, the frontier to be sought, openings measured and
+# ways to frontiers out of sight asked for, so that the worst tick and background call
+# are those of every part of exploration. Recorded by the simulator with the MCU's grid
+# (240 x 240, the start in cell 80, 80): the frontier's scan goes over the whole grid, so
+# a larger one parts the two ways at the first seek. No map saves: the replay HAL has no
+# map storage, and a save, which takes background calls, would move the background work
+# of the recording against the replay's. Record it again whenever the firmware's
+# behaviour changes (the test replay_host_matches_trace says when).
 trace: build-host
-	build/host/host_sim/host_sim --duration 110 --seed 2 --set start_cell_a=80 \
-	    --set start_cell_b=80 --sonar optimistic --trace tests/data/default_room_110s.trace \
+	build/host/host_sim/host_sim --room host_sim/rooms/clutter.room --duration 260 --seed 2 \
+	    --set grid_a=240 --set grid_b=240 --set start_cell_a=80 --set start_cell_b=80 \
+	    --set save_period_s=0 --trace tests/data/clutter_260s.trace \
 	    --out out/trace --no-plot --quiet
 
 # The fuzz targets of tests/fuzz, built with clang's libFuzzer and run one after another;

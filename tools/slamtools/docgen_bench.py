@@ -184,8 +184,8 @@ def bench_stm32f4(build, work):
          % grouped(f["hal_per_tick"]), grouped(f["bound"]), "≤ %s" % grouped(f["tick_budget"])),
         ("a reading mapped in the background loop, free-space ray included",
          "mean %s, worst %s" % (grouped(bg["reading_mean"]), grouped(bg["reading_worst"])), ""),
-        ("worst `robot_idle()` call (a match of the held-back hits, a save's chunk, telemetry)",
-         grouped(bg["idle_worst"]), ""),
+        ("worst `robot_idle()` call (the pose correction's match, the way to a frontier, "
+         "telemetry)", grouped(bg["idle_worst"]), "≤ %s" % grouped(bg["idle_budget"])),
         ("flash (`.text` + `.data`)", "%s B" % grouped(s["text"] + s["data"]),
          "≤ %d KiB" % kib),
         ("RAM (`.data` + `.bss`, with the %s B stack reserve)" % grouped(s["stack_reserve"]),
@@ -199,8 +199,8 @@ def bench_stm32f4(build, work):
     ]
     ticks = t["ticks"]
     head = ("`make bench` runs `tools/stm32f4.py bench build/stm32f4` (arm-none-eabi-gcc %s "
-            "`-O2`; the self-test's %s s of the default room, %s ticks):"
-            % (gcc_version(build_compiler(build)),
+            "`-O2`; the self-test's scenario `%s`, %s s, %s ticks, `make trace`):"
+            % (gcc_version(build_compiler(build)), t["scenario"],
                grouped(ticks / 100.0), grouped(ticks)))
     lines = [wrap(head), "", "| figure | value | budget |", "|---|---|---|"]
     lines += [("| %s | %s | %s |" % r).replace("|  |", "| |") for r in rows]

@@ -85,7 +85,10 @@ void selftest_idle(selftest_t *st)
 {
     uint32_t cost =
         selftest_measure(robot_idle, st->robot) - st->nop_cost + SELFTEST_NOP_INSTRUCTIONS;
-    st->idle_worst = cost > st->idle_worst ? cost : st->idle_worst;
+    if (cost > st->idle_worst) {
+        st->idle_worst = cost;
+        st->idle_worst_after = replay_status().ticks;
+    }
 }
 
 /* The reading selftest_reading_costs() measures, for a measured function's one argument. */
@@ -276,6 +279,8 @@ void selftest_report(const selftest_t *st, bool with_costs)
     print_line(&l);
     text_str(&l, "cost idle worst ");
     text_u32(&l, st->idle_worst);
+    text_str(&l, " after ");
+    text_u32(&l, st->idle_worst_after);
     print_line(&l);
     text_str(&l, "cost ticks ");
     text_u32(&l, rs.ticks);

@@ -48,15 +48,16 @@ void selftest_print(const char *s);
 /** A self-test run. */
 typedef struct {
     robot_t *robot;
-    bool started;        /**< robot_init() accepted the scenario's configuration */
-    bool done;           /**< every tick replayed (or the stream was corrupt) */
-    uint32_t nop_cost;   /**< counter delta of measuring an empty function */
-    uint32_t cost_sum;   /**< robot_tick() instructions, summed (saturating) */
-    uint32_t cost_worst; /**< the most of one tick */
-    uint32_t worst_tick; /**< which tick (0-based) */
-    uint16_t *costs;     /**< per tick, saturated at 65535; may be NULL */
-    uint32_t costs_max;  /**< entries in costs */
-    uint32_t idle_worst; /**< the most of one robot_idle() call (selftest_idle()) */
+    bool started;              /**< robot_init() accepted the scenario's configuration */
+    bool done;                 /**< every tick replayed (or the stream was corrupt) */
+    uint32_t nop_cost;         /**< counter delta of measuring an empty function */
+    uint32_t cost_sum;         /**< robot_tick() instructions, summed (saturating) */
+    uint32_t cost_worst;       /**< the most of one tick */
+    uint32_t worst_tick;       /**< which tick (0-based) */
+    uint16_t *costs;           /**< per tick, saturated at 65535; may be NULL */
+    uint32_t costs_max;        /**< entries in costs */
+    uint32_t idle_worst;       /**< the most of one robot_idle() call (selftest_idle()) */
+    uint32_t idle_worst_after; /**< the ticks replayed before that call */
 } selftest_t;
 
 /**

@@ -95,6 +95,8 @@ def parse_report(text, who):
     for l in lines[:end]:
         if l.startswith("replay "):
             info["replay"] = l
+        if l.startswith("scenario "):
+            info["scenario"] = l.split()[1]
         if l.startswith("grid "):
             info["grid"] = tuple(int(x) for x in l.split()[1:3])
     costs = []
@@ -105,6 +107,7 @@ def parse_report(text, who):
             summary["nop"] = int(f[2])
         elif len(f) >= 3 and f[0] == "cost" and f[1] == "idle":
             summary["idle_worst"] = int(f[3])
+            summary["idle_after"] = int(f[5]) if len(f) >= 6 else None
         elif len(f) >= 3 and f[0] == "cost" and f[1] == "reading":
             summary.update(reading_worst=int(f[3]), reading_mean=int(f[5]))
         elif len(f) >= 2 and f[0] == "cost" and f[1] == "ticks":

@@ -33,6 +33,7 @@ from ..errors import FAILED, ToolError
 
 
 TICK_BUDGET = 1500
+IDLE_BUDGET = 960_000  # one robot_idle() call between two 60 ms readings on a 16 MHz part
 READING_PLAN = 400  # instructions a reading was to cost the mapper when it mapped in the tick
 FLASH_BUDGET = 64 * 1024  # half of a 128 KiB part: the rest for map storage and a bootloader
 STACK_BUDGET = 512
@@ -62,7 +63,7 @@ def qemu_costs(selftest_elf):
     if status != 0:
         raise ToolError("the self-test image exited with %d" % status, FAILED)
     _, _, info, costs, summary = qemu.parse_report(text, "MCU")
-    return costs, summary
+    return costs, summary, info
 
 
 def main(argv):
@@ -123,9 +124,9 @@ def main(argv):
 
     if not static_only:
         from . import tick_unicorn
-        costs, summary = qemu_costs(selftest_elf)
+        costs, summary, info = qemu_costs(selftest_elf)
         n = summary["ticks"]
-        print("  robot_tick() over the self-test scenario (%d ticks):" % n)
+        print("  robot_tick() over the self-test scenario %s (%d ticks):" % (info["scenario"], n))
         print("    QEMU, TIM2 under -icount:         mean %.1f, worst %d instructions (tick %d)"
               % (summary["sum"] / n, summary["worst"], summary["at"]))
         per_tick = tick_unicorn.measure_selftest(selftest_elf)
@@ -165,7 +166,7 @@ def main(argv):
         print("    every HAL call a tick can make, and the SysTick entry: %d instructions"
               % per_tick_hal)
         figures["tick"] = {
-            "ticks": n, "qemu_mean": summary["sum"] / n, "qemu_worst": summary["worst"],
+            "ticks": n, "scenario": info["scenario"], "qemu_mean": summary["sum"] / n, "qemu_worst": summary["worst"],
             "qemu_worst_tick": summary["at"], "unicorn_mean": u["mean"],
             "unicorn_worst": u["worst"], "identical": same, "compared": len(costs),
             "firmware_mean": u["firmware_mean"], "firmware_worst": u["firmware_worst"],
@@ -177,16 +178,19 @@ def main(argv):
         figures["background"] = {"reading_mean": summary["reading_mean"],
                                  "reading_worst": summary["reading_worst"],
                                  "idle_worst": summary["idle_worst"],
+                                 "idle_worst_after": summary["idle_after"], "idle_budget": IDLE_BUDGET,
                                  "reading_plan": READING_PLAN}
         print("  the background loop (QEMU, TIM2 under -icount):")
         print("    one reading mapped, free-space rays included: mean %d, worst %d instructions"
               % (summary["reading_mean"], summary["reading_worst"]))
-        print("    worst robot_idle() call (a match of the held-back hits, saves, telemetry): "
-              "%d instructions" % summary["idle_worst"])
+        print("    worst robot_idle() call (a match of the held-back hits, a way to a frontier, "
+              "saves, telemetry): %d instructions, after tick %d"
+              % (summary["idle_worst"], summary["idle_after"]))
         print("  budgets:")
         budget("worst robot_tick(), measured (QEMU = unicorn)", summary["worst"], TICK_BUDGET,
                "instructions")
         budget("worst tick with the robot image's HAL, bound", bound, TICK_BUDGET, "instructions")
+        budget("worst robot_idle() call", summary["idle_worst"], IDLE_BUDGET, "instructions")
         # Not a budget of the tick: the background loop maps the readings (localize.h). The
         # figure the free-space evidence was first planned at, for the README to compare.
         print("  %-46s %6d instructions (planned at %d, in the tick)"
