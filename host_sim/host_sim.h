@@ -107,11 +107,12 @@ char *fmt_fixed(char *out, double v, int decimals, char sep);
 #define CSV_TRAJECTORY_HEADER "t_s,odom_x_m,odom_y_m,odom_th_rad," CSV_TRUTH_COLUMNS
 /* The estimate's columns, then the pose correction's own statistics after the reading was
  * processed: the filter's covariance over x, y, θ in its units, the match counters, and
- * the increment the last match wanted (applied or refused). */
+ * the increment the last match wanted (applied or refused); last, OM's byte where the echo
+ * ends, seen from the estimate. */
 #define CSV_ESTIMATE_HEADER                                                                        \
     "t_s,est_x_m,est_y_m,est_th_rad,cov_xx_um2,cov_xy_um2,cov_yy_um2,cov_xth_um_urad,"             \
     "cov_yth_um_urad,cov_thth_urad2,match_tried,match_applied,match_refused,match_points,"         \
-    "step_x_m,step_y_m,step_th_rad"
+    "step_x_m,step_y_m,step_th_rad,om_at_echo"
 
 /**
  * The status column of a reading: "ok" inside the confidence sector (range_min <= d < rc),

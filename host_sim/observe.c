@@ -240,7 +240,7 @@ static void ideal_echo(run_t *r, firmware_t *fw, const odom_pose_t *truth_pose, 
     }
 }
 
-/* The rest of a scoring_estimate.csv row: what the pose correction knows of its own
+/* The middle of a scoring_estimate.csv row: what the pose correction knows of its own
  * doubt once the reading is processed, for a pose-integrity flag to be measured against
  * the truth. Integers in the filter's units are exact in a double. */
 static char *estimate_stats(char *e, const loc_t *l)
@@ -256,7 +256,7 @@ static char *estimate_stats(char *e, const loc_t *l)
     e = fmt_fixed(e, m->last_points, 0, ',');
     e = fmt_fixed(e, m->last_step[0] * 1e-4, 4, ',');
     e = fmt_fixed(e, m->last_step[1] * 1e-4, 4, ',');
-    return fmt_fixed(e, m->last_step[2] * 1e-5, 5, '\n');
+    return fmt_fixed(e, m->last_step[2] * 1e-5, 5, ',');
 }
 
 /* A reading as both sonars give it: its beam as a servo angle, its echo, and the pose of
@@ -271,6 +271,25 @@ typedef struct {
     double mount_x, mount_y; /* where the sonar sits on the robot, m */
     bool mark;               /* its sonar position marks what is observable */
 } reading_t;
+
+/* The last column of a scoring_estimate.csv row: OM's byte, as the reading left it, in the
+ * cell where the echo ends seen from the estimated pose (empty without an echo or off the
+ * grid). A lost pose puts echoes where OM holds free space: evidence for a pose-integrity
+ * flag that does not come from the matcher. */
+static char *om_at_echo(char *e, const robot_t *robot, const odom_pose_t *est, const reading_t *rd)
+{
+    int32_t x;
+    int32_t y;
+    grid_cell_t c;
+    if (rd->echo) {
+        sonar_obstacle(&robot->mapper.sonar, est, rd->servo, rd->range_um, &x, &y);
+        if (grid_cell_of(&robot->grid, x, y, &c) == 0) {
+            return fmt_fixed(e, robot->grid.om[grid_index(&robot->grid, c)], 0, '\n');
+        }
+    }
+    *e++ = '\n';
+    return e;
+}
 
 /* A reading, with the pose of its ping: odometry and truth. It marks what became
  * observable and the walls it covered, goes into the perfect-odometry maps, and is logged
@@ -324,6 +343,7 @@ static void observe_reading(run_t *r, firmware_t *fw, const reading_t *rd, FILE 
         e = fmt_fixed(e, est.y_um * 1e-6, CSV_LENGTH_DECIMALS, ',');
         e = fmt_fixed(e, wrap_pi(bam_rad(est.heading)), CSV_HEADING_DECIMALS, ',');
         e = estimate_stats(e, &robot->loc);
+        e = om_at_echo(e, robot, &est, rd);
         fwrite(line, 1, (size_t)(e - line), r->estimates);
     }
 }

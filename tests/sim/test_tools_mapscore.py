@@ -108,6 +108,16 @@ check(len(got) == len(orig) == len(believed) and got[0] == orig[0] and
           for g, o, b in zip(got[1:], orig[1:], believed[1:])) and moved > len(orig) // 4,
       "the estimate log: odometry columns replaced by the estimate (%d of %d rows differ "
       "from odometry), the rest unchanged" % (moved, len(orig) - 1))
+# The last column: OM's byte where the echo ends, seen from the estimate; empty without
+# one. A robot that knows where it is puts most of its echoes within rc where OM holds no
+# free space (a wall it mapped, or nothing yet).
+at = believed[0].index("om_at_echo")
+ends = [(o[3], b[at]) for o, b in zip(orig[1:], believed[1:])]
+within = [int(v) for st, v in ends if st == "ok"]
+check(all(v == "" for st, v in ends if st == "timeout") and within and
+      all(0 <= v <= 255 for v in within) and sum(v >= 127 for v in within) > 0.8 * len(within),
+      "om_at_echo: empty without an echo, a byte with one, %d of %d echoes within rc where "
+      "OM holds at most one beam's free space" % (sum(v >= 127 for v in within), len(within)))
 with open(os.path.join(run, "scoring_estimate.csv"), "w") as f:
     f.write("\n".join(",".join(b) for b in believed[:-1]) + "\n")
 try:
