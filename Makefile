@@ -131,7 +131,8 @@ compare:
 # The HAL trace the STM32F4 self-test replays: 260 s of the clutter room, long enough for
 # the pose correction to apply matches, the frontier to be sought, openings measured and
 # ways to frontiers out of sight asked for, so that the worst tick and background call
-# are those of every part of exploration. Recorded by the simulator with the MCU's grid
+# are measured over those too (escapes and stalls were measured once:
+# hal/stm32f4/experiments.md). Recorded by the simulator with the MCU's grid
 # (240 x 240, the start in cell 80, 80): the frontier's scan goes over the whole grid, so
 # a larger one parts the two ways at the first seek. No map saves: the replay HAL has no
 # map storage, and a save, which takes background calls, would move the background work
