@@ -20,6 +20,7 @@ SIM_OUT ?= out/sim
 SIM_ARGS ?=
 CORPUS_ARGS ?=
 COMPARE_ARGS ?=
+COMPARE_GENERATED ?= 100
 FUZZ_SECONDS ?= 60
 DOCS_CHECK_ARGS ?=
 FUZZ_EXAMPLES ?= 100000
@@ -50,8 +51,9 @@ help:
 	@echo "make corpus    the corpus report: shipped rooms x 20 seeds, 100 generated rooms"
 	@echo "               (10 and 30 min), 12 flats (1 h), the building maps; tools/corpus_report.py"
 	@echo "               (more: make corpus CORPUS_ARGS='--quick')"
-	@echo "make compare   the firmware's mapper beside OctoMap on the same logs: P/R/F1 and"
-	@echo "               instructions per reading (installs OctoMap; tools/compare.py)"
+	@echo "make compare   the firmware's mapper beside OctoMap and HIMM on the same logs: P/R/F1"
+	@echo "               and instructions per reading, shipped rooms and generated rooms"
+	@echo "               (installs OctoMap; tools/compare.py)"
 	@echo "make trace     record the HAL trace the STM32F4 self-test replays, again"
 	@echo "make fuzz      the parsers' libFuzzer targets (clang), FUZZ_SECONDS each (default 60),"
 	@echo "               then the Python link's properties, FUZZ_EXAMPLES cases each (default 100000)"
@@ -127,6 +129,7 @@ compare:
 	cmake -S tools/octomap -B build/compare
 	cmake --build build/compare -j $(JOBS)
 	tools/compare.py $(COMPARE_ARGS)
+	tools/compare.py --generated $(COMPARE_GENERATED) --no-variants --out out/compare-generated
 
 # The HAL trace the STM32F4 self-test replays: 260 s of the clutter room, long enough for
 # the pose correction to apply matches, the frontier to be sought, openings measured and

@@ -1,19 +1,23 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: MIT
-"""The firmware's mapper beside OctoMap on the same sonar logs (`make compare`).
+"""The firmware's mapper beside OctoMap and HIMM on the same sonar logs (`make compare`).
 
-usage: tools/compare.py [--rooms ROOM...] [--seeds 1-10] [--count-all] [--duration S]
-                        [--out DIR] [--jobs N] [--no-variants] [--host-sim BIN] [--octomap BIN]
+usage: tools/compare.py [--rooms ROOM...] [--seeds 1-10] [--generated N] [--count-all]
+                        [--duration S] [--out DIR] [--jobs N] [--no-variants]
+                        [--host-sim BIN] [--octomap BIN]
 
 For every shipped room (host_sim/rooms/*.room) and seed, host_sim explores for --duration
-seconds and logs its readings. Each log is mapped twice by each mapper:
+seconds and logs its readings; with --generated N, the household rooms 1..N of
+tools/roomgen.py instead, each with its own seed. Each log is mapped twice by each mapper:
   - from the TRUE pose of every ping (mapping apart from localization): the firmware's
     mapper is `host_sim --replay` of the log with the true poses in the odometry columns
     and the localizer off (its map must equal the run's om_ideal.pgm byte for byte);
   - from the firmware's ESTIMATED pose (odometry and its pose correction): the firmware's
     map is the run's own om.pgm; OctoMap gets the estimate of every ping as the run
     believed it (host_sim --scoring's scoring_estimate.csv).
-OctoMap is tools/octomap/octomap_replay, each reading a fan of rays across the cone.
+OctoMap is tools/octomap/octomap_replay, each reading a fan of rays across the cone; HIMM
+(slamtools/himm.py) the histogramic in-motion map, the beam's axis alone, occupied at one
+reading's increment (3).
 The true-pose mapping of both runs inside valgrind's callgrind on each room's first seed
 (every run with --count-all),
 counting only the insertion of readings: the firmware's mapper_free, sonar_obstacle,
@@ -35,7 +39,7 @@ import sys
 import threading
 from concurrent.futures import ThreadPoolExecutor
 
-from slamtools import mapscore
+from slamtools import himm, mapscore, pgm, roomgen
 from slamtools.errors import FAILED, ToolError, main as tool_main
 
 SRC = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -198,6 +202,25 @@ def octomap_cmd(bin_, run_dir, args, out_pgm, readings=None, poses="true"):
         ["--poses", poses, "--min-range", repr(config_value(run_dir, "range_min_um") / 1e6)] + args
 
 
+HIMM_THRESHOLD = himm.INCREMENT  # one reading's hit, not taken back since
+
+
+def himm_score(run_dir, readings, poses, out_pgm, truth, observable):
+    """HIMM's map of a run's log (or `readings`, a copy of it), with the settings of
+    octomap_cmd(), scored."""
+    with open(os.path.join(run_dir, "metrics.json")) as f:
+        sc = json.load(f)["scenario"]
+    g = sc["grid"]
+    grid = (g["a"], g["b"], g["origin"][0], g["origin"][1], sc["cell_mm"] / 1000.0)
+    mount = [config_value(run_dir, k) / s for k, s in
+             (("mount_x_um", 1e6), ("mount_y_um", 1e6), ("mount_yaw_mdeg", 1e3))]
+    img = himm.himm_map(readings, grid, mount, poses, config_value(run_dir, "range_min_um") / 1e6,
+                        float(VARIANTS[0][1][VARIANTS[0][1].index("--max-range") + 1]),
+                        HIMM_THRESHOLD)
+    pgm.write(out_pgm, img)
+    return score_file(out_pgm, truth, observable)
+
+
 def same_4(a, b):
     """Whether two scores agree as metrics.json prints them."""
     keys4 = ("precision", "recall", "f1")
@@ -242,31 +265,35 @@ def one_run(a, room, seed, variants, count):
             raise ToolError("%s: the replay from the true poses differs from om_ideal.pgm" % d, FAILED)
     res["firmware"] = score_file(os.path.join(fw_dir, "om.pgm"), truth, observable)
 
-    pgm = os.path.join(d, "octomap.pgm")
-    cmd = octomap_cmd(a.octomap, d, VARIANTS[0][1], pgm)
+    om_pgm = os.path.join(d, "octomap.pgm")
+    cmd = octomap_cmd(a.octomap, d, VARIANTS[0][1], om_pgm)
     what = "OctoMap on " + name
     if count:
         res["octomap_ir"] = callgrind(cmd, [OCTOMAP_FUNCTION],
                                       os.path.join(d, "octomap.callgrind.out"), what)
     else:
         run(cmd, what)
-    res["octomap"] = score_file(pgm, truth, observable)
+    res["octomap"] = score_file(om_pgm, truth, observable)
+    res["himm"] = himm_score(d, os.path.join(d, "readings.csv"), "true",
+                             os.path.join(d, "himm.pgm"), truth, observable)
 
     # From the estimated poses: the run's own map, and OctoMap from the same estimate.
     res["firmware_est"] = score_file(os.path.join(d, "om.pgm"), truth, observable)
     est = os.path.join(d, "readings_estimate.csv")
     estimate_log(d, est)
-    pgm = os.path.join(d, "octomap_estimate.pgm")
-    run(octomap_cmd(a.octomap, d, VARIANTS[0][1], pgm, est, "odom"),
+    om_pgm = os.path.join(d, "octomap_estimate.pgm")
+    run(octomap_cmd(a.octomap, d, VARIANTS[0][1], om_pgm, est, "odom"),
         "OctoMap on %s from the estimated poses" % name)
-    res["octomap_est"] = score_file(pgm, truth, observable)
+    res["octomap_est"] = score_file(om_pgm, truth, observable)
+    res["himm_est"] = himm_score(d, est, "odom", os.path.join(d, "himm_estimate.pgm"), truth,
+                                 observable)
     for k, (label, args) in enumerate(variants):
         if label == CHOSEN:
             res["variants"][label] = res["octomap"]
             continue
-        pgm = os.path.join(d, "variant%d.pgm" % k)
-        run(octomap_cmd(a.octomap, d, args, pgm), "OctoMap (%s) on %s" % (label, name))
-        res["variants"][label] = score_file(pgm, truth, observable)
+        om_pgm = os.path.join(d, "variant%d.pgm" % k)
+        run(octomap_cmd(a.octomap, d, args, om_pgm), "OctoMap (%s) on %s" % (label, name))
+        res["variants"][label] = score_file(om_pgm, truth, observable)
     return res
 
 
@@ -303,22 +330,25 @@ def rows_by_room(results, rooms):
 
 def table(results, rooms):
     """The main table: per room, means over seeds; instructions as totals over readings."""
-    lines = ["| room | runs | poses | firmware P / R / F1 | OctoMap P / R / F1 | firmware's F1 ≥ "
-             "| firmware instr./reading | OctoMap instr./reading | OctoMap / firmware |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| room | runs | poses | firmware P / R / F1 | OctoMap P / R / F1 | HIMM P / R / F1 "
+             "| firmware's F1 ≥ OctoMap's, HIMM's | firmware instr./reading "
+             "| OctoMap instr./reading | OctoMap / firmware |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for label, rs in rows_by_room(results, rooms):
         counted = [r for r in rs if "firmware_ir" in r]
         n = sum(r["readings"] for r in counted)
-        fw_ir = sum(r["firmware_ir"] for r in counted) / n
-        om_ir = sum(r["octomap_ir"] for r in counted) / n
-        for poses, fw, om in (("true", "firmware", "octomap"),
-                              ("estimated", "firmware_est", "octomap_est")):
-            wins = sum(r[fw]["f1"] >= r[om]["f1"] for r in rs)
-            ir = ("%.0f | %.0f | %.0f×" % (fw_ir, om_ir, om_ir / fw_ir)) if poses == "true" \
-                else "| |"
-            lines.append("| %s | %d | %s | %s | %s | %d of %d | %s |" % (
+        ir = "| |"
+        if n:
+            fw_ir = sum(r["firmware_ir"] for r in counted) / n
+            om_ir = sum(r["octomap_ir"] for r in counted) / n
+            ir = "%.0f | %.0f | %.0f×" % (fw_ir, om_ir, om_ir / fw_ir)
+        for poses, sfx in (("true", ""), ("estimated", "_est")):
+            fw, om, hm = "firmware" + sfx, "octomap" + sfx, "himm" + sfx
+            wins = [sum(r[fw]["f1"] >= r[k]["f1"] for r in rs) for k in (om, hm)]
+            lines.append("| %s | %d | %s | %s | %s | %s | %d, %d of %d | %s |" % (
                 label, len(rs), poses, prf(mean_score(r[fw] for r in rs)),
-                prf(mean_score(r[om] for r in rs)), wins, len(rs), ir))
+                prf(mean_score(r[om] for r in rs)), prf(mean_score(r[hm] for r in rs)),
+                wins[0], wins[1], len(rs), ir if poses == "true" else "| |"))
     return "\n".join(lines)
 
 
@@ -333,8 +363,10 @@ def write_csv(path, results):
         for r in results:
             for poses, key, mapper in (("true", "firmware", "firmware"),
                                        ("true", "octomap", "octomap"),
+                                       ("true", "himm", "himm"),
                                        ("estimated", "firmware_est", "firmware"),
-                                       ("estimated", "octomap_est", "octomap")):
+                                       ("estimated", "octomap_est", "octomap"),
+                                       ("estimated", "himm_est", "himm")):
                 s = r[key]
                 ir = r.get(key + "_ir") if poses == "true" else None
                 f.write("%s,%d,%d,%s,%s,%.4f,%.4f,%.4f,%d,%d,%d,%d,%s\n" % (
@@ -365,6 +397,9 @@ def main():
         os.path.join(SRC, "host_sim", "rooms", "*.room"))))
     ap.add_argument("--seeds", type=parse_seeds, default=parse_seeds("1-10"),
                     help="seeds of every room (default 1-10)")
+    ap.add_argument("--generated", type=int, default=0, metavar="N",
+                    help="tools/roomgen.py's rooms 1..N, each with its own seed, instead of "
+                         "--rooms and --seeds")
     ap.add_argument("--count-all", action="store_true",
                     help="count instructions on every run, not on each room's first seed")
     ap.add_argument("--duration", type=float, default=600.0, help="simulated s a run")
@@ -380,15 +415,23 @@ def main():
             ap.error("%s does not exist (make compare builds the programs)" % path)
     if shutil.which("valgrind") is None:
         ap.error("valgrind is missing (tools/install-deps.sh compare)")
-    if a.jobs < 1 or a.duration <= 0:
-        ap.error("--jobs and --duration must be positive")
+    if a.jobs < 1 or a.duration <= 0 or a.generated < 0:
+        ap.error("--jobs and --duration must be positive, --generated not negative")
 
     variants = [] if a.no_variants else list(VARIANTS)
     # The runs whose instructions are counted first: they take the longest.
     work = [(room, seed, a.count_all or seed == a.seeds[0]) for room in a.rooms for seed in a.seeds]
+    if a.generated:
+        gen = os.path.join(a.out, "generated")
+        roomgen.write_corpus(gen, a.generated, 0, 1)
+        a.rooms = [os.path.join(gen, "room_%d.room" % k) for k in range(1, a.generated + 1)]
+        a.seeds = list(range(1, a.generated + 1))
+        work = [(room, k, a.count_all or k == 1) for k, room in zip(a.seeds, a.rooms)]
     work.sort(key=lambda w: not w[2])
-    print("compare: %d rooms x %d seeds, %.0f s each, %d at a time, in %s" % (
-        len(a.rooms), len(a.seeds), a.duration, a.jobs, a.out), file=sys.stderr)
+    print("compare: %d runs (%s), %.0f s each, %d at a time, in %s" % (
+        len(work), "generated rooms 1-%d, each with its seed" % a.generated if a.generated
+        else "%d rooms x %d seeds" % (len(a.rooms), len(a.seeds)), a.duration, a.jobs, a.out),
+        file=sys.stderr)
     lock = threading.Lock()
     done = [0]
 
@@ -400,9 +443,9 @@ def main():
             if w[2]:
                 ir = "; instructions a reading %.0f and %.0f" % (
                     r["firmware_ir"] / r["readings"], r["octomap_ir"] / r["readings"])
-            print("  [%2d/%d] %-10s seed %d: F1 firmware %.3f, OctoMap %.3f%s" % (
+            print("  [%2d/%d] %-10s seed %d: F1 firmware %.3f, OctoMap %.3f, HIMM %.3f%s" % (
                 done[0], len(work), r["room"], r["seed"], r["firmware"]["f1"],
-                r["octomap"]["f1"], ir), file=sys.stderr, flush=True)
+                r["octomap"]["f1"], r["himm"]["f1"], ir), file=sys.stderr, flush=True)
         return r
 
     irs = {}
@@ -421,12 +464,14 @@ def main():
         with ThreadPoolExecutor(max_workers=a.jobs) as ex:
             for k, ir in zip(ks, ex.map(lambda k: variant_instructions(a, d, k), ks)):
                 irs[VARIANTS[k][0]] = ir / first["readings"]
-    rooms = [os.path.splitext(os.path.basename(r))[0] for r in a.rooms]
+    # Generated rooms are one group: a row each would be a hundred rows of one run.
+    rooms = [] if a.generated else [os.path.splitext(os.path.basename(r))[0] for r in a.rooms]
     with open(os.path.join(a.out, "compare.json"), "w") as f:
         json.dump({"octomap": {"setting": CHOSEN, "args": VARIANTS[0][1]}, "runs": results,
                    "variant_instructions_per_reading": irs, "duration": a.duration,
                    "seeds": a.seeds}, f, indent=1)
-    counted = "every run" if a.count_all else "seed %d of each room" % a.seeds[0]
+    counted = "every run" if a.count_all else \
+        "room 1" if a.generated else "seed %d of each room" % a.seeds[0]
     text = ("%.0f s a run, seeds %s; instructions (callgrind, from the true poses) counted "
             "on %s.\nThe scorer reproduced host_sim's metrics.json on all %d runs. OctoMap: "
             "%s.\n\n" % (a.duration, ",".join(map(str, a.seeds)), counted, len(results),

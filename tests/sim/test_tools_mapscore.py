@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 """The scorer `make compare` scores every map with (tools/mapscore.py): hand-counted cases,
 host_sim's own metrics.json reproduced to 4 decimals, the firmware's side of the
-comparison (the log with the true poses, replayed) equal to the run's om_ideal.pgm, and
-the log of estimated poses OctoMap is given. Needs no OctoMap."""
+comparison (the log with the true poses, replayed) equal to the run's om_ideal.pgm, the
+log of estimated poses OctoMap is given, and HIMM (slamtools/himm.py) by hand and on a
+run. Needs no OctoMap."""
 import os
 import subprocess
 import sys
@@ -13,7 +14,7 @@ from simtest import Sim, check
 sim = Sim()
 sys.path.insert(0, os.path.join(sim.src, "tools"))
 import compare  # noqa: E402  (tools/ is on the path only now)
-from slamtools import mapscore  # noqa: E402
+from slamtools import himm, mapscore  # noqa: E402
 from slamtools.errors import ToolError  # noqa: E402
 
 tool = os.path.join(sim.src, "tools", "mapscore.py")
@@ -125,6 +126,45 @@ try:
     check(False, "an estimate log with a row missing is refused")
 except ToolError as e:
     check("scoring_estimate.csv" in str(e), "an estimate log with a row missing is refused: %s" % e)
+
+# HIMM by hand: a 10 x 10 grid of 0.1 m cells, the sonar at the robot's axle, the robot in
+# cell (0, 5) facing +x, the servo at 90 deg (straight ahead). An echo at 0.5 m adds 3 to
+# cell (5, 5) and takes 1 from cells 0..4 of its row: one hit is occupied (threshold 3).
+# An echo beyond the 1 m reach then crosses (5, 5) without a hit: 2, free. A timeout and
+# an echo under the minimum range change nothing; the odometry columns are read on asking.
+def himm_log(lines):
+    path = os.path.join(case, "himm.csv")
+    with open(path, "w") as f:
+        f.write("t_s,servo_deg,range_m,status,odom_x_m,odom_y_m,odom_th_rad,"
+                "true_x_m,true_y_m,true_th_rad\n")
+        for t, (rng, status) in enumerate(lines):
+            f.write("%d,90,%s,%s,0.05,0.15,0,0.05,0.55,0\n" % (t, rng, status))
+    return path
+
+
+grid = (10, 10, 0.0, 0.0, 0.1)
+row = 10 - 1 - 5  # the PGM's first row is the largest y
+img = himm.himm_map(himm_log([("0.5", "ok"), ("", "timeout"), ("0.01", "near")]), grid,
+                    (0, 0, 0))
+check(img[row, 5] == 0 and all(img[row, :5] == 254) and (img == 205).sum() == 94,
+      "HIMM: one echo, its cell occupied, the cells before it free, the rest unknown")
+img = himm.himm_map(himm_log([("0.5", "ok"), ("1.5", "far")]), grid, (0, 0, 0))
+check(img[row, 5] == 254 and all(img[row, :] == 254) and (img == 0).sum() == 0,
+      "HIMM: an echo beyond the reach takes one from the hit, which is free then")
+img = himm.himm_map(himm_log([("0.5", "ok")]), grid, (0, 0, 0), poses="odom")
+check(img[10 - 1 - 1, 5] == 0 and img[row, 5] == 205, "HIMM: the odometry columns on asking")
+try:
+    himm.himm_map(os.path.join(case, "scoring_truth.pgm"), grid, (0, 0, 0))
+    check(False, "HIMM refuses a file that is no readings.csv")
+except ToolError as e:
+    check("scoring_truth.pgm" in str(e), "HIMM refuses a file that is no readings.csv: %s" % e)
+# On the run: from the true poses HIMM maps the room about as well as the firmware (a wrong
+# bearing or mount would put its hits elsewhere).
+fw = mapscore.score_file(os.path.join(run, "om_ideal.pgm"), truth, observable)["f1"]
+hm = compare.himm_score(run, os.path.join(run, "readings.csv"), "true",
+                        os.path.join(case, "himm_run.pgm"), truth, observable)["f1"]
+check(abs(hm - fw) < 0.1 and hm > 0.7, "HIMM from the true poses F1 %.3f, the firmware's %.3f"
+      % (hm, fw))
 
 # Bad input: a message naming the file, exit 2.
 p = score_cli(os.path.join(run, "om.pgm"), case + "-missing")

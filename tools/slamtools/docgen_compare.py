@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""tools/docs.py's generator of the comparison with OctoMap (`make compare`).
+"""tools/docs.py's generator of the comparison with OctoMap and HIMM (`make compare`).
 
 Runs tools/compare.py as make compare does (every shipped room x seeds 1-10, 600 s, every
-OctoMap setting) into a folder of its own, takes its two tables from compare.md for
-tools/README.md, and from compare.json the summary of host_sim/README.md and the
-sentences both pages draw from the tables. F1 scores and callgrind's instruction counts
+OctoMap setting; then the generated rooms 1-100, each with its seed, the chosen setting)
+into folders of its own, takes their tables from compare.md for tools/README.md, and from
+compare.json the summary of host_sim/README.md and the sentences both pages draw from the
+tables. F1 scores and callgrind's instruction counts
 repeat exactly on the same build and the same OctoMap.
 """
 import json
@@ -43,25 +44,35 @@ def tables(md):
     return found
 
 
-def compare(host_sim, work):
-    """Both pages' blocks from one run of tools/compare.py."""
-    if not os.access(OCTOMAP, os.X_OK):
-        raise ToolError("%s is missing: make compare builds it (OctoMap from Debian)" % OCTOMAP,
-                        FAILED)
-    out = os.path.join(work, "compare")
+GENERATED = 100  # make compare's COMPARE_GENERATED
+
+
+def run_compare(host_sim, out, args, n_tables):
+    """tools/compare.py into `out`: its Markdown tables and its compare.json."""
     p = subprocess.run([os.path.join(SRC, "tools", "compare.py"), "--host-sim", host_sim,
-                        "--octomap", OCTOMAP, "--out", out, "--jobs", str(os.cpu_count() or 1)],
-                       cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                        "--octomap", OCTOMAP, "--out", out, "--jobs", str(os.cpu_count() or 1)]
+                       + args, cwd=SRC, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
         raise ToolError("tools/compare.py exited %d:\n%s" % (p.returncode, p.stderr[-3000:]),
                         FAILED)
     with open(os.path.join(out, "compare.md"), encoding="utf-8") as f:
-        md = f.read()
+        found = tables(f.read())
     with open(os.path.join(out, "compare.json"), encoding="utf-8") as f:
         data = json.load(f)
-    found = tables(md)
-    if len(found) != 2:
-        raise ToolError("tools/compare.py printed %d tables, not 2" % len(found), FAILED)
+    if len(found) != n_tables:
+        raise ToolError("tools/compare.py printed %d tables, not %d" % (len(found), n_tables),
+                        FAILED)
+    return found, data
+
+
+def compare(host_sim, work):
+    """Both pages' blocks from the runs of tools/compare.py make compare makes."""
+    if not os.access(OCTOMAP, os.X_OK):
+        raise ToolError("%s is missing: make compare builds it (OctoMap from Debian)" % OCTOMAP,
+                        FAILED)
+    found, data = run_compare(host_sim, os.path.join(work, "compare"), [], 2)
+    gen_found, gen = run_compare(host_sim, os.path.join(work, "compare-generated"),
+                                 ["--generated", str(GENERATED), "--no-variants"], 1)
     runs = data["runs"]
     irs = data["variant_instructions_per_reading"]
     rooms = sorted({r["room"] for r in runs})
@@ -139,23 +150,45 @@ def compare(host_sim, work):
                      "%.3f with the chosen fan)."
                      % (axis_p, mean(r["octomap"]["precision"] for r in runs)))
         bullets.append(text)
+    gen_runs = gen["runs"]
+
+    def gen_f1(key):
+        return mean(r[key]["f1"] for r in gen_runs)
+
+    def gen_wins(fw, other):
+        return sum(r[fw]["f1"] >= r[other]["f1"] for r in gen_runs)
+
+    bullets.append(
+        "In the generated rooms, from the estimated poses, the firmware's mean F1 is %.3f "
+        "against OctoMap's %.3f and HIMM's %.3f (at least theirs in %d and %d of %d runs); "
+        "from the true poses %.3f against %.3f and %.3f."
+        % (gen_f1("firmware_est"), gen_f1("octomap_est"), gen_f1("himm_est"),
+           gen_wins("firmware_est", "octomap_est"), gen_wins("firmware_est", "himm_est"),
+           len(gen_runs), gen_f1("firmware"), gen_f1("octomap"), gen_f1("himm")))
     tools_md = ["`make compare` (%s):" % what, ""] + found[0] + [
+        "", wrap("The generated rooms (`tools/roomgen.py` rooms 1–%d, each with its own seed, "
+                 "%s s, the chosen OctoMap setting):"
+                 % (len(gen_runs), grouped(gen.get("duration") or 600))),
+        ""] + gen_found[0] + [
         "", "The OctoMap settings tried, from the true poses (instructions on one run):", ""] + \
-        found[1] + ["", "What this says against the goal \"F1 ≥ OctoMap's at ≤ 1/100 of its "
-                    "instructions per\nreading\":", ""]
+        found[1] + ["", wrap("What this says against the goals \"F1 ≥ OctoMap's at ≤ 1/100 "
+                         "of its instructions per reading\" and, from the estimated poses in "
+                         "rooms nobody tuned for, \"at least OctoMap's and HIMM's\":"), ""]
     for b in bullets:
         tools_md.append("- " + wrap(b, 88).replace("\n", "\n  "))
 
     # host_sim/README.md: the means over every run.
     host_md = [
         "Means over the %d runs of %s s:" % (n, grouped(duration) if duration else "600"), "",
-        "| poses | firmware P / R / F1 | OctoMap P / R / F1 | firmware's F1 ≥ | "
-        "instructions a reading, firmware / OctoMap |", "|---|---|---|---|---|",
-        "| true | %s | %s | in %d of %d runs | %s / %s (%.0f×) |"
-        % (prf("firmware", True), prf("octomap"), wins("firmware", "octomap"), n,
-           grouped(fw_ir), grouped(om_ir), om_ir / fw_ir),
-        "| estimated (the firmware's) | %s | %s | in %d of %d runs | |"
-        % (prf("firmware_est", True), prf("octomap_est"), wins("firmware_est", "octomap_est"), n)]
+        "| poses | firmware P / R / F1 | OctoMap P / R / F1 | HIMM P / R / F1 | firmware's F1 ≥ "
+        "OctoMap's, HIMM's | instructions a reading, firmware / OctoMap |",
+        "|---|---|---|---|---|---|",
+        "| true | %s | %s | %s | in %d, %d of %d runs | %s / %s (%.0f×) |"
+        % (prf("firmware", True), prf("octomap"), prf("himm"), wins("firmware", "octomap"),
+           wins("firmware", "himm"), n, grouped(fw_ir), grouped(om_ir), om_ir / fw_ir),
+        "| estimated (the firmware's) | %s | %s | %s | in %d, %d of %d runs | |"
+        % (prf("firmware_est", True), prf("octomap_est"), prf("himm_est"),
+           wins("firmware_est", "octomap_est"), wins("firmware_est", "himm_est"), n)]
     if axis is not None and AXIS in irs:
         host_md += ["", wrap(
             "OctoMap reduced to the beam's axis, as the firmware maps it, scores F1 %.3f from "
