@@ -250,9 +250,7 @@ typedef struct {
     uint16_t wave;                      /**< the distance of the cells the search grows from */
     uint16_t row;                       /**< the row of the wave under way */
     uint16_t lo, hi;                    /**< the rows the last wave reached */
-    uint16_t next_lo, next_hi;          /**< and those this one reaches */
-    bool grew;                          /**< this wave reached a cell */
-    uint32_t start;                     /**< the robot's way cell */
+    uint16_t next_lo, next_hi;          /**< and those this one reaches (lo > hi: none yet) */
     uint32_t at;                        /**< the frontier found, then the way back to the robot */
     uint16_t at_d;                      /**< its distance from the robot, in way cells */
     uint32_t last;                      /**< the frontier last answered */

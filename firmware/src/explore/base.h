@@ -60,6 +60,22 @@ static inline uint32_t explore_ray_next(explore_ray_t *r, uint32_t na, uint32_t 
     return explore_cell_q16(na, nb, r->fx, r->fy);
 }
 
+/* The straight walk from cell (a0, b0) to cell (a1, b1), centre to centre, a cell a step
+ * (at least one step). */
+explore_ray_t explore_ray_between(uint32_t a0, uint32_t b0, uint32_t a1, uint32_t b1);
+
+/* Bit k of a bit map (the frontier's blocks, the way's planes). */
+static inline bool explore_bit(const uint8_t *map, uint32_t k)
+{
+    return (map[k >> 3] & (1u << (k & 7u))) != 0u;
+}
+
+static inline void explore_put_bit(uint8_t *map, uint32_t k, bool v)
+{
+    uint8_t m = (uint8_t)(1u << (k & 7u));
+    map[k >> 3] = (uint8_t)(v ? map[k >> 3] | m : map[k >> 3] & ~m);
+}
+
 /* ---- machine.c ---------------------------------------------------------------------- */
 
 /* Enter a state: its tick count and its count of readings start again. */

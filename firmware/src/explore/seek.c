@@ -17,16 +17,6 @@
 #define EXPLORE_DONE_TICKS 6000u       /* ... at least a minute before the last: done */
 _Static_assert(EXPLORE_BLOCKS < EXPLORE_WAYPOINT, "a block's number is never a way's point");
 
-static bool bit(const uint8_t *map, uint32_t k)
-{
-    return (map[k >> 3] & (1u << (k & 7u))) != 0u;
-}
-
-static void set_bit(uint8_t *map, uint32_t k)
-{
-    map[k >> 3] = (uint8_t)(map[k >> 3] | (1u << (k & 7u)));
-}
-
 static uint32_t block_of(const explore_seek_t *s, uint32_t a, uint32_t b)
 {
     return (b >> EXPLORE_BLOCK_SHIFT) * s->blocks_a + (a >> EXPLORE_BLOCK_SHIFT);
@@ -44,7 +34,7 @@ void explore_seek_here(explore_t *e, grid_cell_t here)
 {
     explore_seek_t *s = &e->seek;
     uint32_t k = block_of(s, here.a, here.b);
-    set_bit(s->explored, k);
+    explore_put_bit(s->explored, k, true);
     if (s->target != EXPLORE_NONE && k == s->target) {
         s->target = EXPLORE_NONE; /* reached */
         s->reached = true;
@@ -68,7 +58,7 @@ void explore_seek_scan(explore_t *e, const grid_t *g)
         }
         uint32_t a = i % row;
         uint32_t k = block_of(s, a, i / row);
-        if (bit(s->explored, k)) {
+        if (explore_bit(s->explored, k)) {
             uint32_t next = (a | ((1u << EXPLORE_BLOCK_SHIFT) - 1u)) + 1u; /* next block */
             i += next - a;
             if (next >= row) {
@@ -77,7 +67,7 @@ void explore_seek_scan(explore_t *e, const grid_t *g)
             continue;
         }
         if (grid_state(g, i) == GRID_FREE) {
-            set_bit(s->explored, k);
+            explore_put_bit(s->explored, k, true);
         }
         i++;
     }
@@ -100,15 +90,15 @@ static uint32_t blocks(const explore_seek_t *s)
 /* An unexplored block, not given up, next to an explored one. */
 static bool frontier(const explore_seek_t *s, uint32_t k)
 {
-    if (bit(s->explored, k) || bit(s->dead, k)) {
+    if (explore_bit(s->explored, k) || explore_bit(s->dead, k)) {
         return false;
     }
     uint32_t ba = k % s->blocks_a;
     uint32_t bb = k / s->blocks_a;
-    return (ba > 0u && bit(s->explored, k - 1u)) ||
-           (ba + 1u < s->blocks_a && bit(s->explored, k + 1u)) ||
-           (bb > 0u && bit(s->explored, k - s->blocks_a)) ||
-           (bb + 1u < s->blocks_b && bit(s->explored, k + s->blocks_a));
+    return (ba > 0u && explore_bit(s->explored, k - 1u)) ||
+           (ba + 1u < s->blocks_a && explore_bit(s->explored, k + 1u)) ||
+           (bb > 0u && explore_bit(s->explored, k - s->blocks_a)) ||
+           (bb + 1u < s->blocks_b && explore_bit(s->explored, k + s->blocks_a));
 }
 
 /* Begin the line of sight to candidate i: from the robot's cell centre to the block's. */
@@ -117,15 +107,7 @@ static void sight_begin(explore_search_t *r, const explore_seek_t *s)
     int32_t ta;
     int32_t tb;
     block_centre(s, r->block[r->i], &ta, &tb);
-    int32_t dx = ta - (int32_t)r->a;
-    int32_t dy = tb - (int32_t)r->b;
-    uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
-    len = len < 1u ? 1u : len;
-    r->sight.fx = ((int32_t)r->a << 16) + 0x8000;
-    r->sight.fy = ((int32_t)r->b << 16) + 0x8000;
-    r->sight.dx = (int32_t)((dx * 65536) / (int32_t)len);
-    r->sight.dy = (int32_t)((dy * 65536) / (int32_t)len);
-    r->sight.left = len;
+    r->sight = explore_ray_between(r->a, r->b, (uint32_t)ta, (uint32_t)tb);
 }
 
 /* A few cells of the line of sight; false when an occupied cell blocks it. */
@@ -278,7 +260,7 @@ void explore_seek_step(explore_t *e, const odom_pose_t *pose, const grid_t *g)
             /* Out of sight: behind a wall seen, most likely outside the room. It is not
              * sought again; if it lies in a room beyond an opening, the robot explores
              * it by passing the opening. */
-            set_bit(s->dead, r->block[r->i]);
+            explore_put_bit(s->dead, r->block[r->i], true);
             if (++r->i < r->n) {
                 sight_begin(r, s);
             } else if (++r->rounds < EXPLORE_SEEK_ROUNDS) {
@@ -332,7 +314,7 @@ int32_t explore_seek_steer(explore_t *e, const odom_pose_t *pose, const grid_t *
             return 0;
         }
     } else if (e->machine.now - s->target_since > EXPLORE_TARGET_TICKS) {
-        set_bit(s->dead, s->target);
+        explore_put_bit(s->dead, s->target, true);
         explore_seek(e, pose, g);
         return 0;
     }

@@ -56,31 +56,16 @@ bool explore_way_answer(const explore_way_t *w, explore_way_result_t *result, in
 
 /* ---- bit planes ----------------------------------------------------------------------- */
 
-/* seek.c has its own bit helpers and line of sight, as this file does below: one copy of
- * each in base.h moves the image's code, and the MCU's worst tick then counts one
- * instruction more (the alignment of the tick's code; its bound is at the budget). */
-
-static uint32_t bit_of(const uint8_t *row, uint32_t a)
-{
-    return ((uint32_t)row[a >> 3] >> (a & 7u)) & 1u;
-}
-
-static void put_bit(uint8_t *row, uint32_t a, uint32_t v)
-{
-    uint8_t m = (uint8_t)(1u << (a & 7u));
-    row[a >> 3] = (uint8_t)(v != 0u ? row[a >> 3] | m : row[a >> 3] & ~m);
-}
-
 /* A way cell's label: its distance mod 3, plus 1; 0 when the search has not reached it. */
 static uint32_t label(const explore_way_t *w, uint32_t a, uint32_t b)
 {
-    return bit_of(w->label[0][b], a) | (bit_of(w->label[1][b], a) << 1);
+    return (explore_bit(w->label[0][b], a) ? 1u : 0u) | (explore_bit(w->label[1][b], a) ? 2u : 0u);
 }
 
 static void set_label(explore_way_t *w, uint32_t a, uint32_t b, uint32_t v)
 {
-    put_bit(w->label[0][b], a, v & 1u);
-    put_bit(w->label[1][b], a, v >> 1);
+    explore_put_bit(w->label[0][b], a, (v & 1u) != 0u);
+    explore_put_bit(w->label[1][b], a, (v & 2u) != 0u);
 }
 
 static uint32_t label_of_distance(uint32_t d)
@@ -155,12 +140,12 @@ static void centre(const explore_way_t *w, const grid_t *g, uint32_t cell, int32
 
 static bool dead(const explore_way_t *w, uint32_t cell)
 {
-    return bit_of(w->dead[cell / w->na], cell % w->na) != 0u;
+    return explore_bit(w->dead[cell / w->na], cell % w->na);
 }
 
 static void give_up(explore_way_t *w, uint32_t cell)
 {
-    put_bit(w->dead[cell / w->na], cell % w->na, 1u);
+    explore_put_bit(w->dead[cell / w->na], cell % w->na, true);
 }
 
 /* The slot of a frontier put off, or EXPLORE_WAY_SLOTS. */
@@ -247,14 +232,12 @@ static void begin(explore_way_t *w, const grid_t *g)
     memset(w->label, 0, sizeof w->label);
     uint32_t a = (uint32_t)c.a / w->k;
     uint32_t b = (uint32_t)c.b / w->k;
-    w->start = b * w->na + a;
     set_label(w, a, b, label_of_distance(0u));
     w->wave = 0u;
     w->lo = w->hi = (uint16_t)b;
     w->row = (uint16_t)(b > 0u ? b - 1u : 0u);
     w->next_lo = UINT16_MAX;
     w->next_hi = 0u;
-    w->grew = false;
     w->put_off = false;
     w->phase = WAY_GROW;
 }
@@ -291,7 +274,6 @@ static uint32_t grow_row(explore_way_t *w, const grid_t *g, uint32_t b)
             way_class_t c = classify(w, g, a, b);
             if (c == WAY_PASSABLE) {
                 set_label(w, a, b, nv);
-                w->grew = true;
                 w->next_lo = (uint16_t)(b < w->next_lo ? b : w->next_lo);
                 w->next_hi = (uint16_t)(b > w->next_hi ? b : w->next_hi);
             } else if (c == WAY_UNKNOWN) {
@@ -318,7 +300,7 @@ static void grow(explore_way_t *w, const grid_t *g)
     while (reads < EXPLORE_WAY_READS) {
         uint32_t last = w->hi + 1u < w->nb ? w->hi + 1u : w->hi;
         if (w->row > last) {
-            if (!w->grew) {
+            if (w->next_lo > w->next_hi) { /* the wave reached no cell */
                 answer(w, w->put_off ? EXPLORE_WAY_PUT_OFF : EXPLORE_WAY_NONE, 0, 0);
                 return;
             }
@@ -328,7 +310,6 @@ static void grow(explore_way_t *w, const grid_t *g)
             w->row = (uint16_t)(w->lo > 0u ? w->lo - 1u : 0u);
             w->next_lo = UINT16_MAX;
             w->next_hi = 0u;
-            w->grew = false;
             continue;
         }
         reads += grow_row(w, g, w->row);
@@ -349,18 +330,8 @@ static bool in_sight(const explore_way_t *w, const grid_t *g, int32_t x_um, int3
         grid_cell_of(g, x_um, y_um, &to) != 0) {
         return false;
     }
-    int32_t dx = (int32_t)to.a - (int32_t)from.a;
-    int32_t dy = (int32_t)to.b - (int32_t)from.b;
-    uint32_t len = explore_isqrt((uint32_t)(dx * dx + dy * dy));
-    len = len < 1u ? 1u : len;
-    explore_ray_t r = {
-        .fx = ((int32_t)from.a << 16) + 0x8000,
-        .fy = ((int32_t)from.b << 16) + 0x8000,
-        .dx = (dx * 65536) / (int32_t)len,
-        .dy = (dy * 65536) / (int32_t)len,
-        .left = len,
-    };
-    *reads += len;
+    explore_ray_t r = explore_ray_between(from.a, from.b, to.a, to.b);
+    *reads += r.left;
     while (r.left-- > 0u) {
         uint32_t k = explore_ray_next(&r, g->a_cells, g->b_cells);
         if (k == EXPLORE_NO_CELL || grid_state(g, k) == GRID_OCCUPIED) {
