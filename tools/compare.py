@@ -52,8 +52,9 @@ OCTOMAP_FUNCTION = "*insert_reading*"
 # OctoMap's settings: the chosen one first, then the others tried. Probabilities are
 # OctoMap's hit/miss, clamping its default (0.1192, 0.971) unless named.
 CHOSEN = "fan 15°, 1 m, hit 0.6 / miss 0.45"
+REACH_M = 1.0  # the chosen setting's and HIMM's: echoes beyond are free rays this long
 VARIANTS = (
-    (CHOSEN, ["--max-range", "1", "--hit", "0.6", "--miss", "0.45"]),
+    (CHOSEN, ["--max-range", "%g" % REACH_M, "--hit", "0.6", "--miss", "0.45"]),
     ("fan 15°, 1 m, OctoMap's defaults (0.7 / 0.4)", ["--max-range", "1"]),
     ("fan 15°, 4 m (HC-SR04), 0.6 / 0.45", ["--max-range", "4", "--hit", "0.6", "--miss", "0.45"]),
     ("fan 15°, 4 m, 0.7 / 0.4", ["--max-range", "4"]),
@@ -188,36 +189,36 @@ def estimate_log(run_dir, out_path):
     write_log(out_path, head, rows, [[e[c] for c in cols] for e in est])
 
 
-def octomap_cmd(bin_, run_dir, args, out_pgm, readings=None, poses="true"):
-    """octomap_replay on a run's log (or `readings`, a copy of it) with the run's grid and
-    sonar mount; the true_* poses, or with poses="odom" the odom_* columns."""
-    with open(os.path.join(run_dir, "metrics.json")) as f:
-        sc = json.load(f)["scenario"]
-    g = sc["grid"]
-    mount = [config_value(run_dir, k) / s for k, s in
-             (("mount_x_um", 1e6), ("mount_y_um", 1e6), ("mount_yaw_mdeg", 1e3))]
-    return [bin_, "--readings", readings or os.path.join(run_dir, "readings.csv"), "--out", out_pgm,
-            "--grid", str(g["a"]), str(g["b"]), repr(g["origin"][0]), repr(g["origin"][1]),
-            repr(sc["cell_mm"] / 1000.0), "--mount"] + [repr(v) for v in mount] + \
-        ["--poses", poses, "--min-range", repr(config_value(run_dir, "range_min_um") / 1e6)] + args
-
-
-HIMM_THRESHOLD = himm.INCREMENT  # one reading's hit, not taken back since
-
-
-def himm_score(run_dir, readings, poses, out_pgm, truth, observable):
-    """HIMM's map of a run's log (or `readings`, a copy of it), with the settings of
-    octomap_cmd(), scored."""
+def geometry(run_dir):
+    """A run's grid (a, b, origin x, origin y, cell; m), sonar mount (x, y m, yaw °) and
+    minimum range (m), as every mapper reads its log."""
     with open(os.path.join(run_dir, "metrics.json")) as f:
         sc = json.load(f)["scenario"]
     g = sc["grid"]
     grid = (g["a"], g["b"], g["origin"][0], g["origin"][1], sc["cell_mm"] / 1000.0)
     mount = [config_value(run_dir, k) / s for k, s in
              (("mount_x_um", 1e6), ("mount_y_um", 1e6), ("mount_yaw_mdeg", 1e3))]
-    img = himm.himm_map(readings, grid, mount, poses, config_value(run_dir, "range_min_um") / 1e6,
-                        float(VARIANTS[0][1][VARIANTS[0][1].index("--max-range") + 1]),
-                        HIMM_THRESHOLD)
-    pgm.write(out_pgm, img)
+    return grid, mount, config_value(run_dir, "range_min_um") / 1e6
+
+
+def octomap_cmd(bin_, run_dir, args, out_pgm, readings=None, poses="true"):
+    """octomap_replay on a run's log (or `readings`, a copy of it) with the run's geometry;
+    the true_* poses, or with poses="odom" the odom_* columns."""
+    grid, mount, min_range = geometry(run_dir)
+    return [bin_, "--readings", readings or os.path.join(run_dir, "readings.csv"), "--out", out_pgm,
+            "--grid"] + [str(v) if isinstance(v, int) else repr(v) for v in grid] + \
+        ["--mount"] + [repr(v) for v in mount] + \
+        ["--poses", poses, "--min-range", repr(min_range)] + args
+
+
+HIMM_THRESHOLD = himm.INCREMENT  # one reading's hit, not taken back since
+
+
+def himm_score(run_dir, readings, poses, out_pgm, truth, observable):
+    """HIMM's map of a run's log (or a copy of it) with the run's geometry, scored."""
+    grid, mount, min_range = geometry(run_dir)
+    pgm.write(out_pgm, himm.himm_map(readings, grid, mount, poses, min_range, REACH_M,
+                                     HIMM_THRESHOLD))
     return score_file(out_pgm, truth, observable)
 
 
